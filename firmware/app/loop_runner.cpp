@@ -1,0 +1,60 @@
+#include "firmware/app/loop_runner.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace amb::fw {
+
+int64_t LoopStats::latency_quantile_ns(double q) const {
+  const double target = q * static_cast<double>(periods);
+  double acc = 0.0;
+  for (int i = 0; i < k_bins; ++i) {
+    acc += static_cast<double>(latency_hist[static_cast<size_t>(i)]);
+    if (acc >= target) return (i + 1) * k_bin_ns;
+  }
+  return max_latency_ns;
+}
+
+LoopRunner::LoopRunner(hal::Clock& clock, hal::AnalogFrontEnd& afe, hal::DiscreteIo& dio,
+                       Supervisor& sup, SampleSink* sink)
+    : clock_(clock), afe_(afe), dio_(dio), sup_(sup), sink_(sink),
+      period_ns_(static_cast<int64_t>(std::llround(sup.period_s() * 1e9))) {}
+
+int64_t LoopRunner::run_one(int64_t deadline_ns) {
+  const int64_t woke = clock_.wait_until_ns(deadline_ns);
+  const int64_t latency = std::max<int64_t>(0, woke - deadline_ns);
+  const bool ok = afe_.read(in_);
+  const hal::DiscreteInputs din = dio_.read();
+  sup_.step(in_, ok, din, out_, dout_);
+  afe_.write(out_);
+  dio_.write(dout_);
+  if (sink_) sink_->on_sample(sup_.last_sample());
+  const int64_t done = clock_.now_ns();
+
+  ++stats_.periods;
+  stats_.sum_latency_ns += static_cast<double>(latency);
+  stats_.max_latency_ns = std::max(stats_.max_latency_ns, latency);
+  stats_.max_work_ns = std::max(stats_.max_work_ns, done - woke);
+  const int64_t bin = std::min<int64_t>(LoopStats::k_bins - 1, latency / LoopStats::k_bin_ns);
+  ++stats_.latency_hist[static_cast<size_t>(bin)];
+  int64_t next = deadline_ns + period_ns_;
+  if (done > next) {
+    // Overrun: count it and skip the missed deadlines instead of bursting to catch up.
+    ++stats_.overruns;
+    const int64_t missed = (done - deadline_ns) / period_ns_;
+    next = deadline_ns + (missed + 1) * period_ns_;
+  }
+  return next;
+}
+
+void LoopRunner::run_periods(uint64_t n) {
+  if (next_deadline_ns_ < 0) next_deadline_ns_ = clock_.now_ns() + period_ns_;
+  for (uint64_t i = 0; i < n; ++i) next_deadline_ns_ = run_one(next_deadline_ns_);
+}
+
+void LoopRunner::run_until(const std::atomic<bool>& stop) {
+  if (next_deadline_ns_ < 0) next_deadline_ns_ = clock_.now_ns() + period_ns_;
+  while (!stop.load(std::memory_order_relaxed)) next_deadline_ns_ = run_one(next_deadline_ns_);
+}
+
+}  // namespace amb::fw

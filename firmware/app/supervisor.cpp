@@ -1,0 +1,303 @@
+#include "firmware/app/supervisor.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace amb::fw {
+
+const char* to_string(State s) {
+  switch (s) {
+    case State::unconfigured: return "unconfigured";
+    case State::inactive: return "inactive";
+    case State::levitating: return "levitating";
+    case State::running: return "running";
+    case State::fault: return "fault";
+  }
+  return "?";
+}
+
+const char* to_string(Command c) {
+  switch (c) {
+    case Command::none: return "none";
+    case Command::levitate: return "levitate";
+    case Command::run: return "run";
+    case Command::land: return "land";
+    case Command::reset_fault: return "reset_fault";
+    case Command::emergency_stop: return "emergency_stop";
+  }
+  return "?";
+}
+
+const char* to_string(FaultReason r) {
+  switch (r) {
+    case FaultReason::none: return "none";
+    case FaultReason::orbit_limit: return "orbit_limit";
+    case FaultReason::amplifier_fault: return "amplifier_fault";
+    case FaultReason::sensor_invalid: return "sensor_invalid";
+    case FaultReason::emergency_stop: return "emergency_stop";
+    case FaultReason::comm_timeout: return "comm_timeout";
+    case FaultReason::overrun: return "overrun";
+  }
+  return "?";
+}
+
+const char* to_string(Phase p) {
+  switch (p) {
+    case Phase::idle: return "idle";
+    case Phase::lifting: return "lifting";
+    case Phase::settling: return "settling";
+    case Phase::levitated: return "levitated";
+    case Phase::spinning_up: return "spinning_up";
+    case Phase::at_speed: return "at_speed";
+    case Phase::spinning_down: return "spinning_down";
+    case Phase::lowering: return "lowering";
+  }
+  return "?";
+}
+
+namespace {
+// Consecutive periods without a valid sample before the loop gives up (1 ms at 10 kHz).
+constexpr uint32_t k_max_read_failures = 10;
+}  // namespace
+
+void Supervisor::configure(const board::BoardConfig& board) {
+  board_ = board;
+  dt_s_ = 1.0 / board.rate_hz;
+  for (int b = 0; b < 2; ++b) {
+    const auto& amb = board.plant.amb[static_cast<size_t>(b)];
+    ki_n_per_a_[static_cast<size_t>(b)] = amb.ki_n_per_a;
+    xf_[static_cast<size_t>(b)].configure(
+        {board.plant.sensor[static_cast<size_t>(2 * b)].angle_deg,
+         board.plant.sensor[static_cast<size_t>(2 * b + 1)].angle_deg},
+        amb.actuator_angle_deg);
+    for (int a = 0; a < 2; ++a) {
+      // The PID acts in x/y force; its force limit is what one actuator axis can deliver.
+      pid_[static_cast<size_t>(2 * b + a)].configure(board.controller, board.rate_hz, amb.ki_n_per_a);
+    }
+  }
+  if (board.controller.current_limit_a <= 0.0) throw std::invalid_argument("current limit must be > 0");
+  state_ = State::inactive;
+  phase_ = Phase::idle;
+  fault_ = FaultReason::none;
+  counters_ = {};
+  ref_m_ = {};
+  speed_cmd_hz_ = 0.0;
+  step_count_ = 0;
+  seq_ = 0;
+  pending_.store(0);
+  status_ = {};
+  status_.state = state_;
+  published_.store(status_);
+}
+
+bool Supervisor::post(Command c) {
+  uint8_t expected = 0;
+  return pending_.compare_exchange_strong(expected, static_cast<uint8_t>(c), std::memory_order_acq_rel);
+}
+
+void Supervisor::enter_safe_state(FaultReason reason) {
+  if (state_ != State::fault) ++counters_.safe_state_entries;
+  state_ = State::fault;
+  fault_ = reason;
+  phase_ = Phase::idle;
+  speed_cmd_hz_ = 0.0;
+}
+
+void Supervisor::handle_command(Command c) {
+  bool accepted = true;
+  switch (c) {
+    case Command::none: break;
+    case Command::levitate:
+      if (state_ == State::inactive) {
+        state_ = State::levitating;
+        set_phase(Phase::lifting);
+        const auto& s = status_.xy_m;
+        touchdown_m_ = s;
+        ref_m_ = s;
+        for (auto& pid : pid_) pid.reset();
+      } else {
+        accepted = false;
+      }
+      break;
+    case Command::run:
+      if (state_ == State::levitating && phase_ == Phase::levitated) {
+        state_ = State::running;
+        set_phase(Phase::spinning_up);
+      } else {
+        accepted = false;
+      }
+      break;
+    case Command::land:
+      if (state_ == State::running) {
+        set_phase(Phase::spinning_down);
+      } else if (state_ == State::levitating && phase_ != Phase::lowering) {
+        set_phase(Phase::lowering);
+      } else {
+        accepted = false;
+      }
+      break;
+    case Command::reset_fault:
+      if (state_ == State::fault) {
+        state_ = State::inactive;
+        fault_ = FaultReason::none;
+        phase_ = Phase::idle;
+      } else {
+        accepted = false;
+      }
+      break;
+    case Command::emergency_stop:
+      if (state_ == State::levitating || state_ == State::running) enter_safe_state(FaultReason::emergency_stop);
+      else accepted = false;
+      break;
+  }
+  if (!accepted) ++counters_.rejected_commands;
+}
+
+void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::DiscreteInputs& din,
+                      hal::AnalogOutputs& out, hal::DiscreteOutputs& dout) {
+  ++step_count_;
+  phase_t_s_ += dt_s_;
+  const bool active_before = state_ == State::levitating || state_ == State::running;
+
+  // Inputs: keep the last good position when a sample is missing.
+  if (!in_ok) {
+    ++counters_.read_failures;
+    if (++consecutive_read_failures_ > k_max_read_failures && active_before)
+      enter_safe_state(FaultReason::sensor_invalid);
+  } else {
+    consecutive_read_failures_ = 0;
+    if (in.fault_bits != 0) {
+      ++counters_.sensor_fault_samples;
+      if (active_before) enter_safe_state(FaultReason::sensor_invalid);
+    }
+    for (size_t b = 0; b < 2; ++b) {
+      const auto xy = xf_[b].sensors_to_xy({in.displacement_m[2 * b], in.displacement_m[2 * b + 1]});
+      status_.xy_m[2 * b] = xy[0];
+      status_.xy_m[2 * b + 1] = xy[1];
+    }
+  }
+
+  const Command cmd = static_cast<Command>(pending_.exchange(0, std::memory_order_acq_rel));
+  if (cmd != Command::none) handle_command(cmd);
+  const bool active = state_ == State::levitating || state_ == State::running;
+  if (active && din.amplifier_fault) enter_safe_state(FaultReason::amplifier_fault);
+  if (active && din.landing_request && phase_ != Phase::spinning_down && phase_ != Phase::lowering)
+    handle_command(Command::land);
+
+  const auto& lc = board_.lifecycle;
+  // Set-point and speed schedule of the lifecycle phases.
+  switch (phase_) {
+    case Phase::lifting: {
+      const double s = lc.liftoff_ramp_s > 0.0 ? std::min(1.0, phase_t_s_ / lc.liftoff_ramp_s) : 1.0;
+      for (size_t i = 0; i < 4; ++i) ref_m_[i] = touchdown_m_[i] * (1.0 - s);
+      if (s >= 1.0) set_phase(Phase::settling);
+      break;
+    }
+    case Phase::settling:
+      if (phase_t_s_ >= lc.settle_s) set_phase(Phase::levitated);
+      break;
+    case Phase::spinning_up:
+      speed_cmd_hz_ = std::min(lc.operating_speed_hz, speed_cmd_hz_ + lc.spin_accel_hz_per_s * dt_s_);
+      if (speed_cmd_hz_ >= lc.operating_speed_hz) set_phase(Phase::at_speed);
+      break;
+    case Phase::spinning_down:
+      speed_cmd_hz_ = std::max(0.0, speed_cmd_hz_ - lc.spin_accel_hz_per_s * dt_s_);
+      if (speed_cmd_hz_ <= 0.0) {
+        state_ = State::levitating;
+        set_phase(Phase::lowering);
+      }
+      break;
+    case Phase::lowering: {
+      const double s = lc.landing_ramp_s > 0.0 ? std::min(1.0, phase_t_s_ / lc.landing_ramp_s) : 1.0;
+      for (size_t i = 0; i < 4; ++i) ref_m_[i] = touchdown_m_[i] * s;
+      if (s >= 1.0) {
+        state_ = State::inactive;
+        phase_ = Phase::idle;
+      }
+      break;
+    }
+    default: break;
+  }
+
+  // Orbit supervision once the rotor is meant to be centred.
+  const bool centred = phase_ == Phase::settling || phase_ == Phase::levitated ||
+                       phase_ == Phase::spinning_up || phase_ == Phase::at_speed ||
+                       phase_ == Phase::spinning_down;
+  for (size_t b = 0; b < 2; ++b) {
+    status_.orbit_radius_m[b] = std::hypot(status_.xy_m[2 * b] - ref_m_[2 * b],
+                                           status_.xy_m[2 * b + 1] - ref_m_[2 * b + 1]);
+    if (centred && (state_ == State::levitating || state_ == State::running) &&
+        status_.orbit_radius_m[b] > lc.max_orbit_fault_m)
+      enter_safe_state(FaultReason::orbit_limit);
+  }
+
+  // Control: PID per axis in the bearing frame, then to actuator axes and currents.
+  const bool energised = state_ == State::levitating || state_ == State::running;
+  bool saturated = false;
+  for (size_t b = 0; b < 2; ++b) {
+    std::array<double, 2> ic{0.0, 0.0};
+    if (energised) {
+      bool sx = false, sy = false;
+      const double fx = pid_[2 * b].step(status_.xy_m[2 * b], ref_m_[2 * b], sx);
+      const double fy = pid_[2 * b + 1].step(status_.xy_m[2 * b + 1], ref_m_[2 * b + 1], sy);
+      const auto f = xf_[b].xy_to_actuators({fx, fy});
+      const double lim = board_.controller.current_limit_a;
+      for (size_t a = 0; a < 2; ++a) {
+        ic[a] = f[a] / ki_n_per_a_[b];
+        if (std::abs(ic[a]) > lim) {
+          ic[a] = std::copysign(lim, ic[a]);
+          sx = true;
+        }
+      }
+      saturated = saturated || sx || sy;
+    }
+    out.current_demand_a[2 * b] = ic[0];
+    out.current_demand_a[2 * b + 1] = ic[1];
+  }
+  if (saturated) ++counters_.saturated_steps;
+  if (!energised) speed_cmd_hz_ = 0.0;
+  out.amplifiers_enabled = energised;
+  out.spin_speed_command_hz = speed_cmd_hz_;
+
+  watchdog_ = (state_ != State::fault) ? !watchdog_ : watchdog_;
+  dout.amplifier_enable = energised;
+  dout.watchdog = watchdog_;
+  dout.status_ok = state_ != State::fault;
+
+  // Speed estimate: a tachometer if the rig has one, else the tracker, else the command.
+  const double tracked = tracked_speed_hz_.load(std::memory_order_relaxed);
+  const double speed = in.tach_speed_hz >= 0.0 ? in.tach_speed_hz : (tracked >= 0.0 ? tracked : speed_cmd_hz_);
+
+  sample_.seq = seq_++;
+  sample_.t_ns = in.t_ns;
+  for (size_t i = 0; i < 4; ++i) {
+    sample_.displacement_m[i] = static_cast<float>(in.displacement_m[i]);
+    sample_.coil_current_a[i] = static_cast<float>(in.coil_current_a[i]);
+    sample_.current_demand_a[i] = static_cast<float>(out.current_demand_a[i]);
+  }
+  sample_.speed_hz = static_cast<float>(speed);
+  sample_.speed_command_hz = static_cast<float>(speed_cmd_hz_);
+  sample_.state = static_cast<uint8_t>(state_);
+  sample_.phase = static_cast<uint8_t>(phase_);
+  sample_.fault = static_cast<uint8_t>(fault_);
+  sample_.flags = (energised ? flag_amplifiers_enabled : 0u) | (saturated ? flag_saturated : 0u) |
+                  (!in_ok ? flag_read_failed : 0u) |
+                  ((phase_ == Phase::levitated || phase_ == Phase::spinning_up || phase_ == Phase::at_speed) ? flag_levitated : 0u) |
+                  (state_ == State::fault ? flag_fault : 0u) |
+                  (din.landing_request ? flag_landing_request : 0u) |
+                  (din.external_trigger ? flag_external_trigger : 0u) |
+                  (din.amplifier_fault ? flag_amplifier_fault : 0u);
+
+  status_.t_ns = in.t_ns;
+  status_.step = step_count_;
+  status_.state = state_;
+  status_.phase = phase_;
+  status_.fault = fault_;
+  status_.current_demand_a = out.current_demand_a;
+  status_.speed_command_hz = speed_cmd_hz_;
+  status_.speed_estimate_hz = speed;
+  status_.counters = counters_;
+  published_.store(status_);
+}
+
+}  // namespace amb::fw

@@ -1,0 +1,117 @@
+#pragma once
+// The supervisor: lifecycle (unconfigured -> inactive -> levitating -> running -> fault) and
+// the fixed-step control step read -> step -> write. Parameters are fixed at configure;
+// step() is real-time: no allocation, locks, system calls, exceptions or logging.
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+#include "firmware/app/loop_sample.hpp"
+#include "firmware/board/board.hpp"
+#include "firmware/common/spsc_ring.hpp"
+#include "firmware/control/axis_transform.hpp"
+#include "firmware/control/pid_axis.hpp"
+#include "hal/types.hpp"
+
+namespace amb::fw {
+
+enum class State : uint8_t { unconfigured = 0, inactive = 1, levitating = 2, running = 3, fault = 4 };
+const char* to_string(State s);
+
+/// Operator commands; posted from any thread, taken by the loop at the next step.
+enum class Command : uint8_t { none = 0, levitate, run, land, reset_fault, emergency_stop };
+const char* to_string(Command c);
+
+/// Why the safe state was entered.
+enum class FaultReason : uint8_t {
+  none = 0,
+  orbit_limit,        ///< orbit radius beyond lifecycle.max_orbit_fault_m at a sensor plane
+  amplifier_fault,    ///< amplifier fault input asserted
+  sensor_invalid,     ///< analog front end reported no/invalid samples for too long
+  emergency_stop,     ///< operator
+  comm_timeout,       ///< field-bus node heartbeat lost
+  overrun,            ///< too many consecutive loop overruns
+};
+const char* to_string(FaultReason r);
+
+/// Sub-phase within levitating/running, for operators and tests.
+enum class Phase : uint8_t { idle = 0, lifting, settling, levitated, spinning_up, at_speed,
+                             spinning_down, lowering };
+const char* to_string(Phase p);
+
+/// Fault counters (never reset except at configure).
+struct FaultCounters {
+  uint64_t read_failures = 0;
+  uint64_t sensor_fault_samples = 0;
+  uint64_t saturated_steps = 0;
+  uint64_t rejected_commands = 0;
+  uint64_t safe_state_entries = 0;
+};
+
+/// Snapshot published each step for other threads (supervisory link, CLI, tests).
+struct Status {
+  int64_t t_ns = 0;
+  uint64_t step = 0;
+  State state = State::unconfigured;
+  Phase phase = Phase::idle;
+  FaultReason fault = FaultReason::none;
+  std::array<double, 4> xy_m{};           ///< [xA, yA, xB, yB] at the sensor planes, m
+  std::array<double, 2> orbit_radius_m{}; ///< radius from the set-point per plane, m
+  std::array<double, 4> current_demand_a{};
+  double speed_command_hz = 0.0;
+  double speed_estimate_hz = 0.0;         ///< tachometer, tracker or command (see LoopSample)
+  FaultCounters counters;
+};
+
+class Supervisor {
+ public:
+  /// Allocates nothing after this. Throws std::invalid_argument on inconsistent config.
+  void configure(const board::BoardConfig& board);
+  /// Any thread: post a command. Returns false if a command is still pending.
+  bool post(Command c);
+  /// Any thread: newest speed estimate from the tracker thread, Hz (<0: unknown).
+  void set_tracked_speed_hz(double hz) { tracked_speed_hz_.store(hz, std::memory_order_relaxed); }
+
+  /// [RT] One loop period. `in_ok` false: the front end had no valid sample.
+  void step(const hal::AnalogInputs& in, bool in_ok, const hal::DiscreteInputs& din,
+            hal::AnalogOutputs& out, hal::DiscreteOutputs& dout);
+  /// [RT] The one path to the safe state: amplifiers and drive off, reason latched.
+  void enter_safe_state(FaultReason reason);
+
+  /// The record of the last step (for the capture ring).
+  const LoopSample& last_sample() const { return sample_; }
+  /// Latest status (lock-free snapshot; any thread).
+  Status status() const { return published_.load(); }
+  State state() const { return state_; }
+  double period_s() const { return dt_s_; }
+
+ private:
+  void handle_command(Command c);
+  void set_phase(Phase p) { phase_ = p; phase_t_s_ = 0.0; }
+
+  board::BoardConfig board_{};
+  double dt_s_ = 1e-4;
+  std::array<PidAxis, 4> pid_{};           ///< [xA, yA, xB, yB]
+  std::array<AxisTransform, 2> xf_{};      ///< per bearing plane
+  std::array<double, 2> ki_n_per_a_{};
+
+  State state_ = State::unconfigured;
+  Phase phase_ = Phase::idle;
+  FaultReason fault_ = FaultReason::none;
+  double phase_t_s_ = 0.0;
+  std::array<double, 4> ref_m_{};          ///< set-point per control axis, m
+  std::array<double, 4> touchdown_m_{};    ///< position at the levitate command, m
+  double speed_cmd_hz_ = 0.0;
+  uint32_t consecutive_read_failures_ = 0;
+  uint64_t step_count_ = 0;
+  uint64_t seq_ = 0;
+  bool watchdog_ = false;
+  FaultCounters counters_{};
+  LoopSample sample_{};
+  Status status_{};
+  SeqLock<Status> published_;
+  std::atomic<uint8_t> pending_{0};
+  std::atomic<double> tracked_speed_hz_{-1.0};
+};
+
+}  // namespace amb::fw

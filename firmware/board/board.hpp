@@ -1,0 +1,56 @@
+#pragma once
+// Board files: the declarative description of a board, its rig, controller, capture and
+// comms. Loaded and validated at configure time (never in the loop). A bad file is refused
+// with a BoardError naming the key and the allowed range.
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "model/control/pid_params.hpp"
+#include "model/plant/plant_params.hpp"
+
+namespace amb::board {
+
+/// Operator-facing lifecycle settings.
+struct LifecycleParams {
+  double liftoff_ramp_s = 0.3;        ///< ramp of the position set-point from touchdown to centre, s
+  double settle_s = 0.2;              ///< time levitated before spin-up is allowed, s
+  double operating_speed_hz = 0.0;    ///< speed the `run` command spins up to, Hz
+  double spin_accel_hz_per_s = 10.0;  ///< speed ramp of the drive set-point, Hz/s
+  double landing_ramp_s = 0.2;        ///< ramp of the set-point down to touchdown on landing, s
+  double max_orbit_fault_m = 0.0;     ///< orbit radius at any sensor plane that latches a fault, m
+};
+
+struct BoardConfig {
+  std::string source;                 ///< where it was loaded from ("embedded:NAME" or a path)
+  std::string name;                   ///< board name
+  std::string description;
+  std::string backend;                ///< "sim", "linux" or "replay"
+  model::PlantParams plant;           ///< the rig
+  model::PidParams controller;        ///< per-axis position controller
+  double rate_hz = 10000.0;           ///< control loop rate, Hz (1 kHz .. 40 kHz)
+  LifecycleParams lifecycle;
+  std::map<std::string, std::string> assumed;  ///< key path -> why the value is assumed
+};
+
+/// A refused board file. what() names the source, the key path and what was expected.
+class BoardError : public std::runtime_error {
+ public:
+  BoardError(const std::string& source, const std::string& key, const std::string& message);
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string key_;
+};
+
+/// Parse and validate board-file text. `source` names it in errors.
+BoardConfig parse_board(std::string_view toml_text, const std::string& source);
+
+/// Load a board by embedded name ("bath-amb-rig") or by path to a .toml file.
+BoardConfig load_board(const std::string& name_or_path);
+
+/// Names of the boards compiled into this executable.
+std::vector<std::string> embedded_board_names();
+
+}  // namespace amb::board

@@ -1,0 +1,119 @@
+#include "hal/sim/sim_rig.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+namespace amb::hal::sim {
+
+namespace {
+int64_t wall_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
+SimRig::SimRig(std::unique_ptr<model::Plant> plant, bool tach) : plant_(std::move(plant)), tach_(tach) {}
+
+void SimRig::set_paced(bool paced) {
+  paced_ = paced;
+  wall_start_ns_ = wall_ns() - t_ns_;
+}
+
+int64_t SimClock::now_ns() { return rig_.t_ns_; }
+
+int64_t SimClock::wait_until_ns(int64_t deadline_ns) {
+  if (deadline_ns > rig_.t_ns_) {
+    rig_.plant_->step(static_cast<double>(deadline_ns - rig_.t_ns_) * 1e-9, rig_.inputs_);
+    rig_.t_ns_ = deadline_ns;
+  }
+  if (rig_.paced_) {
+    const int64_t wake = rig_.wall_start_ns_ + deadline_ns;
+    const int64_t now = wall_ns();
+    if (wake > now) std::this_thread::sleep_for(std::chrono::nanoseconds(wake - now));
+  }
+  return rig_.t_ns_;
+}
+
+bool SimAnalogFrontEnd::read(AnalogInputs& in) {
+  if (rig_.read_failures_left_ > 0) {
+    --rig_.read_failures_left_;
+    return false;
+  }
+  const model::PlantOutputs o = rig_.plant_->outputs();
+  in.t_ns = rig_.t_ns_;
+  for (size_t i = 0; i < 4; ++i) {
+    in.displacement_m[i] = o.displacement_m[i];
+    in.coil_current_a[i] = o.coil_current_a[i];
+  }
+  in.tach_speed_hz = rig_.tach_ ? o.spin_speed_hz : -1.0;
+  in.fault_bits = 0;
+  return true;
+}
+
+void SimAnalogFrontEnd::write(const AnalogOutputs& out) {
+  for (size_t i = 0; i < 4; ++i) rig_.inputs_.current_demand_a[i] = out.current_demand_a[i];
+  rig_.inputs_.amplifiers_enabled = out.amplifiers_enabled;
+  rig_.inputs_.spin_speed_command_hz = out.spin_speed_command_hz;
+}
+
+bool MemoryStorage::write_atomic(std::string_view name, std::span<const uint8_t> bytes, std::string& error) {
+  uint64_t used = 0;
+  for (const auto& [k, v] : items_)
+    if (k != name) used += v.size();
+  if (used + bytes.size() > capacity_) {
+    error = "storage full: " + std::to_string(bytes.size()) + " bytes needed, " +
+            std::to_string(capacity_ - used) + " free";
+    return false;
+  }
+  items_[std::string(name)] = std::vector<uint8_t>(bytes.begin(), bytes.end());
+  return true;
+}
+
+bool MemoryStorage::read(std::string_view name, std::vector<uint8_t>& bytes, std::string& error) {
+  auto it = items_.find(name);
+  if (it == items_.end()) {
+    error = "no such item: " + std::string(name);
+    return false;
+  }
+  bytes = it->second;
+  return true;
+}
+
+std::vector<std::string> MemoryStorage::list() {
+  std::vector<std::string> names;
+  for (const auto& [k, v] : items_) names.push_back(k);
+  return names;
+}
+
+bool MemoryStorage::remove(std::string_view name) {
+  auto it = items_.find(name);
+  if (it == items_.end()) return false;
+  items_.erase(it);
+  return true;
+}
+
+uint64_t MemoryStorage::free_bytes() {
+  uint64_t used = 0;
+  for (const auto& [k, v] : items_) used += v.size();
+  return capacity_ - used;
+}
+
+bool LoopbackCanBus::send(const CanFrame& frame) {
+  if (!peer_ || peer_->head_ - peer_->tail_ >= k_capacity) {
+    ++stats_.tx_dropped;
+    return false;
+  }
+  peer_->queue_[peer_->head_++ % k_capacity] = frame;
+  ++stats_.tx_frames;
+  return true;
+}
+
+bool LoopbackCanBus::receive(CanFrame& frame) {
+  if (tail_ == head_) return false;
+  frame = queue_[tail_++ % k_capacity];
+  ++stats_.rx_frames;
+  return true;
+}
+
+}  // namespace amb::hal::sim
