@@ -1,0 +1,144 @@
+#include "host-tools/core/bearing/envelope.hpp"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <memory>
+#include <numeric>
+#include <stdexcept>
+
+namespace amb::host::bearing {
+namespace {
+
+struct PlanDeleter {
+  void operator()(fftw_plan_s* p) const { fftw_destroy_plan(p); }
+};
+using Plan = std::unique_ptr<fftw_plan_s, PlanDeleter>;
+
+bool is_smooth(size_t n) {
+  for (size_t p : {2u, 3u, 5u, 7u})
+    while (n % p == 0) n /= p;
+  return n == 1;
+}
+
+// In-place complex FFT of `buf` (interleaved re/im), sign -1 forward / +1 inverse.
+void complex_fft(std::vector<std::complex<double>>& buf, int sign) {
+  auto* p = reinterpret_cast<fftw_complex*>(buf.data());
+  Plan plan(fftw_plan_dft_1d(static_cast<int>(buf.size()), p, p, sign, FFTW_ESTIMATE));
+  fftw_execute(plan.get());
+}
+
+}  // namespace
+
+size_t smooth_length_at_most(size_t n) {
+  while (n > 1 && !is_smooth(n)) --n;
+  return n;
+}
+
+double EnvelopeSpectrum::at(double f_hz) const {
+  const auto k = static_cast<long>(std::llround(f_hz / df_hz));
+  if (k < 0 || static_cast<size_t>(k) >= amplitude.size()) return 0.0;
+  return amplitude[static_cast<size_t>(k)];
+}
+
+BandAnalyser::BandAnalyser(const std::vector<double>& x, double fs_hz) : fs_hz_(fs_hz) {
+  if (!(fs_hz > 0)) throw std::invalid_argument("sample rate must be > 0");
+  if (x.size() < 64) throw std::invalid_argument("record too short (< 64 samples)");
+  n_ = smooth_length_at_most(x.size());
+  const double mean = std::accumulate(x.begin(), x.begin() + static_cast<long>(n_), 0.0) / static_cast<double>(n_);
+  std::vector<double> in(n_);
+  for (size_t i = 0; i < n_; ++i) in[i] = x[i] - mean;
+  std::vector<std::complex<double>> out(n_ / 2 + 1);
+  Plan plan(fftw_plan_dft_r2c_1d(static_cast<int>(n_), in.data(), reinterpret_cast<fftw_complex*>(out.data()),
+                                 FFTW_ESTIMATE));
+  fftw_execute(plan.get());
+  spec_re_.resize(out.size());
+  spec_im_.resize(out.size());
+  for (size_t k = 0; k < out.size(); ++k) {
+    spec_re_[k] = out[k].real();
+    spec_im_[k] = out[k].imag();
+  }
+}
+
+std::vector<double> BandAnalyser::squared_envelope(double low_hz, double high_hz, int pad) const {
+  const double df = fs_hz_ / static_cast<double>(n_);
+  const auto k0 = static_cast<size_t>(std::max(1.0, std::ceil(low_hz / df)));
+  const auto k1 = std::min(spec_re_.size() - 1, static_cast<size_t>(std::floor(high_hz / df)));
+  if (k1 <= k0 + 4) return {};
+  // Baseband: the band's positive-frequency bins moved to start at 0. Its inverse FFT is the
+  // analytic band signal demodulated by a complex exponential, whose magnitude is the envelope.
+  // Any length >= the bin count spans the record duration T (bins are 1/T apart), so round
+  // up to a fast FFT size.
+  size_t m = static_cast<size_t>(pad) * (k1 - k0);
+  while (!is_smooth(m)) ++m;
+  std::vector<std::complex<double>> buf(m);
+  for (size_t k = k0; k < k1; ++k) buf[k - k0] = {spec_re_[k], spec_im_[k]};
+  complex_fft(buf, FFTW_BACKWARD);
+  std::vector<double> env(buf.size());
+  // Scale so the envelope is in input units^2 regardless of n (analytic signal = 2 x positive bins).
+  const double scale = 2.0 / static_cast<double>(n_);
+  for (size_t i = 0; i < buf.size(); ++i) env[i] = std::norm(buf[i] * scale);
+  return env;
+}
+
+double BandAnalyser::band_kurtosis(double low_hz, double high_hz) const {
+  const std::vector<double> e2 = squared_envelope(low_hz, high_hz, 1);
+  if (e2.empty()) return 0.0;
+  double m2 = 0, m4 = 0;
+  for (double v : e2) {
+    m2 += v;
+    m4 += v * v;
+  }
+  m2 /= static_cast<double>(e2.size());
+  m4 /= static_cast<double>(e2.size());
+  return m2 > 0 ? m4 / (m2 * m2) - 2.0 : 0.0;
+}
+
+Band BandAnalyser::select_band(const BandSelectionOptions& o) const {
+  if (!o.valid()) throw std::invalid_argument("invalid band selection options");
+  const double nyq = 0.5 * fs_hz_;
+  Band best;
+  best.low_hz = 0.0;
+  best.high_hz = nyq;
+  best.kurtosis = -1e300;
+  // Grid: bandwidth nyq / 2^(l/2) rounded to the dyadic (l even) and 1/3-dyadic-like (l odd,
+  // bandwidth nyq / (3 * 2^((l-1)/2)) ) levels of Antoni's fast kurtogram; centres every half
+  // bandwidth (50 % overlap) so a resonance is never split across two bands.
+  for (int l = 0; l <= 2 * o.max_levels; ++l) {
+    const double bw = (l % 2 == 0) ? nyq / std::pow(2.0, l / 2) : nyq / (1.5 * std::pow(2.0, (l - 1) / 2));
+    if (bw < o.min_bandwidth_hz) break;
+    for (double lo = 0.0; lo + bw <= nyq * (1.0 + 1e-9); lo += 0.5 * bw) {
+      if (lo < o.min_low_edge_hz) continue;
+      const double k = band_kurtosis(lo, lo + bw);
+      if (k > best.kurtosis) best = Band{lo, lo + bw, k, l};
+    }
+  }
+  return best;
+}
+
+EnvelopeSpectrum BandAnalyser::envelope_spectrum(const Band& band) const {
+  EnvelopeSpectrum s;
+  s.band = band;
+  // Pad x2: |z|^2 has twice the bandwidth of z; a band-rate sampling would alias it.
+  std::vector<double> e2 = squared_envelope(band.low_hz, band.high_hz, 2);
+  if (e2.empty()) return s;
+  const double mean = std::accumulate(e2.begin(), e2.end(), 0.0) / static_cast<double>(e2.size());
+  const size_t m = e2.size();
+  std::vector<std::complex<double>> buf(m);
+  double wsum = 0.0;
+  for (size_t i = 0; i < m; ++i) {
+    const double w = 0.5 - 0.5 * std::cos(2.0 * M_PI * static_cast<double>(i) / static_cast<double>(m));
+    wsum += w;
+    buf[i] = (e2[i] - mean) * w;
+  }
+  complex_fft(buf, FFTW_FORWARD);
+  // The envelope record spans the same duration as the input: bin spacing fs / n.
+  s.df_hz = fs_hz_ / static_cast<double>(n_);
+  s.amplitude.resize(m / 2);
+  for (size_t k = 0; k < m / 2; ++k) s.amplitude[k] = 2.0 * std::abs(buf[k]) / wsum;
+  return s;
+}
+
+}  // namespace amb::host::bearing

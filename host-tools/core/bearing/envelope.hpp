@@ -1,0 +1,62 @@
+#pragma once
+// Envelope analysis for rolling-bearing diagnosis: resonance-band selection by a
+// "kurtogram-lite" (spectral kurtosis of the complex band envelope over a dyadic and
+// 1/3-dyadic grid of bands), Hilbert envelope via FFT, envelope spectrum.
+#include <cstddef>
+#include <vector>
+
+namespace amb::host::bearing {
+
+/// A frequency band and its spectral kurtosis.
+struct Band {
+  double low_hz = 0.0;       ///< lower edge, Hz
+  double high_hz = 0.0;      ///< upper edge, Hz
+  double kurtosis = 0.0;     ///< E|z|^4 / (E|z|^2)^2 - 2 of the complex band envelope z (0 for Gaussian noise)
+  int level = 0;             ///< grid level (bandwidth = fs/2 / 2^(level/2) ... see .cpp)
+};
+
+/// Options of the band selection.
+struct BandSelectionOptions {
+  double min_bandwidth_hz = 500.0;  ///< narrowest band considered, Hz (must pass the sidebands of the highest line of interest)
+  double min_low_edge_hz = 0.0;     ///< bands starting below this are skipped, Hz
+  int max_levels = 8;               ///< depth of the band grid (each level narrows by sqrt(2)...2)
+  bool valid() const { return min_bandwidth_hz > 0 && min_low_edge_hz >= 0 && max_levels >= 1; }
+};
+
+/// Envelope spectrum of a signal in one band.
+struct EnvelopeSpectrum {
+  std::vector<double> amplitude;  ///< one-sided amplitude of the squared envelope's spectrum (Hann window), input unit^2
+  double df_hz = 0.0;             ///< bin spacing, Hz (bin k is at k * df_hz)
+  Band band;                      ///< band used
+  /// Amplitude at frequency f_hz (nearest bin), 0 outside the spectrum.
+  double at(double f_hz) const;
+};
+
+/// Precomputed spectrum of a record; bands are analysed from it without recomputing the FFT.
+class BandAnalyser {
+ public:
+  /// @param x      samples (any unit); the mean is removed; the record is trimmed to the
+  ///               longest 2^a 3^b 5^c 7^d length so the FFT stays fast
+  /// @param fs_hz  sample rate, Hz (> 0)
+  BandAnalyser(const std::vector<double>& x, double fs_hz);
+  /// Spectral kurtosis of the band [low_hz, high_hz).
+  double band_kurtosis(double low_hz, double high_hz) const;
+  /// The band with the highest spectral kurtosis on the grid (kurtogram-lite).
+  Band select_band(const BandSelectionOptions& o) const;
+  /// Envelope spectrum for `band` (squared envelope, mean removed, Hann window).
+  EnvelopeSpectrum envelope_spectrum(const Band& band) const;
+  double fs_hz() const { return fs_hz_; }
+  size_t length() const { return n_; }
+
+ private:
+  // Complex baseband signal (bins of [low, high) shifted to 0), zero-padded by `pad`.
+  std::vector<double> squared_envelope(double low_hz, double high_hz, int pad) const;
+  size_t n_ = 0;
+  double fs_hz_ = 0.0;
+  std::vector<double> spec_re_, spec_im_;  // one-sided spectrum, n/2 + 1 bins
+};
+
+/// Largest length <= n whose prime factors are all in {2, 3, 5, 7}.
+size_t smooth_length_at_most(size_t n);
+
+}  // namespace amb::host::bearing

@@ -1,0 +1,119 @@
+#include "model/bearing/hertz_contact.hpp"
+
+#include <cmath>
+
+namespace amb::model::bearing {
+
+double wrap_angle_rad(double a) noexcept {
+  // |mod(a + pi, 2 pi) - pi| of seed 003 eq. 4-5, with a floor-mod that works for a < 0.
+  const double two_pi = 2.0 * M_PI;
+  double r = std::fmod(a + M_PI, two_pi);
+  if (r < 0.0) r += two_pi;
+  return r - M_PI;
+}
+
+bool HertzContactLaw::configure(const ContactLawParams& p) {
+  ok_ = false;
+  if (!p.geometry.valid() || p.geometry.ball_count > k_max_balls) return false;
+  if (!(p.hertz_constant_n_per_m1p5 >= 0.0) || !(p.radial_clearance_m >= 0.0)) return false;
+  if (p.defect.location != DefectLocation::none &&
+      (!(p.defect.width_m > 0.0) || !(p.defect.depth_m >= 0.0)))
+    return false;
+  p_ = p;
+  z_ = p.geometry.ball_count;
+  cage_ratio_ = defect_orders(p.geometry).ftf;
+  for (int j = 0; j < z_; ++j) {
+    const double a = 2.0 * M_PI * j / z_;
+    cos_pitch_[static_cast<size_t>(j)] = std::cos(a);
+    sin_pitch_[static_cast<size_t>(j)] = std::sin(a);
+  }
+  defect_half_angle_rad_ = 0.0;
+  defect_depth_m_ = 0.0;
+  if (p.defect.location != DefectLocation::none) {
+    // Seed 003: theta_d = arcsin(L / R_race), R_race the raceway radius the groove is cut in.
+    const double r_race = p.defect.location == DefectLocation::outer_race
+                              ? p.geometry.outer_raceway_radius_m()
+                              : p.geometry.inner_raceway_radius_m();
+    const double s = std::min(1.0, p.defect.width_m / r_race);
+    defect_half_angle_rad_ = 0.5 * std::asin(s);
+    defect_depth_m_ = p.defect.depth_m;
+    if (p.defect.limit_depth_to_ball) {
+      const double r = 0.5 * p.geometry.ball_diameter_m;
+      const double half = std::min(r, 0.5 * p.defect.width_m);
+      defect_depth_m_ = std::min(defect_depth_m_, r - std::sqrt(r * r - half * half));
+    }
+  }
+  ok_ = true;
+  return true;
+}
+
+double HertzContactLaw::defect_depth(double theta_rel_rad) const noexcept {
+  const double a = std::abs(wrap_angle_rad(theta_rel_rad));
+  if (a > defect_half_angle_rad_) return 0.0;
+  if (p_.defect.profile == DefectProfile::rectangular) return defect_depth_m_;
+  return defect_depth_m_ * std::cos(a * M_PI / (2.0 * defect_half_angle_rad_));
+}
+
+SupportForce HertzContactLaw::force(double dx_m, double dy_m, double shaft_angle_rad) const noexcept {
+  return force_at_cage_angle(dx_m, dy_m, cage_ratio_ * shaft_angle_rad, shaft_angle_rad);
+}
+
+SupportForce HertzContactLaw::force_at_cage_angle(double dx_m, double dy_m, double cage_angle_rad,
+                                                  double shaft_angle_rad) const noexcept {
+  SupportForce out;
+  if (!ok_) return out;
+  const double cc = std::cos(cage_angle_rad);
+  const double sc = std::sin(cage_angle_rad);
+  const DefectLocation loc = p_.defect.location;
+  // Defect centre in the same frame as theta_j (inner-race defect turns with the shaft).
+  const double defect_centre = loc == DefectLocation::inner_race
+                                   ? p_.defect.angle_rad + shaft_angle_rad
+                                   : p_.defect.angle_rad;
+  for (int j = 0; j < z_; ++j) {
+    const auto k = static_cast<size_t>(j);
+    // cos/sin(theta_cage + 2 pi j/Z) by the addition theorem: 2 trig calls per evaluation.
+    const double cj = cc * cos_pitch_[k] - sc * sin_pitch_[k];
+    const double sj = sc * cos_pitch_[k] + cc * sin_pitch_[k];
+    double delta = dx_m * cj + dy_m * sj - p_.radial_clearance_m;
+    if (loc != DefectLocation::none && delta > -defect_depth_m_) {
+      const double theta_j = cage_angle_rad + 2.0 * M_PI * j / z_;
+      delta -= defect_depth(theta_j - defect_centre);
+    }
+    if (delta > 0.0) {
+      const double q = p_.hertz_constant_n_per_m1p5 * delta * std::sqrt(delta);
+      out.fx_n += q * cj;
+      out.fy_n += q * sj;
+      ++out.balls_loaded;
+    }
+  }
+  return out;
+}
+
+double nominal_hertz_constant(const BearingGeometry& g, double fi, double fo, double e_pa, double nu) {
+  if (!g.valid() || fi <= 0.5 || fo <= 0.5) return 0.0;
+  const double d = g.ball_diameter_m;
+  const double dm = g.pitch_diameter_m;
+  const double ca = std::cos(g.contact_angle_rad);
+  const double e_eff = e_pa / (1.0 - nu * nu);  // E' for two equal bodies: 2/(2(1-nu^2)/E)
+  // One ball-race contact; `sign` +1 for the (convex) inner race, -1 for the (concave) outer.
+  auto contact_constant = [&](double conformity, double sign) {
+    // Race radius in the rolling direction (Harris): (d_m - sign D cos a) / (2 cos a).
+    const double race_r = (dm - sign * d * ca) / (2.0 * ca);
+    const double inv_rx = 2.0 / d + sign / race_r;
+    const double inv_ry = 2.0 / d - 1.0 / (conformity * d);
+    const double rx = 1.0 / inv_rx;
+    const double ry = 1.0 / inv_ry;
+    const double ratio = ry / rx;                        // > 1 for ball bearings
+    const double r = 1.0 / (inv_rx + inv_ry);
+    const double kappa = 1.0339 * std::pow(ratio, 0.636);  // Hamrock-Brewe ellipticity
+    const double e2 = 1.0003 + 0.5968 / ratio;             // 2nd kind elliptic integral
+    const double f1 = 1.5277 + 0.6023 * std::log(ratio);   // 1st kind elliptic integral
+    return M_PI * kappa * e_eff * std::sqrt(2.0 * e2 * r / 9.0) / std::pow(f1, 1.5);
+  };
+  const double ki = contact_constant(fi, +1.0);
+  const double ko = contact_constant(fo, -1.0);
+  // Deflections add: delta = (Q/Ki)^(2/3) + (Q/Ko)^(2/3).
+  return std::pow(std::pow(ki, -2.0 / 3.0) + std::pow(ko, -2.0 / 3.0), -1.5);
+}
+
+}  // namespace amb::model::bearing
