@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 namespace amb::fw {
@@ -78,13 +79,13 @@ class SeqLock {
   // plain concurrent read/write even when the sequence check discards torn copies).
   void copy_words(const T& v) {
     std::array<uint64_t, k_words> w{};
-    __builtin_memcpy(w.data(), &v, sizeof(T));
+    std::memcpy(static_cast<void*>(w.data()), static_cast<const void*>(&v), sizeof(T));
     for (size_t i = 0; i < k_words; ++i) data_[i].store(w[i], std::memory_order_relaxed);
   }
   void read_words(T& v) const {
     std::array<uint64_t, k_words> w{};
     for (size_t i = 0; i < k_words; ++i) w[i] = data_[i].load(std::memory_order_relaxed);
-    __builtin_memcpy(&v, w.data(), sizeof(T));
+    std::memcpy(static_cast<void*>(&v), static_cast<const void*>(w.data()), sizeof(T));
   }
   std::atomic<uint32_t> seq_{0};
   std::array<std::atomic<uint64_t>, k_words> data_{};

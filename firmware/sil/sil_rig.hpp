@@ -1,0 +1,57 @@
+#pragma once
+// Software in the loop: the firmware's supervisor and loop runner against the `sim` HAL
+// backend and a plant model built from the same board file. Not part of the firmware.
+#include <functional>
+#include <memory>
+
+#include "firmware/app/loop_runner.hpp"
+#include "firmware/app/supervisor.hpp"
+#include "firmware/board/board.hpp"
+#include "hal/sim/sim_rig.hpp"
+#include "model/plant/plant.hpp"
+
+namespace amb::sil {
+
+struct SilOptions {
+  bool paced = false;          ///< pace to wall time instead of as fast as possible
+  bool tachometer = false;     ///< give the firmware a tachometer reading
+  uint64_t noise_seed = 1;     ///< seed of the plant's sensor noise
+  bool start_levitated = false;///< start centred instead of resting on the touchdown bearings
+};
+
+/// The plant the board describes (the penalty-contact rotor-AMB plant).
+std::unique_ptr<model::Plant> make_board_plant(const board::BoardConfig& board, uint64_t noise_seed);
+
+class SilRig {
+ public:
+  explicit SilRig(const board::BoardConfig& board, SilOptions options = {});
+  /// Use a given plant (e.g. the non-smooth drop model); it is reset here.
+  SilRig(const board::BoardConfig& board, std::unique_ptr<model::Plant> plant, SilOptions options);
+
+  fw::Supervisor& supervisor() { return sup_; }
+  fw::LoopRunner& loop() { return *loop_; }
+  hal::sim::SimRig& sim() { return *sim_; }
+  model::Plant& plant() { return sim_->plant(); }
+  const board::BoardConfig& board() const { return board_; }
+  /// Route every loop sample to `sink` (nullptr: none).
+  void set_sink(fw::SampleSink* sink);
+  /// Called after every period (for scenario recording); may be empty.
+  std::function<void(const fw::Status&)> on_period;
+
+  double time_s() const { return static_cast<double>(sim_->time_ns()) * 1e-9; }
+  /// Run for `seconds` of simulated time.
+  void run_for(double seconds);
+  /// Run until `done(status)` holds or `timeout_s` of simulated time passed; true if it held.
+  bool run_until(const std::function<bool(const fw::Status&)>& done, double timeout_s);
+
+ private:
+  void build(std::unique_ptr<model::Plant> plant);
+  board::BoardConfig board_;
+  SilOptions options_;
+  std::unique_ptr<hal::sim::SimRig> sim_;
+  fw::Supervisor sup_;
+  std::unique_ptr<fw::LoopRunner> loop_;
+  fw::SampleSink* sink_ = nullptr;
+};
+
+}  // namespace amb::sil

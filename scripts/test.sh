@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# The README's test command: install dependencies, build for the host and run every test,
+# cross-build for the aarch64 board and run the unit tests under qemu-user, then run the
+# target test on an emulated ARM board.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$PWD
+JOBS=${AMB_JOBS:-2}
+BUILD=${AMB_BUILD_DIR:-$ROOT/build}
+BUILD_ARM=${AMB_BUILD_ARM_DIR:-$ROOT/build-aarch64}
+
+bash scripts/setup-debian.sh
+
+echo "== host build ($BUILD)"
+cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build "$BUILD" -j"$JOBS"
+echo "== host tests"
+ctest --test-dir "$BUILD" -j"$JOBS" --output-on-failure --timeout 900
+
+if [ "${AMB_SKIP_ARM:-0}" != 1 ]; then
+  echo "== aarch64 cross build ($BUILD_ARM)"
+  cmake -S . -B "$BUILD_ARM" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_TOOLCHAIN_FILE="$ROOT/cmake/aarch64-linux-gnu.cmake" \
+    -DAMB_BUILD_HOST_TOOLS=OFF -DAMB_BUILD_BENCH=OFF
+  cmake --build "$BUILD_ARM" -j"$JOBS"
+  echo "== aarch64 unit tests under qemu-user"
+  ctest --test-dir "$BUILD_ARM" -j"$JOBS" --output-on-failure --timeout 1800 -LE host_only
+fi
+
+if [ -x tests/target/run-target-test.sh ] && [ "${AMB_SKIP_TARGET:-0}" != 1 ]; then
+  echo "== target test: emulated ARM board"
+  bash tests/target/run-target-test.sh "$BUILD" "$BUILD_ARM"
+fi

@@ -1,0 +1,156 @@
+// Board files: the shipped boards load; bad files are refused with the key and the range.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "boards/embedded_boards.hpp"
+#include "firmware/board/board.hpp"
+
+using amb::board::BoardError;
+using amb::board::load_board;
+using amb::board::parse_board;
+
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string bath_text() { return read_file(std::string(AMB_SOURCE_DIR) + "/boards/bath-amb-rig.toml"); }
+
+// Replace the first line that starts with `key =` after `section` with `key = value`.
+std::string set_key(std::string text, const std::string& section, const std::string& key,
+                    const std::string& value) {
+  size_t at = text.find(section);
+  EXPECT_NE(at, std::string::npos) << section;
+  const std::regex line("\n" + key + " = [^\n]*");
+  std::smatch m;
+  std::string tail = text.substr(at);
+  EXPECT_TRUE(std::regex_search(tail, m, line)) << key;
+  tail.replace(static_cast<size_t>(m.position(0)), static_cast<size_t>(m.length(0)), "\n" + key + " = " + value);
+  return text.substr(0, at) + tail;
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_board(text, "test.toml");
+  } catch (const BoardError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Board, EveryEmbeddedBoardLoads) {
+  int n = 0;
+  for (const auto* e = amb::boards::embedded_boards(); e->name; ++e, ++n) {
+    const auto b = load_board(e->name);
+    EXPECT_EQ(b.name, e->name);
+    EXPECT_EQ(b.plant.rig_name, e->name);
+    EXPECT_GE(b.rate_hz, 1000.0);
+    EXPECT_FALSE(b.plant.rotor.elements.empty());
+  }
+  EXPECT_GE(n, 2);
+}
+
+TEST(Board, DefaultBoardIsEmbedded) {
+  EXPECT_NO_THROW(load_board(amb::boards::k_default_board));
+}
+
+TEST(Board, FileAndEmbeddedCopyAgree) {
+  const auto a = load_board("bath-amb-rig");
+  const auto b = load_board(std::string(AMB_SOURCE_DIR) + "/boards/bath-amb-rig.toml");
+  EXPECT_EQ(a.controller.kp_n_per_m, b.controller.kp_n_per_m);
+  EXPECT_EQ(a.plant.rotor.elements.size(), b.plant.rotor.elements.size());
+}
+
+TEST(Board, UnknownKeyIsRefusedByName) {
+  std::string t = bath_text();
+  t = set_key(t, "[controller]", "rate_hz", "10000.0\nkp_typo = 1.0");
+  const std::string e = error_of(t);
+  EXPECT_NE(e.find("controller.kp_typo"), std::string::npos) << e;
+  EXPECT_NE(e.find("unknown key"), std::string::npos) << e;
+}
+
+TEST(Board, UnknownSectionIsRefused) {
+  const std::string e = error_of(bath_text() + "\n[extras]\nfoo = 1\n");
+  EXPECT_NE(e.find("'extras'"), std::string::npos) << e;
+}
+
+TEST(Board, OutOfRangeLoopRateNamesKeyAndRange) {
+  const std::string e = error_of(set_key(bath_text(), "[controller]", "rate_hz", "50000.0"));
+  EXPECT_NE(e.find("controller.rate_hz"), std::string::npos) << e;
+  EXPECT_NE(e.find("[1000, 40000]"), std::string::npos) << e;
+}
+
+TEST(Board, NegativeClearanceNamesArrayEntry) {
+  const std::string e = error_of(set_key(bath_text(), "[[rig.aux_bearing]]", "clearance_m", "-0.001"));
+  EXPECT_NE(e.find("rig.aux_bearing[0].clearance_m"), std::string::npos) << e;
+  EXPECT_NE(e.find("out of range"), std::string::npos) << e;
+}
+
+TEST(Board, MissingFieldIsNamed) {
+  std::string t = bath_text();
+  const size_t at = t.find("kd_n_s_per_m");
+  ASSERT_NE(at, std::string::npos);
+  t.erase(at, t.find('\n', at) - at);
+  const std::string e = error_of(t);
+  EXPECT_NE(e.find("controller.kd_n_s_per_m"), std::string::npos) << e;
+  EXPECT_NE(e.find("missing"), std::string::npos) << e;
+}
+
+TEST(Board, WrongTypeIsRefused) {
+  const std::string e = error_of(set_key(bath_text(), "[controller]", "kp_n_per_m", "\"high\""));
+  EXPECT_NE(e.find("controller.kp_n_per_m"), std::string::npos) << e;
+  EXPECT_NE(e.find("must be a number"), std::string::npos) << e;
+}
+
+TEST(Board, WrongNumberOfAmbsIsRefused) {
+  std::string t = bath_text();
+  const size_t at = t.find("[[rig.amb]]");
+  t.insert(at, "[[rig.amb]]\naxial_m = 0.1\n\n");
+  const std::string e = error_of(t);
+  EXPECT_NE(e.find("rig.amb"), std::string::npos) << e;
+}
+
+TEST(Board, InconsistentBiasCurrentIsRefused) {
+  const std::string e = error_of(set_key(bath_text(), "[[rig.amb]]", "bias_current_a", "10.0"));
+  EXPECT_NE(e.find("rig.amb[0].bias_current_a"), std::string::npos) << e;
+}
+
+TEST(Board, AssumptionMustNameARealKey) {
+  const std::string e = error_of(bath_text() + "\"rig.nonexistent\" = \"because\"\n");
+  EXPECT_NE(e.find("rig.nonexistent"), std::string::npos) << e;
+}
+
+TEST(Board, BadTomlSyntaxGivesLine) {
+  const std::string e = error_of("schema = \"amb-board/1\"\n[board\nname = 1\n");
+  EXPECT_NE(e.find("line 2"), std::string::npos) << e;
+}
+
+TEST(Board, WrongSchemaIsRefused) {
+  std::string t = bath_text();
+  t.replace(t.find("amb-board/1"), 11, "amb-board/9");
+  const std::string e = error_of(t);
+  EXPECT_NE(e.find("schema"), std::string::npos) << e;
+}
+
+TEST(Board, UnknownBoardNameListsKnownOnes) {
+  try {
+    load_board("no-such-rig");
+    FAIL();
+  } catch (const BoardError& e) {
+    EXPECT_NE(std::string(e.what()).find("bath-amb-rig"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Board, BathAssumptionsAreRecorded) {
+  const auto b = load_board("bath-amb-rig");
+  EXPECT_TRUE(b.assumed.count("controller.kp_n_per_m"));
+}
