@@ -77,15 +77,15 @@ TEST(Pid, NotchRemovesItsCentreAndPassesElsewhere) {
     amb::fw::Biquad q = amb::fw::design_notch(n, fs);
     // RMS over whole settled periods (a sampled peak would miss the crest near Nyquist).
     double sum_sq = 0.0;
-    int n = 0;
+    int count = 0;
     for (int i = 0; i < 40000; ++i) {
       const double y = q.step(std::sin(2 * M_PI * f * i / fs));
       if (i >= 20000) {
         sum_sq += y * y;
-        ++n;
+        ++count;
       }
     }
-    return std::sqrt(2.0 * sum_sq / n);
+    return std::sqrt(2.0 * sum_sq / count);
   };
   EXPECT_LT(amplitude(500.0), 0.01);
   EXPECT_NEAR(amplitude(50.0), 1.0, 0.01);
