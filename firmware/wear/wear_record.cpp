@@ -1,0 +1,98 @@
+#include "firmware/wear/wear_record.hpp"
+
+#include "firmware/common/byte_codec.hpp"
+#include "firmware/common/crc32.hpp"
+
+namespace amb::fw {
+
+namespace {
+constexpr size_t k_name_width = 32;
+constexpr size_t k_model_width = 64;
+}  // namespace
+
+std::vector<uint8_t> encode_wear_record(const WearRecord& r) {
+  std::vector<uint8_t> out;
+  ByteWriter w(out);
+  w.u32(WearRecord::k_magic);
+  w.u16(WearRecord::k_version);
+  w.u16(0);
+  w.u32(r.sequence);
+  w.str(r.board_name.substr(0, k_name_width - 1), k_name_width);
+  w.str(r.life_model.substr(0, k_model_width - 1), k_model_width);
+  w.u32(r.event_count);
+  w.f32(r.last_friction_coefficient);
+  w.i64(r.updated_unix_s);
+  for (const AuxBearingWear& b : r.bearing) {
+    for (float v : b.event_load_n) w.f32(v);
+    for (float v : b.cumulative_load_n) w.f32(v);
+    w.f32(b.swing_s);
+    w.f32(b.forward_rub_s);
+    w.f32(b.backward_rub_s);
+    w.f32(b.friction_energy_j);
+    w.f32(b.peak_force_n);
+    w.f32(b.life_used_fraction);
+  }
+  w.u32(crc32(out));
+  return out;
+}
+
+size_t wear_record_size() { return encode_wear_record(WearRecord{}).size(); }
+
+bool decode_wear_record(const std::vector<uint8_t>& bytes, WearRecord& out, std::string& error) {
+  const size_t expected = wear_record_size();
+  if (bytes.size() < 8) {
+    error = "wear record truncated: " + std::to_string(bytes.size()) + " bytes";
+    return false;
+  }
+  ByteReader h(bytes.data(), bytes.size());
+  if (h.u32() != WearRecord::k_magic) {
+    error = "not a wear record (bad magic)";
+    return false;
+  }
+  const uint16_t version = h.u16();
+  if (version != WearRecord::k_version) {
+    error = "wear record version " + std::to_string(version) + " not supported (expected " +
+            std::to_string(WearRecord::k_version) + ")";
+    return false;
+  }
+  if (bytes.size() != expected) {
+    error = "wear record has " + std::to_string(bytes.size()) + " bytes, expected " + std::to_string(expected) +
+            (bytes.size() < expected ? " (truncated)" : " (trailing data)");
+    return false;
+  }
+  const uint32_t stored = ByteReader(bytes.data() + expected - 4, 4).u32();
+  const uint32_t computed = crc32(std::span<const uint8_t>(bytes.data(), expected - 4));
+  if (stored != computed) {
+    error = "wear record checksum mismatch (corrupt)";
+    return false;
+  }
+  ByteReader r(bytes.data(), bytes.size());
+  WearRecord w;
+  r.u32();
+  r.u16();
+  r.u16();
+  w.sequence = r.u32();
+  w.board_name = r.str(k_name_width);
+  w.life_model = r.str(k_model_width);
+  w.event_count = r.u32();
+  w.last_friction_coefficient = r.f32();
+  w.updated_unix_s = r.i64();
+  for (AuxBearingWear& b : w.bearing) {
+    for (float& v : b.event_load_n) v = r.f32();
+    for (float& v : b.cumulative_load_n) v = r.f32();
+    b.swing_s = r.f32();
+    b.forward_rub_s = r.f32();
+    b.backward_rub_s = r.f32();
+    b.friction_energy_j = r.f32();
+    b.peak_force_n = r.f32();
+    b.life_used_fraction = r.f32();
+  }
+  if (!r.ok()) {
+    error = "wear record malformed";
+    return false;
+  }
+  out = std::move(w);
+  return true;
+}
+
+}  // namespace amb::fw
