@@ -1,0 +1,340 @@
+#include "model/plant/rotor_amb_plant.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace amb::model {
+namespace {
+
+constexpr double k_two_pi = 2.0 * M_PI;
+
+RotorAmbPlant::Vec to_vec(const Eigen::RowVectorXd& r) {
+  RotorAmbPlant::Vec v(r.size());
+  for (Eigen::Index i = 0; i < r.size(); ++i) v(i) = r(i);
+  return v;
+}
+
+// Exact first-order lag factor over h for a bandwidth in Hz (0: no lag).
+double lag_alpha(double bandwidth_hz, double h) {
+  return bandwidth_hz > 0.0 ? 1.0 - std::exp(-k_two_pi * bandwidth_hz * h) : 1.0;
+}
+
+}  // namespace
+
+RotorAmbPlant::RotorAmbPlant(const PlantParams& p) : RotorAmbPlant(p, Options{}) {}
+
+RotorAmbPlant::RotorAmbPlant(const PlantParams& p, const Options& o) : p_(p), o_(o), rng_(o.noise_seed) {
+  fe_ = rotor::build_rotor_model(p.rotor);
+  red_ = rotor::reduce_rotor(fe_, p.rotor, p.rotor.modes_kept);
+  m_ = red_.modes;
+  if (m_ > k_max_modes)
+    throw std::invalid_argument("plant: modes_kept (per plane) exceeds the capacity of " +
+                                std::to_string(k_max_modes));
+  spin_inertia_ = fe_.polar_inertia_kg_m2;
+  if (!(spin_inertia_ > 0.0)) throw std::invalid_argument("plant: rotor has no polar inertia");
+
+  w2_ = to_vec(red_.omega2.transpose());
+  damp_ = to_vec(red_.damping.transpose());
+  polar_.resize(m_, m_);
+  polar_ = red_.polar;
+  // Gravity along -y on the consistent mass: f = Phi^T M (-g t), t = unit translation.
+  Eigen::VectorXd t = Eigen::VectorXd::Zero(2 * fe_.node_count);
+  for (int n = 0; n < fe_.node_count; ++n) t(2 * n) = 1.0;
+  gravity_y_ = to_vec((-p.gravity_m_s2 * (red_.shapes.transpose() * (fe_.planar_mass * t))).transpose());
+
+  for (size_t b = 0; b < 2; ++b) {
+    b_amb_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p.amb[b].axial_m));
+    b_aux_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p.aux[b].axial_m));
+    aux_inv_mass_[b] = b_aux_[b].squaredNorm();
+    law_[b] = magnet::make_axis_law(p.amb[b]);
+    for (size_t a = 0; a < 2; ++a) act_dir_[2 * b + a] = magnet::axis_direction(p.amb[b].actuator_angle_deg[a]);
+  }
+  for (size_t s = 0; s < 4; ++s) {
+    b_sensor_[s] = to_vec(rotor::modal_interpolation(fe_, red_, p.sensor[s].axial_m));
+    sensor_dir_[s] = magnet::axis_direction(p.sensor[s].angle_deg);
+  }
+  b_coupling_ = to_vec(rotor::modal_interpolation(fe_, red_, fe_.length_m));
+
+  // Unbalance: disk d at angle a_d = phase_d - theta from the vertical. Its force
+  // u (W^2 (sin a, cos a) + W' (cos a, -sin a)) expands in cos(theta), sin(theta) with the
+  // two sums S = sum b_d u_d sin(phase_d), C = sum b_d u_d cos(phase_d).
+  unb_s_ = Vec::Zero(m_);
+  unb_c_ = Vec::Zero(m_);
+  double best = 1e300;
+  b_mid_disk_ = b_coupling_ * 0.0;
+  for (const auto& d : p.rotor.disks) {
+    const Vec b = to_vec(rotor::modal_interpolation(fe_, red_, d.axial_m));
+    const double ph = d.unbalance_phase_deg * M_PI / 180.0;
+    unb_s_ += d.unbalance_kg_m * std::sin(ph) * b;
+    unb_c_ += d.unbalance_kg_m * std::cos(ph) * b;
+    if (std::abs(d.axial_m - 0.5 * fe_.length_m) < best) {
+      best = std::abs(d.axial_m - 0.5 * fe_.length_m);
+      b_mid_disk_ = b;
+      mid_disk_phase_rad_ = ph;
+    }
+  }
+  if (p.rotor.disks.empty()) b_mid_disk_ = to_vec(rotor::modal_interpolation(fe_, red_, 0.5 * fe_.length_m));
+
+  // Sub-step rule (see header).
+  double w_max = std::sqrt(w2_.maxCoeff());
+  double h_damp = 1e300;
+  for (size_t b = 0; b < 2; ++b) {
+    w_max = std::max(w_max, std::sqrt(p.aux[b].contact_stiffness_n_per_m * aux_inv_mass_[b]));
+    if (p.aux[b].contact_damping_n_s_per_m > 0.0)
+      h_damp = std::min(h_damp, 0.5 / (p.aux[b].contact_damping_n_s_per_m * aux_inv_mass_[b]));
+  }
+  h_rule_s_ = std::min(0.2 / w_max, h_damp);
+  h_nominal_s_ = p.integration_step_s > 0.0 ? std::min(p.integration_step_s, h_rule_s_) : h_rule_s_;
+
+  fconst_x_ = Vec::Zero(m_);
+  fconst_y_ = Vec::Zero(m_);
+  unb_s_step_ = unb_s_;
+  unb_c_step_ = unb_c_;
+  reset(false, 0.0);
+}
+
+void RotorAmbPlant::reset(bool levitated, double spin_hz) {
+  ex_ = Vec::Zero(m_);
+  ey_ = Vec::Zero(m_);
+  vx_ = Vec::Zero(m_);
+  vy_ = Vec::Zero(m_);
+  if (!levitated) {
+    // Static rest on both touchdown bearings (bottom of each ring): the contacts act as
+    // springs below the clearance; x is held at the ring centres by the same springs.
+    Mat a = Mat(m_, m_);
+    a = w2_.asDiagonal();
+    Vec rx = Vec::Zero(m_), ry = gravity_y_;
+    for (size_t b = 0; b < 2; ++b) {
+      const double k = p_.aux[b].contact_stiffness_n_per_m;
+      a += k * b_aux_[b] * b_aux_[b].transpose();
+      rx += k * p_.aux[b].centre_offset_x_m * b_aux_[b];
+      ry += k * (p_.aux[b].centre_offset_y_m - p_.aux[b].clearance_m) * b_aux_[b];
+    }
+    Eigen::LDLT<Mat> ldlt(a);
+    ex_ = ldlt.solve(rx);
+    ey_ = ldlt.solve(ry);
+  }
+  t_s_ = 0.0;
+  spin_rad_s_ = k_two_pi * spin_hz;
+  spin_angle_rad_ = 0.0;
+  spin_accel_rad_s2_ = 0.0;
+  ring_rad_s_ = {0.0, 0.0};
+  current_a_ = {};
+  amb_force_n_ = {};
+  contact_ = {};
+  friction_dissipated_j_ = 0.0;
+  faults_ = PlantFaults{};
+  counters_ = Counters{};
+  rng_.reseed(o_.noise_seed);
+  for (size_t s = 0; s < 4; ++s) {
+    sensor_filtered_m_[s] = sensor_dir_[s][0] * b_sensor_[s].dot(ex_) + sensor_dir_[s][1] * b_sensor_[s].dot(ey_);
+    sensor_out_m_[s] = sensor_filtered_m_[s];
+  }
+  unb_s_step_ = unb_s_;
+  unb_c_step_ = unb_c_;
+}
+
+void RotorAmbPlant::set_faults(const PlantFaults& faults) { faults_ = faults; }
+
+void RotorAmbPlant::step(double dt_s, const PlantInputs& in) {
+  if (!(dt_s > 0.0)) return;
+  const int n = std::max(1, static_cast<int>(std::ceil(dt_s / h_nominal_s_ - 1e-9)));
+  const double h = dt_s / n;
+  if (h != amp_h_) {
+    amp_h_ = h;
+    for (size_t b = 0; b < 2; ++b) amp_alpha_[b] = lag_alpha(p_.amb[b].amplifier_bandwidth_hz, h);
+    for (size_t s = 0; s < 4; ++s) sensor_alpha_[s] = lag_alpha(p_.sensor[s].bandwidth_hz, h);
+  }
+  // Forces that change slowly enough to hold over one call: gravity, the misalignment
+  // drift (coupling force at the right end) and the unbalance growth at the mid disk.
+  fconst_x_ = Vec::Zero(m_);
+  fconst_y_ = gravity_y_;
+  if (t_s_ >= faults_.misalignment_start_s && faults_.misalignment_stiffness_n_per_m > 0.0) {
+    const double drift = faults_.misalignment_rate_m_per_s * (t_s_ - faults_.misalignment_start_s);
+    const auto d = magnet::axis_direction(faults_.misalignment_direction_deg);
+    const double f = faults_.misalignment_stiffness_n_per_m * drift;
+    fconst_x_ += f * d[0] * b_coupling_;
+    fconst_y_ += f * d[1] * b_coupling_;
+  }
+  unb_s_step_ = unb_s_;
+  unb_c_step_ = unb_c_;
+  if (t_s_ >= faults_.unbalance_growth_start_s) {
+    const double du = faults_.unbalance_growth_kg_m_per_s * (t_s_ - faults_.unbalance_growth_start_s);
+    unb_s_step_ += du * std::sin(mid_disk_phase_rad_) * b_mid_disk_;
+    unb_c_step_ += du * std::cos(mid_disk_phase_rad_) * b_mid_disk_;
+  }
+  for (const double d : in.current_demand_a)
+    if (std::abs(d) > p_.amb[0].coil_current_limit_a) {
+      ++counters_.current_limited_steps;
+      break;
+    }
+  for (int i = 0; i < n; ++i) substep(h, in);
+  for (size_t s = 0; s < 4; ++s)
+    sensor_out_m_[s] = sensor_filtered_m_[s] + p_.sensor[s].noise_rms_m * rng_.normal();
+}
+
+void RotorAmbPlant::substep(double h, const PlantInputs& in) {
+  ++counters_.substeps;
+  Vec fx = fconst_x_, fy = fconst_y_;
+
+  // Amplifiers and AMB forces. Disabled amplifiers carry no current at all (bias included).
+  for (size_t b = 0; b < 2; ++b) {
+    const double xb = b_amb_[b].dot(ex_), yb = b_amb_[b].dot(ey_);
+    double fxb = 0.0, fyb = 0.0;
+    for (size_t a = 0; a < 2; ++a) {
+      const size_t j = 2 * b + a;
+      double force = 0.0;
+      if (in.amplifiers_enabled) {
+        double cmd = faults_.current_factor[j] * in.current_demand_a[j];
+        if (t_s_ >= faults_.disturbance_start_s)
+          cmd += faults_.disturbance_amplitude_a[j] *
+                 std::sin(k_two_pi * faults_.disturbance_frequency_hz * (t_s_ - faults_.disturbance_start_s));
+        const double lim = p_.amb[b].coil_current_limit_a;
+        cmd = std::clamp(cmd, -lim, lim);
+        current_a_[j] += amp_alpha_[b] * (cmd - current_a_[j]);
+        const double z = act_dir_[j][0] * xb + act_dir_[j][1] * yb;
+        force = magnet::axis_force_n(law_[b], z, current_a_[j]);
+      } else {
+        current_a_[j] = 0.0;
+      }
+      amb_force_n_[j] = force;
+      fxb += force * act_dir_[j][0];
+      fyb += force * act_dir_[j][1];
+    }
+    fx += fxb * b_amb_[b];
+    fy += fyb * b_amb_[b];
+  }
+
+  // Auxiliary bearings.
+  double spin_torque = 0.0;
+  bool any_contact = false;
+  for (size_t b = 0; b < 2; ++b) {
+    ContactState cs;
+    cs.x_m = b_aux_[b].dot(ex_);
+    cs.y_m = b_aux_[b].dot(ey_);
+    const double dx = cs.x_m - p_.aux[b].centre_offset_x_m, dy = cs.y_m - p_.aux[b].centre_offset_y_m;
+    if (dx * dx + dy * dy <= p_.aux[b].clearance_m * p_.aux[b].clearance_m) {
+      contact_[b] = ContactResult{};
+      continue;
+    }
+    any_contact = true;
+    cs.vx_m_s = b_aux_[b].dot(vx_);
+    cs.vy_m_s = b_aux_[b].dot(vy_);
+    cs.spin_rad_s = spin_rad_s_;
+    cs.ring_rad_s = ring_rad_s_[b];
+    cs.lateral_inv_mass_1_per_kg = aux_inv_mass_[b];
+    cs.spin_inertia_kg_m2 = spin_inertia_;
+    contact_[b] = aux_contact(p_.aux[b], cs, h, o_.slip_regularisation_m_s);
+    fx += contact_[b].fx_n * b_aux_[b];
+    fy += contact_[b].fy_n * b_aux_[b];
+    spin_torque += contact_[b].spin_torque_n_m;
+    friction_dissipated_j_ += h * contact_[b].friction_power_w;
+  }
+  if (any_contact) ++counters_.contact_substeps;
+
+  // Unbalance (see constructor for the expansion).
+  const double c = std::cos(spin_angle_rad_), s = std::sin(spin_angle_rad_);
+  const double w2 = spin_rad_s_ * spin_rad_s_, wd = spin_accel_rad_s2_;
+  const double cx = w2 * c + wd * s, sx = -w2 * s + wd * c;   // x: cx S + sx C
+  fx += cx * unb_s_step_ + sx * unb_c_step_;
+  fy += (w2 * s - wd * c) * unb_s_step_ + (w2 * c + wd * s) * unb_c_step_;
+
+  // Lateral motion: explicit stiffness, implicit Rayleigh damping, then the gyroscopic
+  // rotation (I - h W G + (h W)^2/2 G^2 with G = [[0, P], [-P, 0]]), then positions.
+  vx_ = (vx_ + h * (fx - w2_.cwiseProduct(ex_))).cwiseQuotient((1.0 + h * damp_.array()).matrix());
+  vy_ = (vy_ + h * (fy - w2_.cwiseProduct(ey_))).cwiseQuotient((1.0 + h * damp_.array()).matrix());
+  const double g = h * spin_rad_s_;
+  if (g != 0.0) {
+    const Vec pvx = polar_ * vx_, pvy = polar_ * vy_;
+    const Vec ppvx = polar_ * pvx, ppvy = polar_ * pvy;
+    vx_ += -g * pvy - 0.5 * g * g * ppvx;
+    vy_ += g * pvx - 0.5 * g * g * ppvy;
+  }
+  ex_ += h * vx_;
+  ey_ += h * vy_;
+
+  // Spin: drive (speed loop with torque limit, only while the amplifiers are on) and the
+  // contact friction torques.
+  double drive = 0.0;
+  if (in.amplifiers_enabled)
+    drive = std::clamp(p_.drive_speed_gain_n_m_s * (k_two_pi * in.spin_speed_command_hz - spin_rad_s_),
+                       -p_.drive_torque_limit_n_m, p_.drive_torque_limit_n_m);
+  spin_accel_rad_s2_ = (drive + spin_torque) / spin_inertia_;
+  spin_rad_s_ += h * spin_accel_rad_s2_;
+  spin_angle_rad_ = std::fmod(spin_angle_rad_ + h * spin_rad_s_, k_two_pi);
+
+  // Rings: friction torque from the contact, drag implicit (linearised) for stability.
+  for (size_t b = 0; b < 2; ++b) {
+    const double j = p_.aux[b].ring_inertia_kg_m2, td = p_.aux[b].ring_friction_torque_n_m;
+    const double eps = o_.ring_regularisation_rad_s, w = ring_rad_s_[b];
+    const double den = std::sqrt(w * w + eps * eps);
+    const double phi = w / den, dphi = eps * eps / (den * den * den);
+    ring_rad_s_[b] = (w + h / j * (contact_[b].ring_torque_n_m - td * (phi - dphi * w))) / (1.0 + h * td * dphi / j);
+  }
+
+  // Sensors: true displacement along each sensor axis through the first-order roll-off.
+  for (size_t k = 0; k < 4; ++k) {
+    const double meas = sensor_dir_[k][0] * b_sensor_[k].dot(ex_) + sensor_dir_[k][1] * b_sensor_[k].dot(ey_);
+    sensor_filtered_m_[k] += sensor_alpha_[k] * (meas - sensor_filtered_m_[k]);
+  }
+  t_s_ += h;
+}
+
+PlantOutputs RotorAmbPlant::outputs() const {
+  PlantOutputs o;
+  o.t_s = t_s_;
+  o.displacement_m = sensor_out_m_;
+  o.coil_current_a = current_a_;
+  o.spin_speed_hz = spin_rad_s_ / k_two_pi;
+  o.spin_angle_rad = spin_angle_rad_;
+  return o;
+}
+
+std::array<double, 2> RotorAmbPlant::displacement_at(double axial_m) const {
+  const Eigen::RowVectorXd b = rotor::modal_interpolation(fe_, red_, axial_m);
+  double x = 0.0, y = 0.0;
+  for (int i = 0; i < m_; ++i) {
+    x += b(i) * ex_(i);
+    y += b(i) * ey_(i);
+  }
+  return {x, y};
+}
+
+double RotorAmbPlant::contact_energy_j() const {
+  double e = 0.0;
+  for (size_t b = 0; b < 2; ++b) {
+    const double dx = b_aux_[b].dot(ex_) - p_.aux[b].centre_offset_x_m;
+    const double dy = b_aux_[b].dot(ey_) - p_.aux[b].centre_offset_y_m;
+    const double pen = std::hypot(dx, dy) - p_.aux[b].clearance_m;
+    if (pen > 0.0) e += 0.5 * p_.aux[b].contact_stiffness_n_per_m * pen * pen;
+  }
+  return e;
+}
+
+PlantTruth RotorAmbPlant::truth() const {
+  PlantTruth t;
+  for (size_t b = 0; b < 2; ++b) {
+    t.aux_x_m[b] = b_aux_[b].dot(ex_);
+    t.aux_y_m[b] = b_aux_[b].dot(ey_);
+    t.contact_force_n[b] = contact_[b].normal_n;
+    t.friction_force_n[b] = contact_[b].friction_n;
+    t.ring_speed_rad_s[b] = ring_rad_s_[b];
+    t.amb_x_m[b] = b_amb_[b].dot(ex_);
+    t.amb_y_m[b] = b_amb_[b].dot(ey_);
+  }
+  t.amb_force_n = amb_force_n_;
+  // Kinetic: lateral (mass-normalised modal velocities), spin and the two rings.
+  t.kinetic_energy_j = 0.5 * (vx_.squaredNorm() + vy_.squaredNorm()) + 0.5 * spin_inertia_ * spin_rad_s_ * spin_rad_s_;
+  for (size_t b = 0; b < 2; ++b)
+    t.kinetic_energy_j += 0.5 * p_.aux[b].ring_inertia_kg_m2 * ring_rad_s_[b] * ring_rad_s_[b];
+  // Potential: shaft elastic + contact penalty springs + gravity (zero at the sensor zero).
+  // The magnetic field energy of the AMBs is not included (the amplifiers are an input).
+  t.potential_energy_j = 0.5 * (w2_.dot(ex_.cwiseProduct(ex_)) + w2_.dot(ey_.cwiseProduct(ey_))) +
+                         contact_energy_j() - gravity_y_.dot(ey_);
+  t.friction_dissipated_j = friction_dissipated_j_;
+  return t;
+}
+
+}  // namespace amb::model

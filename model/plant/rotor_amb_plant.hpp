@@ -1,0 +1,129 @@
+#pragma once
+// The simulated rig: a modally reduced flexible rotor on two nonlinear AMBs, with current
+// amplifiers (first-order lag, limits), non-collocated noisy sensors (first-order roll-off),
+// gravity (-y), disk unbalance, the spin DOF with a speed-controlled drive, and two
+// auxiliary bearings with a penalty contact and regularised Coulomb friction against inner
+// rings that spin on their own (see aux_contact.hpp). Faults per PlantFaults.
+//
+// Integrator: semi-implicit (symplectic) Euler on a fixed sub-step h, one force evaluation
+// per sub-step. Stiffness is explicit; Rayleigh damping is implicit (diagonal in modal
+// coordinates); the gyroscopic coupling is applied as a norm-preserving rotation of the
+// modal velocities (second-order Cayley form), so spin neither adds nor removes energy; the
+// contact friction is implicit in the slip velocity; amplifier and sensor lags are exact
+// first-order updates. Sub-step rule: h <= 0.2 / w_max, w_max the largest of the highest
+// kept free-free mode and each contact frequency sqrt(k_contact / m_eff), and
+// h <= 0.5 m_eff / c_contact; the board's integration_step_s is used if it is smaller.
+// Symplectic Euler is stable for w h < 2; 0.2 keeps ~30 sub-steps per period of the
+// fastest motion, which keeps the contact impacts resolved (RK4 would cost four force
+// evaluations per step and its order is lost at the contact's kinks anyway).
+//
+// Frames: y up, x right, z along the rotor, spin about +z. Sensor zero = AMB centres; the
+// aux-bearing centres sit at their offsets from it. Angles (actuators, sensors, unbalance
+// phase) are degrees from the upward vertical towards +x; a positive spin turns the
+// unbalance from +x towards +y (its angle decreases). The coupling (misalignment fault) is
+// at the right end, z = rotor length.
+//
+// Real time: step() does not allocate (fixed-capacity Eigen storage), lock or throw.
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "model/amb/amb_force.hpp"
+#include "model/plant/aux_contact.hpp"
+#include "model/plant/gaussian_rng.hpp"
+#include "model/plant/plant.hpp"
+#include "model/rotor/modal_reduction.hpp"
+#include "model/rotor/rotor_model.hpp"
+
+namespace amb::model {
+
+class RotorAmbPlant final : public Plant {
+ public:
+  static constexpr int k_max_modes = 24;  ///< capacity: modes per lateral plane
+  using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, k_max_modes, 1>;
+  using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, k_max_modes, k_max_modes>;
+
+  struct Options {
+    std::uint64_t noise_seed = 1;               ///< sensor-noise seed (deterministic)
+    double slip_regularisation_m_s = 1e-3;      ///< friction regularisation velocity, m/s
+    double ring_regularisation_rad_s = 0.1;     ///< ring drag regularisation speed, rad/s
+  };
+
+  /// Counted, never thrown, while stepping.
+  struct Counters {
+    std::uint64_t substeps = 0;
+    std::uint64_t contact_substeps = 0;         ///< sub-steps with any contact
+    std::uint64_t current_limited_steps = 0;    ///< steps where a demand hit coil_current_limit_a
+  };
+
+  /// Builds the FE model and its reduction (allocates; configure time). Throws
+  /// std::invalid_argument for parameters it cannot simulate (e.g. more than k_max_modes).
+  explicit RotorAmbPlant(const PlantParams& p);
+  RotorAmbPlant(const PlantParams& p, const Options& o);
+
+  void reset(bool levitated, double spin_hz) override;
+  void step(double dt_s, const PlantInputs& in) override;
+  PlantOutputs outputs() const override;
+  PlantTruth truth() const override;
+  void set_faults(const PlantFaults& faults) override;
+
+  double integration_step_s() const { return h_nominal_s_; } ///< sub-step in use, s
+  double step_rule_s() const { return h_rule_s_; }           ///< largest sub-step the rule allows, s
+  double rotor_mass_kg() const { return fe_.mass_kg; }
+  double spin_inertia_kg_m2() const { return spin_inertia_; }
+  const rotor::RotorModel& rotor_model() const { return fe_; }
+  const rotor::ReducedRotor& reduced_rotor() const { return red_; }
+  const PlantParams& params() const { return p_; }
+  const Counters& counters() const { return counters_; }
+  /// Rotor displacement (x, y) at any axial position now, m (truth).
+  std::array<double, 2> displacement_at(double axial_m) const;
+
+ private:
+  void substep(double h, const PlantInputs& in);
+  double contact_energy_j() const;
+
+  PlantParams p_;
+  Options o_;
+  rotor::RotorModel fe_;
+  rotor::ReducedRotor red_;
+  int m_ = 0;                                 // modes per plane
+  double spin_inertia_ = 0.0;
+  double h_rule_s_ = 0.0, h_nominal_s_ = 0.0;
+
+  // Reduced model (fixed capacity).
+  Vec w2_, damp_, gravity_y_;                 // diag stiffness, diag damping, gravity force
+  Mat polar_;
+  std::array<Vec, 2> b_amb_, b_aux_;
+  std::array<Vec, 4> b_sensor_;
+  Vec b_coupling_, b_mid_disk_, unb_s_, unb_c_;   // unbalance sums (see .cpp)
+  double mid_disk_phase_rad_ = 0.0;
+  std::array<double, 2> aux_inv_mass_{};
+  std::array<magnet::AxisLaw, 2> law_{};
+  std::array<std::array<double, 2>, 4> act_dir_{};   // per actuator axis (x, y)
+  std::array<std::array<double, 2>, 4> sensor_dir_{};
+
+  // State.
+  Vec ex_, ey_, vx_, vy_;                     // modal displacements and velocities
+  double t_s_ = 0.0, spin_rad_s_ = 0.0, spin_angle_rad_ = 0.0, spin_accel_rad_s2_ = 0.0;
+  std::array<double, 2> ring_rad_s_{};
+  std::array<double, 4> current_a_{};         // actual control current per actuator axis
+  std::array<double, 4> sensor_filtered_m_{};
+  std::array<double, 4> sensor_out_m_{};
+  double friction_dissipated_j_ = 0.0;
+  PlantFaults faults_{};
+  GaussianRng rng_;
+
+  // Last sub-step's forces (truth).
+  std::array<ContactResult, 2> contact_{};
+  std::array<double, 4> amb_force_n_{};
+
+  // Per-step constants.
+  Vec fconst_x_, fconst_y_, unb_s_step_, unb_c_step_;
+  std::array<double, 2> amp_alpha_{};
+  double amp_h_ = -1.0;
+  std::array<double, 4> sensor_alpha_{};
+
+  Counters counters_{};
+};
+
+}  // namespace amb::model
