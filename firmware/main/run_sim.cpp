@@ -1,0 +1,46 @@
+#include <cmath>
+#include <cstdio>
+
+#include "firmware/main/run_modes.hpp"
+#include "firmware/sil/sil_rig.hpp"
+
+namespace amb::fwmain {
+
+int run_sim(const board::BoardConfig& board, const RunOptions& opt) {
+  sil::SilOptions so;
+  so.paced = opt.paced;
+  sil::SilRig rig(board, so);
+  fw::Supervisor& sup = rig.supervisor();
+  const double hold_s = opt.duration_s >= 0.0 ? opt.duration_s : 1.0;
+  std::printf("amb-firmware: board %s (%s), backend sim, loop %.0f Hz%s\n", board.name.c_str(),
+              board.source.c_str(), board.rate_hz, opt.paced ? ", paced" : "");
+  auto phase_is = [](fw::Phase p) { return [p](const fw::Status& s) { return s.phase == p || s.state == fw::State::fault; }; };
+
+  sup.post(fw::Command::levitate);
+  if (!rig.run_until(phase_is(fw::Phase::levitated), 10.0) || sup.state() == fw::State::fault) {
+    std::fprintf(stderr, "amb-firmware: lift-off failed (%s)\n", fw::to_string(sup.status().fault));
+    return 2;
+  }
+  std::printf("  t=%6.3f s  levitated\n", rig.time_s());
+  if (opt.spin) {
+    sup.post(fw::Command::run);
+    if (!rig.run_until(phase_is(fw::Phase::at_speed), 600.0) || sup.state() == fw::State::fault) {
+      std::fprintf(stderr, "amb-firmware: spin-up failed (%s)\n", fw::to_string(sup.status().fault));
+      return 2;
+    }
+    std::printf("  t=%6.3f s  at speed %.1f Hz\n", rig.time_s(), sup.status().speed_command_hz);
+  }
+  rig.run_for(hold_s);
+  sup.post(fw::Command::land);
+  rig.run_until([](const fw::Status& s) { return s.state != fw::State::levitating && s.state != fw::State::running; }, 600.0);
+  const fw::Status st = sup.status();
+  const auto& ls = rig.loop().stats();
+  std::printf("  t=%6.3f s  %s (fault: %s)\n", rig.time_s(), fw::to_string(st.state), fw::to_string(st.fault));
+  std::printf("  loop: %llu periods, %llu overruns, read failures %llu, saturated steps %llu\n",
+              static_cast<unsigned long long>(ls.periods), static_cast<unsigned long long>(ls.overruns),
+              static_cast<unsigned long long>(st.counters.read_failures),
+              static_cast<unsigned long long>(st.counters.saturated_steps));
+  return st.state == fw::State::inactive ? 0 : 2;
+}
+
+}  // namespace amb::fwmain

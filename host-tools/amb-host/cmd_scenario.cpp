@@ -1,0 +1,70 @@
+// amb-host scenario: the end-to-end drop scenario on the simulated rig (the main job).
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/scenario/drop_scenario.hpp"
+
+namespace {
+
+int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
+  amb::host::DropScenarioOptions opt = opt_in;
+  if (!json) opt.progress = [](const std::string& s) { std::fprintf(stderr, "  .. %s\n", s.c_str()); };
+  const auto s = amb::host::run_drop_scenario(opt);
+  if (json) {
+    nlohmann::json j;
+    j["board"] = s.board;
+    j["levitated"] = s.levitated;
+    j["liftoff_s"] = s.liftoff_s;
+    j["reached_speed"] = s.reached_speed;
+    j["speed_at_cut_hz"] = s.speed_at_cut_hz;
+    j["steady_orbit_max_m"] = s.steady_orbit_max_m;
+    j["aux_clearance_m"] = s.aux_clearance_m;
+    j["fault_detected"] = s.fault_detected;
+    j["fault_reason"] = s.fault_reason;
+    j["detection_delay_ms"] = s.detection_delay_ms;
+    j["max_contact_force_n"] = s.max_contact_force_n;
+    j["speed_end_hz"] = s.speed_end_hz;
+    j["friction_energy_j"] = s.friction_energy_j;
+    j["final_state"] = s.final_state;
+    j["loop_periods"] = s.loop_periods;
+    j["loop_overruns"] = s.loop_overruns;
+    j["simulated_s"] = s.simulated_s;
+    j["wall_s"] = s.wall_s;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("Drop scenario on %s (simulated rig, sim HAL backend)\n", s.board.c_str());
+    std::printf("  lift-off           : %s in %.3f s\n", s.levitated ? "levitated" : "FAILED", s.liftoff_s);
+    std::printf("  spin-up            : %s, %.1f Hz (%.0f rpm) at the cut\n", s.reached_speed ? "reached" : "FAILED",
+                s.speed_at_cut_hz, s.speed_at_cut_hz * 60.0);
+    std::printf("  steady orbit       : max %.1f um at the sensor planes (aux clearance %.0f um)\n",
+                s.steady_orbit_max_m * 1e6, s.aux_clearance_m * 1e6);
+    std::printf("  AMB cut            : t = %.3f s; firmware %s after %.1f ms (%s)\n", s.cut_time_s,
+                s.fault_detected ? "entered the safe state" : "did NOT detect it", s.detection_delay_ms,
+                s.fault_reason.c_str());
+    std::printf("  landing            : peak contact force %.0f N, friction energy %.2f J, speed %.1f -> %.1f Hz\n",
+                s.max_contact_force_n, s.friction_energy_j, s.speed_at_cut_hz, s.speed_end_hz);
+    std::printf("  firmware           : final state %s, %llu loop periods, %llu overruns\n", s.final_state.c_str(),
+                static_cast<unsigned long long>(s.loop_periods), static_cast<unsigned long long>(s.loop_overruns));
+    std::printf("  run                : %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.simulated_s, s.wall_s,
+                s.simulated_s / s.wall_s);
+  }
+  const bool ok = s.levitated && s.reached_speed && s.fault_detected;
+  return ok ? 0 : 2;
+}
+
+const amb::host::Registration reg{
+    "scenario", "run the end-to-end drop scenario on the simulated rig (the main job)",
+    [](CLI::App& sub, std::function<int()>& run_fn) {
+      auto opt = std::make_shared<amb::host::DropScenarioOptions>();
+      auto json = std::make_shared<bool>(false);
+      sub.add_option("--board", opt->board, "board name or board file (default: bath-amb-rig)");
+      sub.add_option("--hold-s", opt->hold_s, "time at speed before the AMBs are cut, s")->check(CLI::Range(0.0, 60.0));
+      sub.add_option("--after-cut-s", opt->after_cut_s, "simulated time after the cut, s")->check(CLI::Range(0.0, 60.0));
+      sub.add_option("--seed", opt->noise_seed, "sensor-noise seed");
+      sub.add_flag("--json", *json, "print the figures as JSON");
+      run_fn = [opt, json] { return run(*opt, *json); };
+    }};
+
+}  // namespace

@@ -1,0 +1,98 @@
+#include "host-tools/core/scenario/drop_scenario.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "firmware/sil/sil_rig.hpp"
+
+namespace amb::host {
+
+namespace {
+std::string fmt(const char* f, double a, double b = 0.0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, f, a, b);
+  return buf;
+}
+}  // namespace
+
+DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  auto say = [&](const std::string& s) { if (o.progress) o.progress(s); };
+  const board::BoardConfig board = board::load_board(o.board);
+  DropScenarioSummary sum;
+  sum.board = board.name;
+  sum.aux_clearance_m = std::min(board.plant.aux[0].clearance_m, board.plant.aux[1].clearance_m);
+
+  sil::SilOptions so;
+  so.noise_seed = o.noise_seed;
+  sil::SilRig rig(board, so);
+  fw::Supervisor& sup = rig.supervisor();
+
+  // Decimated trace: every 1 ms of simulated time.
+  const int every = std::max(1, static_cast<int>(std::lround(board.rate_hz / 1000.0)));
+  int count = 0;
+  bool after_cut = false;
+  rig.on_period = [&](const fw::Status&) {
+    const model::PlantTruth tr = rig.plant().truth();
+    if (after_cut)
+      for (double f : tr.contact_force_n) sum.max_contact_force_n = std::max(sum.max_contact_force_n, f);
+    if (++count % every) return;
+    sum.trace.t_s.push_back(rig.time_s());
+    sum.trace.aux_x_m.push_back(tr.aux_x_m);
+    sum.trace.aux_y_m.push_back(tr.aux_y_m);
+    sum.trace.contact_force_n.push_back(tr.contact_force_n);
+    sum.trace.speed_hz.push_back(rig.plant().outputs().spin_speed_hz);
+  };
+  auto reached = [](fw::Phase p) {
+    return [p](const fw::Status& s) { return s.phase == p || s.state == fw::State::fault; };
+  };
+
+  rig.run_for(0.05);  // resting on the touchdown bearings
+  const double t_lev = rig.time_s();
+  say("levitate: lift-off from the touchdown bearings");
+  sup.post(fw::Command::levitate);
+  sum.levitated = rig.run_until(reached(fw::Phase::levitated), 5.0) && sup.state() != fw::State::fault;
+  sum.liftoff_s = rig.time_s() - t_lev;
+  if (sum.levitated) {
+    say(fmt("levitated after %.3f s; spinning up to %.1f Hz", sum.liftoff_s, board.lifecycle.operating_speed_hz));
+    sup.post(fw::Command::run);
+    const double spin_s = board.lifecycle.operating_speed_hz / board.lifecycle.spin_accel_hz_per_s;
+    sum.reached_speed = rig.run_until(reached(fw::Phase::at_speed), spin_s + 5.0) && sup.state() != fw::State::fault;
+  }
+  if (sum.reached_speed) {
+    say(fmt("at speed; holding %.2f s", o.hold_s));
+    const double end = rig.time_s() + o.hold_s;
+    while (rig.time_s() < end && sup.state() == fw::State::running) {
+      rig.run_for(0.001);
+      const fw::Status s = sup.status();
+      sum.steady_orbit_max_m = std::max({sum.steady_orbit_max_m, s.orbit_radius_m[0], s.orbit_radius_m[1]});
+    }
+  }
+  // The cut: all amplifier channels lose their output (seed 000: "AMBs switched off").
+  sum.speed_at_cut_hz = rig.plant().outputs().spin_speed_hz;
+  sum.cut_time_s = rig.time_s();
+  model::PlantFaults cut;
+  cut.current_factor = {0.0, 0.0, 0.0, 0.0};
+  rig.plant().set_faults(cut);
+  after_cut = true;
+  say(fmt("t=%.3f s: AMB channels cut at %.1f Hz", sum.cut_time_s, sum.speed_at_cut_hz));
+  sum.fault_detected = rig.run_until([](const fw::Status& s) { return s.state == fw::State::fault; }, 0.5);
+  sum.detection_delay_ms = (rig.time_s() - sum.cut_time_s) * 1e3;
+  sum.fault_reason = fw::to_string(sup.status().fault);
+  if (sum.fault_detected) say(fmt("safe state after %.1f ms", sum.detection_delay_ms) + " (" + sum.fault_reason + ")");
+  rig.run_for(std::max(0.0, sum.cut_time_s + o.after_cut_s - rig.time_s()));
+
+  const fw::Status st = sup.status();
+  sum.final_state = fw::to_string(st.state);
+  sum.speed_end_hz = rig.plant().outputs().spin_speed_hz;
+  sum.friction_energy_j = rig.plant().truth().friction_dissipated_j;
+  sum.loop_periods = rig.loop().stats().periods;
+  sum.loop_overruns = rig.loop().stats().overruns;
+  sum.simulated_s = rig.time_s();
+  sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return sum;
+}
+
+}  // namespace amb::host

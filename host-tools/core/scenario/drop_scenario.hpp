@@ -1,0 +1,57 @@
+#pragma once
+// The end-to-end drop scenario on the simulated rig (the README's main job): levitate from
+// the touchdown bearings, spin up, hold, cut the AMBs (a fault injected into the plant that
+// the firmware is not told about), let the firmware detect it and enter the safe state, and
+// let the rotor land and coast on its auxiliary bearings.
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "firmware/board/board.hpp"
+
+namespace amb::host {
+
+struct DropScenarioOptions {
+  std::string board = "bath-amb-rig";  ///< board name or path
+  double hold_s = 0.5;                 ///< time at speed before the cut, s
+  double after_cut_s = 1.5;            ///< simulated time after the cut, s
+  uint64_t noise_seed = 1;
+  std::function<void(const std::string&)> progress;  ///< optional progress lines
+};
+
+/// One recorded instant (decimated) of the run, for plots and later phases.
+struct ScenarioTrace {
+  std::vector<double> t_s;
+  std::vector<std::array<double, 2>> aux_x_m, aux_y_m;    ///< rotor centre at the aux planes (truth), m
+  std::vector<std::array<double, 2>> contact_force_n;     ///< normal contact force per aux bearing, N
+  std::vector<double> speed_hz;                           ///< rotor speed (truth), Hz
+};
+
+struct DropScenarioSummary {
+  std::string board;
+  bool levitated = false;
+  double liftoff_s = 0.0;                 ///< time from the levitate command to "levitated", s
+  bool reached_speed = false;
+  double speed_at_cut_hz = 0.0;           ///< true rotor speed when the AMBs were cut, Hz
+  double steady_orbit_max_m = 0.0;        ///< largest orbit radius at a sensor plane while at speed, m
+  double aux_clearance_m = 0.0;           ///< smallest aux-bearing clearance, m
+  double cut_time_s = 0.0;                ///< simulated time of the cut, s
+  bool fault_detected = false;
+  std::string fault_reason;               ///< firmware's reason for the safe state
+  double detection_delay_ms = 0.0;        ///< cut -> safe state, ms
+  double max_contact_force_n = 0.0;       ///< over both aux bearings after the cut, N
+  double speed_end_hz = 0.0;              ///< rotor speed at the end of the run, Hz
+  double friction_energy_j = 0.0;         ///< dissipated at the aux contacts, J
+  std::string final_state;
+  uint64_t loop_periods = 0;
+  uint64_t loop_overruns = 0;
+  double wall_s = 0.0;
+  double simulated_s = 0.0;
+  ScenarioTrace trace;
+};
+
+/// Run it. Throws std::runtime_error (with what went wrong) if the board cannot be loaded.
+DropScenarioSummary run_drop_scenario(const DropScenarioOptions& options);
+
+}  // namespace amb::host
