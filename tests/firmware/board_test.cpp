@@ -52,7 +52,7 @@ TEST(Board, EveryEmbeddedBoardLoads) {
   for (const auto* e = amb::boards::embedded_boards(); e->name; ++e, ++n) {
     const auto b = load_board(e->name);
     EXPECT_EQ(b.name, e->name);
-    EXPECT_EQ(b.plant.rig_name, e->name);
+    EXPECT_FALSE(b.plant.rig_name.empty());
     EXPECT_GE(b.rate_hz, 1000.0);
     EXPECT_FALSE(b.plant.rotor.elements.empty());
   }
