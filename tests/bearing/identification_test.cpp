@@ -39,6 +39,7 @@ TEST(StiffnessId, AfsaReferenceRecoversKnownScale) {
   auto speed = [](double) { return 5000.0 / 60.0; };
   auto p = rig();
   p.stiffness_scale = 1.3;
+  p.settle_s = 0.04;  // ~4 housing time constants; AFSA runs ~1000 simulations
   const auto measured = mb::simulate_housing_acceleration(p, speed, 20000.0, 0.1, 0.05, 5);
   mb::StiffnessIdOptions o;
   o.fs_hz = 20000.0;

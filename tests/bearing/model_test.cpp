@@ -51,8 +51,18 @@ TEST(HertzContact, OuterGrooveUnloadsBallInside) {
   ASSERT_TRUE(law.configure(cp));
   // Capped by the ball geometry (seed 001 eq. 6): r - sqrt(r^2 - (L/2)^2) ~ 6.6 um.
   EXPECT_NEAR(law.defect_depth_m(), 6.57e-6, 0.05e-6);
-  EXPECT_LT(law.force(5e-6, 0, 0).fx_n, 1e-9);          // ball 0 sits in the groove at 0 rad
-  EXPECT_GT(law.force(5e-6, 0, 0.5 / law.cage_ratio()).balls_loaded, 0);  // cage moved on
+  // Ball 0 sits in the groove at 0 rad: it loses exactly its own Hertz force k (5 um)^1.5.
+  mb::ContactLawParams healthy_p = cp;
+  healthy_p.defect = {};
+  mb::HertzContactLaw healthy;
+  ASSERT_TRUE(healthy.configure(healthy_p));
+  const auto fd = law.force(5e-6, 0, 0);
+  const auto fh = healthy.force(5e-6, 0, 0);
+  EXPECT_EQ(fd.balls_loaded + 1, fh.balls_loaded);
+  EXPECT_NEAR(fh.fx_n - fd.fx_n, 1e10 * std::pow(5e-6, 1.5), 1e-6);
+  // Once the cage has moved the ball off the groove, the two laws agree again.
+  const double shaft = 0.3 / law.cage_ratio();
+  EXPECT_NEAR(law.force(5e-6, 0, shaft).fx_n, healthy.force(5e-6, 0, shaft).fx_n, 1e-9);
 }
 
 TEST(Hertz4Dof, DeterministicAndSized) {
