@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "boards/embedded_boards.hpp"
+#include "firmware/board/parse_comms.hpp"
+#include "firmware/board/parse_capture.hpp"
 #include "firmware/board/toml_reader.hpp"
 
 namespace amb::board {
@@ -205,6 +207,9 @@ BoardConfig parse_board(std::string_view toml_text, const std::string& source) {
   parse_rig(top.table("rig"), b.plant);
   parse_controller(top.table("controller"), b);
   parse_lifecycle(top.table("lifecycle"), b);
+  if (top.has("capture")) parse_capture(top.table("capture"), b.capture, b.rate_hz);
+  if (top.has("triggers")) parse_triggers(top.table("triggers"), b.capture.triggers);
+  if (top.has("comms")) parse_comms(top.table("comms"), b.comms);
   if (top.has("assumed")) parse_assumed(top.table("assumed"), root, b);
   top.finish();
   return b;

@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include "firmware/comms/comms_params.hpp"
+#include "firmware/capture/capture_params.hpp"
 #include "model/control/pid_params.hpp"
 #include "model/plant/plant_params.hpp"
 
@@ -31,6 +33,8 @@ struct BoardConfig {
   model::PidParams controller;        ///< per-axis position controller
   double rate_hz = 10000.0;           ///< control loop rate, Hz (1 kHz .. 40 kHz)
   LifecycleParams lifecycle;
+  fw::CaptureParams capture;          ///< [capture] and [triggers]; defaults when absent
+  comms::CommsParams comms;           ///< I/O wiring of the linux backend ([comms], optional)
   std::map<std::string, std::string> assumed;  ///< key path -> why the value is assumed
 };
 

@@ -1,0 +1,122 @@
+#pragma once
+// The supervisory register map (docs/register-map.md): Modbus holding-register addresses,
+// shared by the board (RegisterMap) and the host (amb-host fetch/writeback). Function codes 3
+// and 4 read the same registers. 32- and 64-bit values span 2 or 4 registers, most
+// significant word first; strings are 2 ASCII characters per register, first in the high byte.
+// RO: read-only (writes answered with exception 2). RW: readable and writable.
+// UNSAFE: writable only while the rotor rests (not levitating/running): exception 6 otherwise.
+#include <cstdint>
+
+namespace amb::fw::regs {
+
+inline constexpr uint16_t k_magic_value = 0x414D;  ///< "AM"
+inline constexpr uint16_t k_map_version = 1;
+
+// ---- identity (RO) -------------------------------------------------------------------
+inline constexpr uint16_t identity = 0x0000;
+inline constexpr uint16_t magic = 0x0000;              ///< k_magic_value
+inline constexpr uint16_t map_version = 0x0001;        ///< k_map_version
+inline constexpr uint16_t firmware_version = 0x0002;   ///< major << 8 | minor
+inline constexpr uint16_t unit_id = 0x0003;
+inline constexpr uint16_t loop_rate_hz = 0x0004;       ///< control loop rate, Hz
+inline constexpr uint16_t wear_record_bytes = 0x0005;  ///< size of an encoded AMBW record, bytes
+inline constexpr uint16_t download_block_bytes = 0x0006; ///< data bytes per download block
+inline constexpr uint16_t writeback_chunk_bytes = 0x0007; ///< max data bytes per write-back chunk
+inline constexpr uint16_t board_name = 0x0008;         ///< 16 registers, 32 characters
+inline constexpr uint16_t identity_end = 0x0018;
+
+// ---- state (RO) ----------------------------------------------------------------------
+inline constexpr uint16_t state = 0x0100;              ///< fw::State
+inline constexpr uint16_t phase = 0x0101;              ///< fw::Phase
+inline constexpr uint16_t fault_reason = 0x0102;       ///< fw::FaultReason
+inline constexpr uint16_t state_flags = 0x0103;        ///< bit0 rotor levitated/running (unsafe writes refused), bit1 fault latched, bit2 field-bus nodes alive
+inline constexpr uint16_t step_count = 0x0104;         ///< u64, loop periods since configure
+inline constexpr uint16_t time_ms = 0x0108;            ///< u32, HAL clock time of the status, ms
+inline constexpr uint16_t state_end = 0x010A;
+
+// ---- fault counters (RO, u32 each) --------------------------------------------------------
+inline constexpr uint16_t faults = 0x0200;             ///< read_failures, sensor_fault_samples, saturated_steps, rejected_commands, safe_state_entries
+inline constexpr uint16_t faults_end = 0x020A;
+
+// ---- speed (RO) ------------------------------------------------------------------------
+inline constexpr uint16_t speed_estimate_mhz = 0x0300; ///< i32, mHz
+inline constexpr uint16_t speed_command_mhz = 0x0302;  ///< i32, mHz
+inline constexpr uint16_t speed_end = 0x0304;
+
+// ---- orbit (RO) ------------------------------------------------------------------------
+inline constexpr uint16_t orbit_radius_nm = 0x0310;    ///< 2 x u32, per sensor plane, nm
+inline constexpr uint16_t position_nm = 0x0314;        ///< 4 x i32 [xA, yA, xB, yB], nm
+inline constexpr uint16_t current_demand_ma = 0x031C;  ///< 4 x i16, mA
+inline constexpr uint16_t orbit_end = 0x0320;
+
+// ---- loop statistics (RO) -----------------------------------------------------------------
+inline constexpr uint16_t loop_periods = 0x0400;       ///< u64
+inline constexpr uint16_t loop_overruns = 0x0404;      ///< u64
+inline constexpr uint16_t loop_max_latency_ns = 0x0408;  ///< u32, ns
+inline constexpr uint16_t loop_mean_latency_ns = 0x040A; ///< u32, ns
+inline constexpr uint16_t loop_p99_latency_ns = 0x040C;  ///< u32, ns (histogram bin edge)
+inline constexpr uint16_t loop_max_work_ns = 0x040E;     ///< u32, ns
+inline constexpr uint16_t loop_end = 0x0410;
+
+// ---- link statistics (RO, u32 each) -------------------------------------------------------
+inline constexpr uint16_t can_stats = 0x0500;          ///< tx, rx, tx_dropped, rx_dropped, error_frames, bus_off_events, malformed (7 x u32)
+inline constexpr uint16_t fieldbus_stats = 0x0510;     ///< samples, stale_periods, malformed, node_timeouts, amp_faults, tx_failures (6 x u32)
+inline constexpr uint16_t modbus_stats = 0x0520;       ///< requests, exceptions, bad_frames, wrong_unit, connections, refused_unsafe, illegal_address (7 x u32)
+inline constexpr uint16_t stats_end = 0x052E;
+
+// ---- command (RW) ------------------------------------------------------------------------
+inline constexpr uint16_t command = 0x1000;            ///< write fw::Command (1 levitate .. 5 emergency stop); read: last result (0 none, 1 posted, 2 busy)
+
+// ---- event list -----------------------------------------------------------------------------
+inline constexpr uint16_t event_count = 0x2000;        ///< RO, stored events
+inline constexpr uint16_t event_list_version = 0x2001; ///< RO, changes whenever the list changes
+inline constexpr uint16_t event_browse_index = 0x2002; ///< RW, which entry 0x2003.. shows
+inline constexpr uint16_t event_entry_size = 0x2003;   ///< RO, u32 bytes (0 if index out of range)
+inline constexpr uint16_t event_entry_crc = 0x2005;    ///< RO, u32 CRC-32 of the file
+inline constexpr uint16_t event_entry_name = 0x2007;   ///< RO, 16 registers, 32 characters
+inline constexpr uint16_t event_entry_end = 0x2017;
+inline constexpr uint16_t event_delete = 0x2020;       ///< UNSAFE, write [index, crc hi, crc lo]: remove that event
+
+// ---- event download window ------------------------------------------------------------------
+inline constexpr uint16_t dl_select = 0x3000;          ///< RW, [index, crc hi, crc lo, block hi, block lo] (5 regs)
+inline constexpr uint16_t dl_status = 0x3008;          ///< RO, DownloadStatus
+inline constexpr uint16_t dl_valid_bytes = 0x3009;     ///< RO, bytes of this block (0..k_block_bytes)
+inline constexpr uint16_t dl_block_crc = 0x300A;       ///< RO, u32 CRC-32 of this block's bytes
+inline constexpr uint16_t dl_block = 0x300C;           ///< RO, u32 block number shown
+inline constexpr uint16_t dl_total_bytes = 0x300E;     ///< RO, u32 size of the selected item
+inline constexpr uint16_t dl_data = 0x3010;            ///< RO, block data (k_block_bytes / 2 regs)
+inline constexpr uint16_t k_block_bytes = 228;         ///< dl_status..dl_data end = 8 + 114 = 122 regs: one read
+inline constexpr uint16_t dl_end = dl_data + k_block_bytes / 2;
+inline constexpr uint16_t k_wear_item_index = 0xFFFF;  ///< dl_select index naming the stored wear record
+
+enum DownloadStatus : uint16_t { dl_ok = 0, dl_no_selection = 1, dl_stale = 2, dl_past_end = 3, dl_read_error = 4 };
+
+// ---- wear-record summary (RO) -----------------------------------------------------------------
+inline constexpr uint16_t wear_present = 0x4000;       ///< 0/1
+inline constexpr uint16_t wear_sequence = 0x4001;      ///< u32
+inline constexpr uint16_t wear_event_count = 0x4003;   ///< u32
+inline constexpr uint16_t wear_record_crc = 0x4005;    ///< u32 CRC-32 of the whole encoded record
+inline constexpr uint16_t wear_friction_micro = 0x4007;///< u32, last friction coefficient x 1e6
+inline constexpr uint16_t wear_updated_unix_s = 0x4009;///< i64, s
+inline constexpr uint16_t wear_life_ppm = 0x400D;      ///< 2 x u32, life used per aux bearing, parts per million
+inline constexpr uint16_t wear_peak_force_n = 0x4011;  ///< 2 x u32, peak contact force per aux bearing, N
+inline constexpr uint16_t wear_generation = 0x4015;    ///< u32, persistence generation
+inline constexpr uint16_t wear_corrupt_at_start = 0x4017; ///< slots found torn/corrupt at start (0..2)
+inline constexpr uint16_t wear_end = 0x4018;
+
+// ---- write-back area ----------------------------------------------------------------------------
+inline constexpr uint16_t wb_control = 0x5000;         ///< RW: write [1 begin, size hi, size lo, crc hi, crc lo] | [2 commit] (UNSAFE) | [3 abort]; read: WbSession
+inline constexpr uint16_t wb_size = 0x5001;            ///< RO (set by begin), u32 bytes announced
+inline constexpr uint16_t wb_crc = 0x5003;             ///< RO (set by begin), u32 CRC-32 announced
+inline constexpr uint16_t wb_received = 0x5005;        ///< RO, u32 contiguous bytes received
+inline constexpr uint16_t wb_result = 0x5007;          ///< RO, fw::WriteBackResult of the last commit
+inline constexpr uint16_t wb_stored_sequence = 0x5008; ///< RO, u32 sequence of the stored record
+inline constexpr uint16_t wb_status_end = 0x500A;
+inline constexpr uint16_t wb_chunk = 0x5010;           ///< RW (write only data): [offset hi, offset lo, nbytes, data...]
+inline constexpr uint16_t k_chunk_bytes = 232;         ///< 3 + 116 = 119 regs per FC16 write
+inline constexpr uint16_t wb_chunk_end = wb_chunk + 3 + k_chunk_bytes / 2;
+
+enum WbCommand : uint16_t { wb_begin = 1, wb_commit = 2, wb_abort = 3 };
+enum WbSession : uint16_t { wb_idle = 0, wb_receiving = 1, wb_complete = 2 };
+
+}  // namespace amb::fw::regs

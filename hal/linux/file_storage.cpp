@@ -1,0 +1,168 @@
+#include "hal/linux/file_storage.hpp"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+namespace amb::hal::linux_hw {
+
+namespace {
+
+std::string errno_text(const std::string& what) { return what + ": " + std::strerror(errno); }
+
+bool write_all(int fd, const uint8_t* p, size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(fd, p, n);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    p += w;
+    n -= static_cast<size_t>(w);
+  }
+  return true;
+}
+
+bool fsync_dir(const std::string& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool ok = ::fsync(fd) == 0;
+  ::close(fd);
+  return ok;
+}
+
+bool is_temporary(const std::string& n) { return n.size() > 5 && n[0] == '.' && n.ends_with(".tmp"); }
+
+}  // namespace
+
+bool FileStorage::valid_name(std::string_view name) {
+  if (name.empty() || name.size() > 64 || name[0] == '.') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' ||
+           c == '-';
+  });
+}
+
+FileStorage::FileStorage(std::string dir) : dir_(std::move(dir)) {
+  if (::mkdir(dir_.c_str(), 0755) != 0 && errno != EEXIST)
+    throw std::runtime_error(errno_text("cannot create storage directory " + dir_));
+  DIR* d = ::opendir(dir_.c_str());
+  if (!d) throw std::runtime_error(errno_text("cannot open storage directory " + dir_));
+  std::vector<std::string> stale;
+  while (dirent* e = ::readdir(d)) {
+    const std::string n = e->d_name;
+    if (is_temporary(n)) stale.push_back(n);
+  }
+  ::closedir(d);
+  // A temporary is a write that never reached its rename: the item still holds the old content.
+  for (const auto& n : stale)
+    if (::unlink((dir_ + "/" + n).c_str()) == 0) ++stale_removed_;
+  if (stale_removed_ > 0) fsync_dir(dir_);
+}
+
+std::string FileStorage::path_of(std::string_view name) const { return dir_ + "/" + std::string(name); }
+
+bool FileStorage::write_atomic(std::string_view name, std::span<const uint8_t> bytes, std::string& error) {
+  if (!valid_name(name)) {
+    error = "invalid storage item name '" + std::string(name) + "'";
+    return false;
+  }
+  const std::string tmp = dir_ + "/." + std::string(name) + "." + std::to_string(::getpid()) + "." +
+                          std::to_string(temp_counter_.fetch_add(1)) + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    error = errno_text("cannot create " + tmp);
+    return false;
+  }
+  if (!write_all(fd, bytes.data(), bytes.size()) || ::fsync(fd) != 0) {
+    error = errno_text("cannot write " + tmp);
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    return false;
+  }
+  if (::close(fd) != 0) {
+    error = errno_text("cannot close " + tmp);
+    ::unlink(tmp.c_str());
+    return false;
+  }
+  if (::rename(tmp.c_str(), path_of(name).c_str()) != 0) {
+    error = errno_text("cannot rename " + tmp);
+    ::unlink(tmp.c_str());
+    return false;
+  }
+  // The rename is durable only once the directory entry is on disk.
+  if (!fsync_dir(dir_)) {
+    error = errno_text("cannot fsync directory " + dir_);
+    return false;
+  }
+  return true;
+}
+
+bool FileStorage::read(std::string_view name, std::vector<uint8_t>& bytes, std::string& error) {
+  if (!valid_name(name)) {
+    error = "invalid storage item name '" + std::string(name) + "'";
+    return false;
+  }
+  const int fd = ::open(path_of(name).c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    error = errno_text("cannot open " + path_of(name));
+    return false;
+  }
+  struct stat st{};
+  if (::fstat(fd, &st) != 0) {
+    error = errno_text("cannot stat " + path_of(name));
+    ::close(fd);
+    return false;
+  }
+  bytes.resize(static_cast<size_t>(st.st_size));
+  size_t at = 0;
+  while (at < bytes.size()) {
+    const ssize_t r = ::read(fd, bytes.data() + at, bytes.size() - at);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) break;
+    at += static_cast<size_t>(r);
+  }
+  ::close(fd);
+  if (at != bytes.size()) {
+    error = "short read of " + path_of(name);
+    return false;
+  }
+  return true;
+}
+
+std::vector<std::string> FileStorage::list() {
+  std::vector<std::string> names;
+  DIR* d = ::opendir(dir_.c_str());
+  if (!d) return names;
+  while (dirent* e = ::readdir(d)) {
+    const std::string n = e->d_name;
+    if (!valid_name(n)) continue;
+    struct stat st{};
+    if (::stat(path_of(n).c_str(), &st) == 0 && S_ISREG(st.st_mode)) names.push_back(n);
+  }
+  ::closedir(d);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+bool FileStorage::remove(std::string_view name) {
+  if (!valid_name(name)) return false;
+  if (::unlink(path_of(name).c_str()) != 0) return false;
+  fsync_dir(dir_);
+  return true;
+}
+
+uint64_t FileStorage::free_bytes() {
+  struct statvfs s{};
+  if (::statvfs(dir_.c_str(), &s) != 0) return 0;
+  return static_cast<uint64_t>(s.f_bavail) * static_cast<uint64_t>(s.f_frsize);
+}
+
+}  // namespace amb::hal::linux_hw
