@@ -185,6 +185,9 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
     handle_command(Command::land);
 
   const auto& lc = board_.lifecycle;
+  for (size_t b = 0; b < 2; ++b)
+    status_.orbit_radius_m[b] = std::hypot(status_.xy_m[2 * b] - ref_m_[2 * b],
+                                           status_.xy_m[2 * b + 1] - ref_m_[2 * b + 1]);
   // Set-point and speed schedule of the lifecycle phases.
   switch (phase_) {
     case Phase::lifting: {
@@ -193,9 +196,14 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
       if (s >= 1.0) set_phase(Phase::settling);
       break;
     }
-    case Phase::settling:
+    case Phase::settling: {
+      // Levitated once the orbit has stayed within the tolerance for settle_s (the
+      // integrator may need a while to take the weight).
+      const double r = std::max(status_.orbit_radius_m[0], status_.orbit_radius_m[1]);
+      if (r > lc.settle_tolerance_m) phase_t_s_ = 0.0;
       if (phase_t_s_ >= lc.settle_s) set_phase(Phase::levitated);
       break;
+    }
     case Phase::spinning_up:
       speed_cmd_hz_ = std::min(lc.operating_speed_hz, speed_cmd_hz_ + lc.spin_accel_hz_per_s * dt_s_);
       if (speed_cmd_hz_ >= lc.operating_speed_hz) set_phase(Phase::at_speed);
@@ -224,8 +232,6 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
                        phase_ == Phase::spinning_up || phase_ == Phase::at_speed ||
                        phase_ == Phase::spinning_down;
   for (size_t b = 0; b < 2; ++b) {
-    status_.orbit_radius_m[b] = std::hypot(status_.xy_m[2 * b] - ref_m_[2 * b],
-                                           status_.xy_m[2 * b + 1] - ref_m_[2 * b + 1]);
     if (centred && (state_ == State::levitating || state_ == State::running) &&
         status_.orbit_radius_m[b] > lc.max_orbit_fault_m)
       enter_safe_state(FaultReason::orbit_limit);

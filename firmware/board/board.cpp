@@ -165,6 +165,7 @@ void parse_lifecycle(TableReader r, BoardConfig& b) {
   l.spin_accel_hz_per_s = r.number("spin_accel_hz_per_s", 0.01, 1000.0);
   l.landing_ramp_s = r.number("landing_ramp_s", 0.0, 60.0);
   l.max_orbit_fault_m = r.number("max_orbit_fault_m", 1e-6, 1e-2);
+  l.settle_tolerance_m = r.number_or("settle_tolerance_m", 0.1 * l.max_orbit_fault_m, 1e-7, l.max_orbit_fault_m);
   r.finish();
 }
 

@@ -17,7 +17,8 @@ namespace amb::board {
 /// Operator-facing lifecycle settings.
 struct LifecycleParams {
   double liftoff_ramp_s = 0.3;        ///< ramp of the position set-point from touchdown to centre, s
-  double settle_s = 0.2;              ///< time levitated before spin-up is allowed, s
+  double settle_s = 0.2;              ///< time the orbit must stay within settle_tolerance_m before "levitated", s
+  double settle_tolerance_m = 0.0;    ///< orbit radius from the set-point counted as settled, m
   double operating_speed_hz = 0.0;    ///< speed the `run` command spins up to, Hz
   double spin_accel_hz_per_s = 10.0;  ///< speed ramp of the drive set-point, Hz/s
   double landing_ramp_s = 0.2;        ///< ramp of the set-point down to touchdown on landing, s
