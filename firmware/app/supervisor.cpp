@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "model/rotor/rotor_model.hpp"
+
 namespace amb::fw {
 
 const char* to_string(State s) {
@@ -75,6 +77,15 @@ void Supervisor::configure(const board::BoardConfig& board) {
       pid_[static_cast<size_t>(2 * b + a)].configure(board.controller, board.rate_hz, amb.ki_n_per_a);
     }
   }
+  // The weight each AMB carries (rigid-rotor lever rule about the two actuator planes);
+  // the y integrators start there so lift-off does not wait for them to wind up.
+  {
+    const model::rotor::RotorModel rotor = model::rotor::build_rotor_model(board.plant.rotor);
+    const double w = rotor.mass_kg * board.plant.gravity_m_s2;
+    const double a = board.plant.amb[0].axial_m, c = board.plant.amb[1].axial_m;
+    const double share_b = (c != a) ? w * (rotor.centre_of_mass_m - a) / (c - a) : 0.5 * w;
+    weight_share_n_ = {w - share_b, share_b};
+  }
   if (board.controller.current_limit_a <= 0.0) throw std::invalid_argument("current limit must be > 0");
   state_ = State::inactive;
   phase_ = Phase::idle;
@@ -115,6 +126,8 @@ void Supervisor::handle_command(Command c) {
         touchdown_m_ = s;
         ref_m_ = s;
         for (auto& pid : pid_) pid.reset();
+        pid_[1].preload_force(weight_share_n_[0]);
+        pid_[3].preload_force(weight_share_n_[1]);
       } else {
         accepted = false;
       }

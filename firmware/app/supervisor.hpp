@@ -94,6 +94,7 @@ class Supervisor {
   std::array<PidAxis, 4> pid_{};           ///< [xA, yA, xB, yB]
   std::array<AxisTransform, 2> xf_{};      ///< per bearing plane
   std::array<double, 2> ki_n_per_a_{};
+  std::array<double, 2> weight_share_n_{}; ///< static load of each bearing plane, N (lever rule)
 
   State state_ = State::unconfigured;
   Phase phase_ = Phase::idle;

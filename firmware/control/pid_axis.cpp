@@ -48,6 +48,10 @@ void PidAxis::reset() {
   for (auto& n : notch_) n.reset();
 }
 
+void PidAxis::preload_force(double force_n) {
+  integral_n_ = std::clamp(-force_n, -p_.integrator_limit_n, p_.integrator_limit_n);
+}
+
 double PidAxis::step(double q_m, double q_ref_m, bool& saturated) {
   const double e = q_m - q_ref_m;
   // Filtered backward difference: a first-order low-pass on de/dt.

@@ -33,6 +33,10 @@ class PidAxis {
   /// already saturated to current_limit_a * ki. `saturated` reports saturation this step.
   double step(double q_m, double q_ref_m, bool& saturated);
   double integral_force_n() const { return integral_n_; }
+  /// Start the integrator at a known static force (e.g. the weight share), N; clamped to
+  /// the integrator limit. The output convention is F = -(... + integral), so a lifting
+  /// force F is preloaded as -F.
+  void preload_force(double force_n);
 
  private:
   model::PidParams p_{};

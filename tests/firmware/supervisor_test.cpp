@@ -162,3 +162,21 @@ TEST_F(SupervisorTest, ControlStepDoesNotAllocate) {
   EXPECT_EQ(amb::test::allocations() - before, 1);
   delete p;
 }
+
+TEST_F(SupervisorTest, LiftOffStartsWithTheWeightPreloaded) {
+  // At the levitate command the error is zero, so the first demand is the integrators'
+  // preload alone: together the two planes must lift the rotor's weight.
+  ASSERT_TRUE(sup.post(Command::levitate));
+  steps(1);
+  double lift_n = 0.0;
+  const double a = M_PI / 4;
+  for (int b = 0; b < 2; ++b) {
+    const double ki = board.plant.amb[static_cast<size_t>(b)].ki_n_per_a;
+    lift_n += ki * (out.current_demand_a[static_cast<size_t>(2 * b)] + out.current_demand_a[static_cast<size_t>(2 * b + 1)]) * std::cos(a);
+  }
+  double mass_kg = 0.0;
+  for (const auto& e : board.plant.rotor.elements)
+    mass_kg += e.density_kg_m3 * M_PI / 4 * (e.outer_diameter_m * e.outer_diameter_m - e.inner_diameter_m * e.inner_diameter_m) * e.length_m;
+  for (const auto& d : board.plant.rotor.disks) mass_kg += d.mass_kg;
+  EXPECT_NEAR(lift_n, mass_kg * board.plant.gravity_m_s2, 0.02 * mass_kg * board.plant.gravity_m_s2);
+}
