@@ -1,0 +1,595 @@
+#include "model/drop/drop_model.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace amb::model::drop {
+namespace {
+
+constexpr double k_two_pi = 2.0 * M_PI;
+
+ModeVec to_vec(const Eigen::RowVectorXd& r) {
+  ModeVec v(r.size());
+  for (Eigen::Index i = 0; i < r.size(); ++i) v(i) = r(i);
+  return v;
+}
+
+double lag_alpha(double bandwidth_hz, double h) {
+  return bandwidth_hz > 0.0 ? 1.0 - std::exp(-k_two_pi * bandwidth_hz * h) : 1.0;
+}
+
+// Inverse of the 2 x 2 matrix [[a, b], [c, d]] stored row-major.
+std::array<double, 4> inverse2(double a, double b, double c, double d) {
+  const double det = a * d - b * c;
+  if (std::abs(det) < 1e-9) throw std::invalid_argument("drop model: parallel sensor or actuator axes");
+  return {d / det, -b / det, -c / det, a / det};
+}
+
+void fail(const std::string& what) { throw std::invalid_argument("drop model: " + what); }
+
+}  // namespace
+
+DropModel::DropModel(const PlantParams& plant, const PidParams& pid, double controller_rate_hz,
+                     const DropOptions& options)
+    : p_(plant), pid_(pid), o_(options) {
+  if (const std::string e = o_.check(); !e.empty()) fail(e);
+  if (o_.internal_controller && !(controller_rate_hz > 0.0)) fail("controller_rate_hz must be > 0");
+  ctrl_period_s_ = controller_rate_hz > 0.0 ? 1.0 / controller_rate_hz : 0.0;
+  solver_.tolerance_m_s = o_.solver_tolerance_m_s;
+  solver_.max_iterations = o_.solver_max_iterations;
+  for (size_t b = 0; b < 2; ++b) {
+    const auto& a = p_.aux[b];
+    const std::string n = "aux bearing " + std::to_string(b) + ": ";
+    if (!(a.clearance_m > 0.0)) fail(n + "clearance_m must be > 0");
+    if (!(a.collar_radius_m > 0.0)) fail(n + "collar_radius_m must be > 0");
+    if (!(a.ring_inertia_kg_m2 > 0.0)) fail(n + "ring_inertia_kg_m2 must be > 0");
+    if (!(a.friction_coefficient >= 0.0)) fail(n + "friction_coefficient must be >= 0");
+    if (!(a.ring_friction_torque_n_m >= 0.0)) fail(n + "ring_friction_torque_n_m must be >= 0");
+    ring_radius_m_[b] = a.collar_radius_m + a.clearance_m;
+  }
+
+  fe_ = rotor::build_rotor_model(p_.rotor);
+  const int modes = o_.modes_per_plane > 0 ? o_.modes_per_plane : p_.rotor.modes_kept;
+  red_ = rotor::reduce_rotor(fe_, p_.rotor, modes);
+  m_ = red_.modes;
+  if (m_ > k_max_modes) fail("modes per plane exceed the capacity of " + std::to_string(k_max_modes));
+  spin_inertia_ = fe_.polar_inertia_kg_m2;
+  if (!(spin_inertia_ > 0.0)) fail("rotor has no polar inertia");
+
+  w2_ = to_vec(red_.omega2.transpose());
+  damp_ = to_vec(red_.damping.transpose());
+  polar_ = red_.polar;
+  // Gravity along -y on the consistent mass (as rotor_amb_plant.cpp).
+  Eigen::VectorXd t = Eigen::VectorXd::Zero(2 * fe_.node_count);
+  for (int n = 0; n < fe_.node_count; ++n) t(2 * n) = 1.0;
+  gravity_y_ = to_vec((-p_.gravity_m_s2 * (red_.shapes.transpose() * (fe_.planar_mass * t))).transpose());
+
+  for (size_t b = 0; b < 2; ++b) {
+    b_amb_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p_.amb[b].axial_m));
+    b_aux_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p_.aux[b].axial_m));
+    law_[b] = magnet::make_axis_law(p_.amb[b]);
+    for (size_t a = 0; a < 2; ++a) act_dir_[2 * b + a] = magnet::axis_direction(p_.amb[b].actuator_angle_deg[a]);
+    const auto& s0 = magnet::axis_direction(p_.sensor[2 * b].angle_deg);
+    const auto& s1 = magnet::axis_direction(p_.sensor[2 * b + 1].angle_deg);
+    sensor_inv_[b] = inverse2(s0[0], s0[1], s1[0], s1[1]);
+    const auto& a0 = act_dir_[2 * b];
+    const auto& a1 = act_dir_[2 * b + 1];
+    actuator_inv_[b] = inverse2(a0[0], a1[0], a0[1], a1[1]);
+  }
+  for (size_t k = 0; k < 4; ++k) {
+    b_sensor_[k] = to_vec(rotor::modal_interpolation(fe_, red_, p_.sensor[k].axial_m));
+    sensor_dir_[k] = magnet::axis_direction(p_.sensor[k].angle_deg);
+  }
+  b_coupling_ = to_vec(rotor::modal_interpolation(fe_, red_, fe_.length_m));
+
+  // Unbalance expansion in cos/sin of the spin angle (see rotor_amb_plant.cpp).
+  unb_s_ = ModeVec::Zero(m_);
+  unb_c_ = ModeVec::Zero(m_);
+  b_mid_disk_ = to_vec(rotor::modal_interpolation(fe_, red_, 0.5 * fe_.length_m));
+  double best = 1e300;
+  for (const auto& d : p_.rotor.disks) {
+    const ModeVec b = to_vec(rotor::modal_interpolation(fe_, red_, d.axial_m));
+    const double ph = d.unbalance_phase_deg * M_PI / 180.0;
+    unb_s_ += d.unbalance_kg_m * std::sin(ph) * b;
+    unb_c_ += d.unbalance_kg_m * std::cos(ph) * b;
+    if (std::abs(d.axial_m - 0.5 * fe_.length_m) < best) {
+      best = std::abs(d.axial_m - 0.5 * fe_.length_m);
+      b_mid_disk_ = b;
+      mid_disk_phase_rad_ = ph;
+    }
+  }
+  fext_x_ = ModeVec::Zero(m_);
+  fext_y_ = ModeVec::Zero(m_);
+  unb_s_step_ = unb_s_;
+  unb_c_step_ = unb_c_;
+  a_inv_ = LatMat::Identity(2 * m_, 2 * m_);
+  z_ = LatBasis::Zero(2 * m_, 4);
+  s_aux_.setZero();
+  reset(true, 0.0);
+}
+
+void DropModel::set_friction_coefficient(double mu) {
+  if (!(mu >= 0.0)) fail("friction coefficient must be >= 0");
+  for (auto& a : p_.aux) a.friction_coefficient = mu;
+}
+
+void DropModel::set_restitution(double e) {
+  if (!(e >= 0.0 && e <= 1.0)) fail("restitution must be in [0, 1]");
+  o_.restitution = e;
+}
+
+void DropModel::set_aux_centre_offset(int bearing, double x_m, double y_m) {
+  if (bearing < 0 || bearing > 1) fail("bearing index must be 0 or 1");
+  p_.aux[static_cast<size_t>(bearing)].centre_offset_x_m = x_m;
+  p_.aux[static_cast<size_t>(bearing)].centre_offset_y_m = y_m;
+}
+
+void DropModel::set_faults(const PlantFaults& faults) { s_.faults = faults; }
+
+void DropModel::reset(bool levitated, double spin_hz) {
+  DropState s;
+  s.q = LatVec::Zero(2 * m_);
+  s.u = LatVec::Zero(2 * m_);
+  s.rng.reseed(o_.noise_seed);
+  s.spin_rad_s = k_two_pi * spin_hz;
+  if (!levitated) {
+    // Static rest on the bottom of both rings: elastic equilibrium under gravity with the
+    // two aux planes pinned (rigid contacts), i.e. the KKT system [[K, B], [B^T, 0]].
+    for (int axis = 0; axis < 2; ++axis) {
+      Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(m_ + 2, m_ + 2);
+      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m_ + 2);
+      for (int i = 0; i < m_; ++i) kkt(i, i) = w2_(i);
+      if (axis == 1) rhs.head(m_) = gravity_y_;
+      for (int b = 0; b < 2; ++b) {
+        const auto& a = p_.aux[static_cast<size_t>(b)];
+        kkt.block(0, m_ + b, m_, 1) = b_aux_[static_cast<size_t>(b)];
+        kkt.block(m_ + b, 0, 1, m_) = b_aux_[static_cast<size_t>(b)].transpose();
+        rhs(m_ + b) = axis == 0 ? a.centre_offset_x_m : a.centre_offset_y_m - a.clearance_m;
+      }
+      const Eigen::VectorXd sol = kkt.fullPivLu().solve(rhs);
+      s.q.segment(axis * m_, m_) = sol.head(m_);
+    }
+  } else if (o_.internal_controller) {
+    // Preload the PID integrators with each bearing's share of the weight (rigid-body modal
+    // balance) so that the levitated state settles quickly.
+    Eigen::Matrix2d a;
+    Eigen::Vector2d g;
+    int r = 0;
+    for (int i = 0; i < m_ && r < 2; ++i)
+      if (w2_(i) == 0.0) {
+        a(r, 0) = b_amb_[0](i);
+        a(r, 1) = b_amb_[1](i);
+        g(r) = -gravity_y_(i);
+        ++r;
+      }
+    if (r == 2) {
+      const Eigen::Vector2d f = a.fullPivLu().solve(g);
+      s.pid_integral_n[1] = -f(0);
+      s.pid_integral_n[3] = -f(1);
+    }
+  }
+  for (size_t k = 0; k < 4; ++k) {
+    s.sensor_filtered_m[k] = sensor_dir_[k][0] * b_sensor_[k].dot(s.q.head(m_)) +
+                             sensor_dir_[k][1] * b_sensor_[k].dot(s.q.tail(m_));
+    s.sensor_out_m[k] = s.sensor_filtered_m[k];
+  }
+  s_ = s;
+  counters_ = DropCounters{};
+  a_h_ = -1.0;
+}
+
+void DropModel::controller_update(double period_s) {
+  // The firmware's law (firmware/control/pid_axis.cpp): sensors -> bearing-frame (x, y),
+  // PID on each with a filtered backward-difference derivative and conditional
+  // integration, force -> actuator axes -> current = force / ki. Notches are not modelled.
+  const double deriv_alpha = std::exp(-k_two_pi * pid_.derivative_filter_hz * period_s);
+  for (size_t b = 0; b < 2; ++b) {
+    double r[2];
+    for (size_t k = 0; k < 2; ++k) {
+      const size_t j = 2 * b + k;
+      r[k] = s_.sensor_filtered_m[j] + (o_.sensor_noise ? p_.sensor[j].noise_rms_m * s_.rng.normal() : 0.0);
+    }
+    const auto& si = sensor_inv_[b];
+    double xy[2] = {si[0] * r[0] + si[1] * r[1], si[2] * r[0] + si[3] * r[1]};
+    if (o_.internal_controller_collocated) {
+      const double nz = o_.sensor_noise ? p_.sensor[2 * b].noise_rms_m : 0.0;
+      xy[0] = b_amb_[b].dot(s_.q.head(m_)) + nz * s_.rng.normal();
+      xy[1] = b_amb_[b].dot(s_.q.tail(m_)) + nz * s_.rng.normal();
+    }
+    const double ki = p_.amb[b].ki_n_per_a;
+    const double force_limit = pid_.current_limit_a * ki;
+    double f[2];
+    for (size_t a = 0; a < 2; ++a) {
+      const size_t j = 2 * b + a;
+      const double e = xy[a];
+      s_.pid_deriv_m_s[j] = deriv_alpha * s_.pid_deriv_m_s[j] + (1.0 - deriv_alpha) * (e - s_.pid_prev_error_m[j]) / period_s;
+      s_.pid_prev_error_m[j] = e;
+      const double u = -(pid_.kp_n_per_m * e + s_.pid_integral_n[j] + pid_.kd_n_s_per_m * s_.pid_deriv_m_s[j]);
+      const bool saturated = std::abs(u) > force_limit;
+      const double di = pid_.ki_n_per_m_s * e * period_s;
+      const bool further = saturated && ((u > 0.0 && di < 0.0) || (u < 0.0 && di > 0.0));
+      if (!further)
+        s_.pid_integral_n[j] = std::clamp(s_.pid_integral_n[j] + di, -pid_.integrator_limit_n, pid_.integrator_limit_n);
+      f[a] = std::clamp(u, -force_limit, force_limit);
+    }
+    const auto& ai = actuator_inv_[b];
+    for (size_t a = 0; a < 2; ++a) {
+      const double fa = ai[2 * a] * f[0] + ai[2 * a + 1] * f[1];
+      s_.demand_a[2 * b + a] = std::clamp(fa / ki, -pid_.current_limit_a, pid_.current_limit_a);
+    }
+  }
+}
+
+void DropModel::step(double dt_s, const PlantInputs& in) {
+  if (!(dt_s > 0.0)) return;
+  const int n = std::max(1, static_cast<int>(std::ceil(dt_s / o_.step_s - 1e-9)));
+  const double h = dt_s / n;
+  if (h != lag_h_) {
+    lag_h_ = h;
+    const bool lag = !o_.internal_controller || o_.internal_amplifier_lag;
+    for (size_t b = 0; b < 2; ++b) amp_alpha_[b] = lag ? lag_alpha(p_.amb[b].amplifier_bandwidth_hz, h) : 1.0;
+    for (size_t k = 0; k < 4; ++k) sensor_alpha_[k] = lag_alpha(p_.sensor[k].bandwidth_hz, h);
+  }
+  // Slow fault forces held over the call (as rotor_amb_plant.cpp).
+  const PlantFaults& f = s_.faults;
+  fext_x_.setZero();
+  fext_y_.setZero();
+  if (s_.t_s >= f.misalignment_start_s && f.misalignment_stiffness_n_per_m > 0.0) {
+    const double drift = f.misalignment_rate_m_per_s * (s_.t_s - f.misalignment_start_s);
+    const auto d = magnet::axis_direction(f.misalignment_direction_deg);
+    fext_x_ += f.misalignment_stiffness_n_per_m * drift * d[0] * b_coupling_;
+    fext_y_ += f.misalignment_stiffness_n_per_m * drift * d[1] * b_coupling_;
+  }
+  unb_s_step_ = unb_s_;
+  unb_c_step_ = unb_c_;
+  if (s_.t_s >= f.unbalance_growth_start_s) {
+    const double du = f.unbalance_growth_kg_m_per_s * (s_.t_s - f.unbalance_growth_start_s);
+    unb_s_step_ += du * std::sin(mid_disk_phase_rad_) * b_mid_disk_;
+    unb_c_step_ += du * std::cos(mid_disk_phase_rad_) * b_mid_disk_;
+  }
+  for (int i = 0; i < n; ++i) substep(h, in);
+  for (size_t k = 0; k < 4; ++k)
+    s_.sensor_out_m[k] = s_.sensor_filtered_m[k] + (o_.sensor_noise ? p_.sensor[k].noise_rms_m * s_.rng.normal() : 0.0);
+}
+
+void DropModel::refactor(double h, double spin_rad_s) {
+  // A = I + h/2 (C + Omega G) + h^2/4 K, G = [[0, P], [-P, 0]] on (x modes, y modes).
+  LatMat a = LatMat::Zero(2 * m_, 2 * m_);
+  for (int i = 0; i < m_; ++i) {
+    const double d = 1.0 + 0.5 * h * damp_(i) + 0.25 * h * h * w2_(i);
+    a(i, i) = d;
+    a(m_ + i, m_ + i) = d;
+  }
+  a.block(0, m_, m_, m_) = 0.5 * h * spin_rad_s * polar_;
+  a.block(m_, 0, m_, m_) = -0.5 * h * spin_rad_s * polar_;
+  a_inv_ = a.partialPivLu().inverse();
+  LatBasis b = LatBasis::Zero(2 * m_, 4);
+  for (int k = 0; k < 2; ++k) {
+    b.block(0, 2 * k, m_, 1) = b_aux_[static_cast<size_t>(k)];
+    b.block(m_, 2 * k + 1, m_, 1) = b_aux_[static_cast<size_t>(k)];
+  }
+  z_.noalias() = a_inv_ * b;
+  s_aux_.noalias() = b.transpose() * z_;
+  a_h_ = h;
+  a_spin_ = spin_rad_s;
+  ++counters_.refactorisations;
+}
+
+void DropModel::substep(double h, const PlantInputs& in) {
+  ++counters_.steps;
+  DropState& s = s_;
+  const int m = m_;
+
+  // Controller (internal mode): one update per controller period, on the sensors now.
+  if (o_.internal_controller) {
+    if (s.controller_clock_s <= 1e-12) {
+      controller_update(ctrl_period_s_);
+      s.controller_clock_s += ctrl_period_s_;
+    }
+    s.controller_clock_s -= h;
+  }
+
+  // 1. Smooth forces at the predicted midpoint.
+  LatVec qm = s.q + 0.5 * h * s.u;
+  ModeVec fx = fext_x_, fy = fext_y_;
+  for (size_t b = 0; b < 2; ++b) {
+    const double xb = b_amb_[b].dot(qm.head(m)), yb = b_amb_[b].dot(qm.tail(m));
+    double fxb = 0.0, fyb = 0.0;
+    for (size_t a = 0; a < 2; ++a) {
+      const size_t j = 2 * b + a;
+      double force = 0.0;
+      if (in.amplifiers_enabled) {
+        double cmd = s.faults.current_factor[j] * (o_.internal_controller ? s.demand_a[j] : in.current_demand_a[j]);
+        if (s.t_s >= s.faults.disturbance_start_s)
+          cmd += s.faults.disturbance_amplitude_a[j] *
+                 std::sin(k_two_pi * s.faults.disturbance_frequency_hz * (s.t_s - s.faults.disturbance_start_s));
+        const double lim = p_.amb[b].coil_current_limit_a;
+        cmd = std::clamp(cmd, -lim, lim);
+        s.current_a[j] += amp_alpha_[b] * (cmd - s.current_a[j]);
+        const double z = act_dir_[j][0] * xb + act_dir_[j][1] * yb;
+        force = magnet::axis_force_n(law_[b], z, s.current_a[j]);
+      } else {
+        s.current_a[j] = 0.0;
+      }
+      s.amb_force_n[j] = force;
+      fxb += force * act_dir_[j][0];
+      fyb += force * act_dir_[j][1];
+    }
+    fx += fxb * b_amb_[b];
+    fy += fyb * b_amb_[b];
+  }
+  {
+    const double th = s.spin_angle_rad + 0.5 * h * s.spin_rad_s;
+    const double c = std::cos(th), sn = std::sin(th);
+    const double w2 = s.spin_rad_s * s.spin_rad_s, wd = s.spin_accel_rad_s2;
+    fx += (w2 * c + wd * sn) * unb_s_step_ + (-w2 * sn + wd * c) * unb_c_step_;
+    fy += (w2 * sn - wd * c) * unb_s_step_ + (w2 * c + wd * sn) * unb_c_step_;
+  }
+  double drive = 0.0;
+  if (in.amplifiers_enabled)
+    drive = std::clamp(p_.drive_speed_gain_n_m_s * (k_two_pi * in.spin_speed_command_hz - s.spin_rad_s),
+                       -p_.drive_torque_limit_n_m, p_.drive_torque_limit_n_m);
+
+  // 2. Free velocity of the midpoint rule (A^-1 rebuilt when the spin drifted by 0.1 %).
+  if (h != a_h_ || std::abs(s.spin_rad_s - a_spin_) > 1e-3 * std::max(1.0, std::abs(a_spin_))) refactor(h, s.spin_rad_s);
+  const double gs = 0.5 * h * a_spin_;
+  LatVec rhs(2 * m);
+  {
+    const auto ux = s.u.head(m), uy = s.u.tail(m), qx = s.q.head(m), qy = s.q.tail(m);
+    const ModeVec pux = polar_ * ux, puy = polar_ * uy;
+    const ModeVec diag = (1.0 - 0.5 * h * damp_.array() - 0.25 * h * h * w2_.array()).matrix();
+    rhs.head(m) = diag.cwiseProduct(ux) - gs * puy - h * w2_.cwiseProduct(qx) + h * fx;
+    rhs.tail(m) = diag.cwiseProduct(uy) + gs * pux - h * w2_.cwiseProduct(qy) + h * (fy + gravity_y_);
+  }
+  LatVec u_free(2 * m);
+  u_free.noalias() = a_inv_ * rhs;
+  const double spin_free = s.spin_rad_s + h * drive / spin_inertia_;
+
+  // 3. Contacts: closed when the predicted end-of-step gap is <= 0; geometry at the midpoint.
+  ContactProblem cp;
+  cp.delassus.setZero();
+  cp.free_velocity.setZero();
+  cp.pre_velocity.setZero();
+  cp.restitution = o_.restitution;
+  std::array<std::array<double, 2>, 2> nrm{}, tng{};
+  bool need_solve = false;
+  for (size_t b = 0; b < 2; ++b) {
+    const auto& a = p_.aux[b];
+    const ModeVec& bb = b_aux_[b];
+    const double xe = bb.dot(s.q.head(m) + h * s.u.head(m)) - a.centre_offset_x_m;
+    const double ye = bb.dot(s.q.tail(m) + h * s.u.tail(m)) - a.centre_offset_y_m;
+    cp.active[b] = std::hypot(xe, ye) >= a.clearance_m;
+    double xm = bb.dot(qm.head(m)) - a.centre_offset_x_m, ym = bb.dot(qm.tail(m)) - a.centre_offset_y_m;
+    double r = std::hypot(xm, ym);
+    if (r < 1e-12) {
+      xm = xe;
+      ym = ye;
+      r = std::hypot(xm, ym);
+    }
+    nrm[b] = r > 1e-12 ? std::array<double, 2>{xm / r, ym / r} : std::array<double, 2>{0.0, -1.0};
+    tng[b] = {-nrm[b][1], nrm[b][0]};
+    const double vx = bb.dot(s.u.head(m)), vy = bb.dot(s.u.tail(m));
+    const double fvx = bb.dot(u_free.head(m)), fvy = bb.dot(u_free.tail(m));
+    const int n = 2 * static_cast<int>(b), t = n + 1, d = 4 + static_cast<int>(b);
+    cp.pre_velocity(n) = -(nrm[b][0] * vx + nrm[b][1] * vy);
+    cp.pre_velocity(t) = tng[b][0] * vx + tng[b][1] * vy + a.collar_radius_m * s.spin_rad_s - ring_radius_m_[b] * s.ring_rad_s[b];
+    cp.pre_velocity(d) = s.ring_rad_s[b];
+    cp.free_velocity(n) = -(nrm[b][0] * fvx + nrm[b][1] * fvy);
+    cp.free_velocity(t) = tng[b][0] * fvx + tng[b][1] * fvy + a.collar_radius_m * spin_free - ring_radius_m_[b] * s.ring_rad_s[b];
+    cp.free_velocity(d) = s.ring_rad_s[b];
+    cp.friction_coefficient[b] = a.friction_coefficient;
+    cp.drag_bound_n_m_s[b] = a.ring_friction_torque_n_m * h;
+    need_solve = need_solve || cp.active[b] || s.ring_rad_s[b] != 0.0;
+  }
+
+  LocalVec impulse = LocalVec::Zero();
+  LocalVec post = cp.free_velocity;
+  if (need_solve) {
+    // Delassus W^T A^-1 W: lateral part from B^T A^-1 B and the contact directions
+    // (normal rows push along -n, friction rows along t), plus spin and ring inertia.
+    std::array<std::array<double, 2>, 4> dir{};
+    for (int i = 0; i < 4; ++i) {
+      const size_t b = static_cast<size_t>(i / 2);
+      dir[static_cast<size_t>(i)] = (i % 2 == 0) ? std::array<double, 2>{-nrm[b][0], -nrm[b][1]} : tng[b];
+    }
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        double v = 0.0;
+        for (int a = 0; a < 2; ++a)
+          for (int c = 0; c < 2; ++c)
+            v += dir[static_cast<size_t>(i)][static_cast<size_t>(a)] * s_aux_(2 * (i / 2) + a, 2 * (j / 2) + c) *
+                 dir[static_cast<size_t>(j)][static_cast<size_t>(c)];
+        cp.delassus(i, j) = v;
+      }
+    for (int i = 1; i < 4; i += 2)
+      for (int j = 1; j < 4; j += 2)
+        cp.delassus(i, j) += p_.aux[static_cast<size_t>(i / 2)].collar_radius_m *
+                             p_.aux[static_cast<size_t>(j / 2)].collar_radius_m / spin_inertia_;
+    for (size_t b = 0; b < 2; ++b) {
+      const int t = 2 * static_cast<int>(b) + 1, d = 4 + static_cast<int>(b);
+      const double jr = p_.aux[b].ring_inertia_kg_m2, rr = ring_radius_m_[b];
+      cp.delassus(t, t) += rr * rr / jr;
+      cp.delassus(t, d) = -rr / jr;
+      cp.delassus(d, t) = -rr / jr;
+      cp.delassus(d, d) = 1.0 / jr;
+    }
+    const ContactSolution sol = solve_contacts(cp, solver_, s.warm_impulse);
+    impulse = sol.impulse;
+    post = sol.post_velocity;
+    counters_.solver_max_sweeps = std::max(counters_.solver_max_sweeps, sol.iterations);
+    if (!sol.converged) ++counters_.solver_unconverged;
+  }
+  s.warm_impulse = impulse;
+
+  // 4. Velocity update with the impulses, then positions (midpoint).
+  Eigen::Vector4d coef;
+  for (size_t b = 0; b < 2; ++b)
+    for (size_t a = 0; a < 2; ++a)
+      coef(static_cast<int>(2 * b + a)) = -nrm[b][a] * impulse(static_cast<int>(2 * b)) + tng[b][a] * impulse(static_cast<int>(2 * b + 1));
+  LatVec u_new = u_free;
+  u_new.noalias() += z_ * coef;
+  double spin_new = spin_free;
+  std::array<double, 2> ring_new{};
+  for (size_t b = 0; b < 2; ++b) {
+    spin_new += p_.aux[b].collar_radius_m * impulse(static_cast<int>(2 * b + 1)) / spin_inertia_;
+    ring_new[b] = s.ring_rad_s[b] + (-ring_radius_m_[b] * impulse(static_cast<int>(2 * b + 1)) + impulse(static_cast<int>(4 + b))) /
+                                        p_.aux[b].ring_inertia_kg_m2;
+  }
+
+  // Energy ledger: every term is the exact work on the step-average velocity.
+  LatVec u_avg = 0.5 * (s.u + u_new);
+  const double spin_avg = 0.5 * (s.spin_rad_s + spin_new);
+  EnergyLedger& L = s.ledger;
+  L.damping_dissipated_j += h * (damp_.dot(u_avg.head(m).cwiseAbs2()) + damp_.dot(u_avg.tail(m).cwiseAbs2()));
+  L.external_work_j += h * (fx.dot(u_avg.head(m)) + fy.dot(u_avg.tail(m)) + drive * spin_avg);
+  double step_diss = 0.0;
+  StepContact& rec = s.last_contact;
+  for (size_t b = 0; b < 2; ++b) {
+    const int n = 2 * static_cast<int>(b), t = n + 1, d = 4 + static_cast<int>(b);
+    const double wn = -impulse(n) * 0.5 * (cp.pre_velocity(n) + post(n));
+    const double wt = -impulse(t) * 0.5 * (cp.pre_velocity(t) + post(t));
+    const double wd = -impulse(d) * 0.5 * (cp.pre_velocity(d) + post(d));
+    L.impact_dissipated_j += wn;
+    L.friction_dissipated_j += wt;
+    L.ring_drag_dissipated_j += wd;
+    step_diss += wn + wt + wd;
+    rec.active[b] = cp.active[b];
+    rec.normal_n[b] = impulse(n) / h;
+    rec.friction_n[b] = impulse(t) / h;
+    double ang = std::atan2(nrm[b][0], nrm[b][1]) * 180.0 / M_PI;
+    rec.angle_deg[b] = ang < 0.0 ? ang + 360.0 : ang;
+    rec.slip_m_s[b] = 0.5 * (cp.pre_velocity(t) + post(t));
+    rec.friction_power_w[b] = wt / h;
+  }
+  L.min_step_contact_dissipation_j = std::min(L.min_step_contact_dissipation_j, step_diss);
+
+  s.q += h * u_avg;
+  s.u = u_new;
+  s.spin_angle_rad = std::fmod(s.spin_angle_rad + h * spin_avg, k_two_pi);
+  s.spin_accel_rad_s2 = (spin_new - s.spin_rad_s) / h;
+  s.spin_rad_s = spin_new;
+  for (size_t b = 0; b < 2; ++b) {
+    s.ring_angle_rad[b] = std::fmod(s.ring_angle_rad[b] + 0.5 * h * (s.ring_rad_s[b] + ring_new[b]), k_two_pi);
+    s.ring_rad_s[b] = ring_new[b];
+  }
+  s.t_s += h;
+  rec.t_s = s.t_s;
+  rec.h_s = h;
+
+  bool any = false;
+  for (size_t b = 0; b < 2; ++b) {
+    any = any || cp.active[b];
+    const auto p = aux_position_m(static_cast<int>(b));
+    const double pen = std::hypot(p[0] - p_.aux[b].centre_offset_x_m, p[1] - p_.aux[b].centre_offset_y_m) - p_.aux[b].clearance_m;
+    counters_.max_penetration_m = std::max(counters_.max_penetration_m, pen);
+  }
+  if (any) ++counters_.contact_steps;
+  if (o_.position_projection) project_positions(cp.active);
+
+  for (size_t k = 0; k < 4; ++k) {
+    const double meas = sensor_dir_[k][0] * b_sensor_[k].dot(s.q.head(m)) + sensor_dir_[k][1] * b_sensor_[k].dot(s.q.tail(m));
+    s.sensor_filtered_m[k] += sensor_alpha_[k] * (meas - s.sensor_filtered_m[k]);
+  }
+  if (observer_ != nullptr) observer_->on_step(rec);
+}
+
+void DropModel::project_positions(const std::array<bool, 2>& closed) {
+  // Minimal-norm displacement dq = H^-1 sum_b lambda_b v_b, v_b = n_b (x) b_aux_b, with
+  // v_b^T dq = -penetration_b for every closed, penetrating contact. Metric
+  // H = I + h^2/4 K (the step's own): the stiff modes, whose elastic energy a mass-norm
+  // projection would disturb most, move least.
+  std::array<double, 2> pen{};
+  std::array<std::array<double, 2>, 2> n{};
+  int count = 0;
+  for (size_t b = 0; b < 2; ++b) {
+    if (!closed[b]) continue;
+    const auto p = aux_position_m(static_cast<int>(b));
+    const double dx = p[0] - p_.aux[b].centre_offset_x_m, dy = p[1] - p_.aux[b].centre_offset_y_m;
+    const double r = std::hypot(dx, dy);
+    if (r > p_.aux[b].clearance_m && r > 0.0) {
+      pen[b] = r - p_.aux[b].clearance_m;
+      n[b] = {dx / r, dy / r};
+      ++count;
+    }
+  }
+  if (count == 0) return;
+  const double e_before = mechanical_energy_j();
+  const ModeVec hm = (1.0 + 0.25 * o_.step_s * o_.step_s * w2_.array()).matrix();
+  Eigen::Matrix2d g = Eigen::Matrix2d::Identity();
+  Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+  for (size_t b = 0; b < 2; ++b) {
+    if (pen[b] == 0.0) continue;
+    for (size_t c = 0; c < 2; ++c) {
+      if (pen[c] == 0.0) continue;
+      g(static_cast<int>(b), static_cast<int>(c)) = (n[b][0] * n[c][0] + n[b][1] * n[c][1]) * b_aux_[b].dot(b_aux_[c].cwiseQuotient(hm));
+    }
+    rhs(static_cast<int>(b)) = -pen[b];
+  }
+  const Eigen::Vector2d lambda = g.ldlt().solve(rhs);
+  for (size_t b = 0; b < 2; ++b) {
+    if (pen[b] == 0.0) continue;
+    s_.q.head(m_) += lambda(static_cast<int>(b)) * n[b][0] * b_aux_[b].cwiseQuotient(hm);
+    s_.q.tail(m_) += lambda(static_cast<int>(b)) * n[b][1] * b_aux_[b].cwiseQuotient(hm);
+  }
+  s_.ledger.projection_energy_j += mechanical_energy_j() - e_before;
+}
+
+std::array<double, 2> DropModel::aux_position_m(int bearing) const {
+  const ModeVec& b = b_aux_[static_cast<size_t>(bearing)];
+  return {b.dot(s_.q.head(m_)), b.dot(s_.q.tail(m_))};
+}
+
+std::array<double, 2> DropModel::displacement_at(double axial_m) const {
+  const Eigen::RowVectorXd b = rotor::modal_interpolation(fe_, red_, axial_m);
+  double x = 0.0, y = 0.0;
+  for (int i = 0; i < m_; ++i) {
+    x += b(i) * s_.q(i);
+    y += b(i) * s_.q(m_ + i);
+  }
+  return {x, y};
+}
+
+double DropModel::mechanical_energy_j() const {
+  double e = 0.5 * s_.u.squaredNorm() + 0.5 * spin_inertia_ * s_.spin_rad_s * s_.spin_rad_s;
+  e += 0.5 * (w2_.dot(s_.q.head(m_).cwiseAbs2()) + w2_.dot(s_.q.tail(m_).cwiseAbs2()));
+  e -= gravity_y_.dot(s_.q.tail(m_));
+  for (size_t b = 0; b < 2; ++b) e += 0.5 * p_.aux[b].ring_inertia_kg_m2 * s_.ring_rad_s[b] * s_.ring_rad_s[b];
+  return e;
+}
+
+PlantOutputs DropModel::outputs() const {
+  PlantOutputs o;
+  o.t_s = s_.t_s;
+  o.displacement_m = s_.sensor_out_m;
+  o.coil_current_a = s_.current_a;
+  o.spin_speed_hz = s_.spin_rad_s / k_two_pi;
+  o.spin_angle_rad = s_.spin_angle_rad;
+  return o;
+}
+
+PlantTruth DropModel::truth() const {
+  PlantTruth t;
+  for (size_t b = 0; b < 2; ++b) {
+    const auto p = aux_position_m(static_cast<int>(b));
+    t.aux_x_m[b] = p[0];
+    t.aux_y_m[b] = p[1];
+    t.contact_force_n[b] = s_.last_contact.normal_n[b];
+    t.friction_force_n[b] = s_.last_contact.friction_n[b];
+    t.ring_speed_rad_s[b] = s_.ring_rad_s[b];
+    t.amb_x_m[b] = b_amb_[b].dot(s_.q.head(m_));
+    t.amb_y_m[b] = b_amb_[b].dot(s_.q.tail(m_));
+  }
+  t.amb_force_n = s_.amb_force_n;
+  double ke = 0.5 * s_.u.squaredNorm() + 0.5 * spin_inertia_ * s_.spin_rad_s * s_.spin_rad_s;
+  for (size_t b = 0; b < 2; ++b) ke += 0.5 * p_.aux[b].ring_inertia_kg_m2 * s_.ring_rad_s[b] * s_.ring_rad_s[b];
+  t.kinetic_energy_j = ke;
+  t.potential_energy_j = mechanical_energy_j() - ke;
+  t.friction_dissipated_j = s_.ledger.friction_dissipated_j;
+  return t;
+}
+
+}  // namespace amb::model::drop
