@@ -1,0 +1,423 @@
+#include "host-tools/core/residual/residual_loop.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "host-tools/core/residual/nelder_mead.hpp"
+#include "model/amb/amb_force.hpp"
+#include "model/rotor/rotor_model.hpp"
+
+namespace amb::host::residual {
+namespace {
+
+using cd = std::complex<double>;
+using model::effects::EffectKind;
+using model::effects::EffectSet;
+constexpr double k_inf = std::numeric_limits<double>::infinity();
+
+std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+// ---- nonlinear parameters of the elements present, as one vector (logs) ----
+struct Bounds {
+  double f_max_hz = 1000.0;
+  double rotor_mass_kg = 1.0;
+  double bias_a = 1.0;
+};
+
+std::vector<double> pack(const EffectSet& e) {
+  std::vector<double> x;
+  if (e.pedestal) {
+    x.push_back(std::log(e.pedestal->frequency_hz));
+    x.push_back(std::log(e.pedestal->damping_ratio));
+    x.push_back(std::log(e.pedestal->mass_kg));
+  }
+  if (e.amplifier_lag) x.push_back(std::log(e.amplifier_lag->time_constant_s));
+  if (e.rotor_mode) x.push_back(std::log(e.rotor_mode->frequency_scale));
+  if (e.saturation) x.push_back(std::log(e.saturation->saturation_current_a));
+  return x;
+}
+
+EffectSet unpack(const std::vector<double>& x, EffectSet e, const Bounds& bd) {
+  size_t i = 0;
+  auto get = [&](double lo, double hi) { return std::clamp(std::exp(x[i++]), lo, hi); };
+  if (e.pedestal) {
+    e.pedestal->frequency_hz = get(3.0, bd.f_max_hz);
+    e.pedestal->damping_ratio = get(0.003, 0.7);
+    e.pedestal->mass_kg = get(0.01 * bd.rotor_mass_kg, 50.0 * bd.rotor_mass_kg);
+  }
+  if (e.amplifier_lag) e.amplifier_lag->time_constant_s = get(1e-6, 0.02);
+  if (e.rotor_mode) e.rotor_mode->frequency_scale = get(0.5, 2.0);
+  if (e.saturation) e.saturation->saturation_current_a = get(0.3 * bd.bias_a, 100.0 * bd.bias_a);
+  return e;
+}
+
+struct Fitter {
+  const SteadyData& d;
+  const board::BoardConfig& b;
+  Bounds bd;
+  int max_eval;
+
+  double nll(const EffectSet& e) const {
+    try {
+      return evaluate_steady(d, b, e).nll;
+    } catch (const std::exception&) {
+      return k_inf;
+    }
+  }
+  // Refine all nonlinear parameters of `e` together (the linear ones are closed-form).
+  EffectSet refine(EffectSet e) const {
+    const auto x0 = pack(e);
+    if (x0.empty()) return e;
+    const auto r = nelder_mead([&](const std::vector<double>& x) { return nll(unpack(x, e, bd)); }, x0, 0.25, max_eval, 1e-2);
+    return unpack(r.x, e, bd);
+  }
+  // Best start of a new element on top of `base` by a coarse scan, then a joint refinement.
+  EffectSet fit_candidate(const EffectSet& base, EffectKind k, const std::vector<double>& peak_hz) const {
+    std::vector<EffectSet> starts;
+    auto with = [&](auto setter) {
+      EffectSet e = base;
+      setter(e);
+      starts.push_back(e);
+    };
+    switch (k) {
+      case EffectKind::pedestal_resonance: {
+        std::vector<double> fs = peak_hz;
+        for (double f = 10.0; f < bd.f_max_hz; f *= 2.0) fs.push_back(f);
+        for (int plane = 0; plane < 2; ++plane)
+          for (double f : fs)
+            with([&](EffectSet& e) {
+              e.pedestal = model::effects::PedestalResonance{plane, bd.rotor_mass_kg, f, 0.05};
+            });
+        break;
+      }
+      case EffectKind::sensor_runout: with([](EffectSet& e) { e.runout = model::effects::SensorRunout{}; }); break;
+      case EffectKind::aux_bearing_offset:
+        with([](EffectSet& e) { e.aux_offset = model::effects::AuxBearingOffset{}; });
+        break;
+      case EffectKind::amplifier_lag:
+        for (double tau = 2e-5; tau < 1e-2; tau *= 2.0)
+          with([&](EffectSet& e) { e.amplifier_lag = model::effects::AmplifierLag{tau}; });
+        break;
+      case EffectKind::rotor_mode:
+        for (double s = 0.7; s < 1.45; s *= 1.04)
+          with([&](EffectSet& e) { e.rotor_mode = model::effects::RotorMode{s}; });
+        break;
+      case EffectKind::magnetic_saturation:
+        for (double r = 0.5; r < 40.0; r *= 1.4)
+          with([&](EffectSet& e) { e.saturation = model::effects::MagneticSaturation{r * bd.bias_a}; });
+        break;
+      case EffectKind::sensor_mass: break;
+    }
+    // Scan the starts; refine the best two (a scan alone resolves the one-parameter ones).
+    std::vector<std::pair<double, size_t>> scored;
+    for (size_t i = 0; i < starts.size(); ++i) scored.emplace_back(nll(starts[i]), i);
+    std::sort(scored.begin(), scored.end());
+    EffectSet best = starts.at(scored.front().second);
+    double best_v = scored.front().first;
+    for (size_t r = 0; r < std::min<size_t>(2, scored.size()); ++r) {
+      const EffectSet e = refine(starts[scored[r].second]);
+      const double v = nll(e);
+      if (v < best_v) {
+        best_v = v;
+        best = e;
+      }
+    }
+    return best;
+  }
+};
+
+std::string join(const std::vector<std::string>& v, const char* sep) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
+  return s;
+}
+
+// Evidence for a candidate from the structure of the residual.
+std::string evidence_for(EffectKind k, const ResidualStructure& s, double delta_bic) {
+  std::string e;
+  switch (k) {
+    case EffectKind::pedestal_resonance:
+      if (!s.resonance_excess.empty())
+        e = fmt("fixed-frequency resonance the model lacks at %.1f Hz (+%.1f dB over the model PSD)",
+                s.resonance_excess.front().first, s.resonance_excess.front().second);
+      else e = "no unexplained fixed-frequency peak";
+      break;
+    case EffectKind::sensor_runout:
+      e = fmt("speed-locked residual lines: 1x %.0f, 2x %.0f, 3x %.0f times the noise power", s.order_excess_snr[0],
+              s.order_excess_snr[1], s.order_excess_snr[2]);
+      break;
+    case EffectKind::aux_bearing_offset:
+      e = s.has_rest ? fmt("rest position off the model by (%.1f, %.1f) um at plane A sensors, %.1f um at B1",
+                           s.rest_offset_m[0] * 1e6, s.rest_offset_m[1] * 1e6, s.rest_offset_m[2] * 1e6)
+                     : "no rest or contact segment in the record: not testable";
+      break;
+    case EffectKind::amplifier_lag:
+      e = fmt("current lags the model by %.1f deg at 1x; spectral shape near the loop crossover", s.current_phase_lag_deg);
+      break;
+    case EffectKind::rotor_mode:
+      if (!s.resonance_deficit.empty() || !s.resonance_excess.empty())
+        e = fmt("model peak at %.1f Hz without a measured counterpart, measured excess at %.1f Hz",
+                s.resonance_deficit.empty() ? 0.0 : s.resonance_deficit.front().first,
+                s.resonance_excess.empty() ? 0.0 : s.resonance_excess.front().first);
+      else e = "no shifted mode";
+      break;
+    case EffectKind::magnetic_saturation:
+      e = fmt("static currents %.2f times the model's (force per ampere below the board's ki)", s.static_current_ratio);
+      break;
+    case EffectKind::sensor_mass: e = "not applicable to displacement-sensor records"; break;
+  }
+  return e + fmt("; BIC decrease %.1f", delta_bic);
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, double>> effect_parameters(const EffectSet& e, EffectKind k) {
+  std::vector<std::pair<std::string, double>> p;
+  switch (k) {
+    case EffectKind::pedestal_resonance:
+      if (e.pedestal) {
+        p = {{"plane", e.pedestal->plane}, {"frequency_hz", e.pedestal->frequency_hz},
+             {"damping_ratio", e.pedestal->damping_ratio}, {"mass_kg", e.pedestal->mass_kg},
+             {"stiffness_n_per_m", e.pedestal->stiffness_n_per_m()}};
+      }
+      break;
+    case EffectKind::sensor_runout:
+      if (e.runout)
+        for (int pl = 0; pl < 2; ++pl)
+          for (int h = 1; h <= model::effects::k_runout_orders; ++h) {
+            const cd r = e.runout->r_m[static_cast<size_t>(pl)][static_cast<size_t>(h - 1)];
+            const std::string tag = std::string(pl == 0 ? "a" : "b") + "_order" + std::to_string(h);
+            p.emplace_back("amplitude_" + tag + "_m", std::abs(r));
+            p.emplace_back("phase_" + tag + "_deg", std::arg(r) * 180.0 / M_PI);
+          }
+      break;
+    case EffectKind::aux_bearing_offset:
+      if (e.aux_offset)
+        p = {{"x0_m", e.aux_offset->x_m[0]}, {"y0_m", e.aux_offset->y_m[0]}, {"x1_m", e.aux_offset->x_m[1]},
+             {"y1_m", e.aux_offset->y_m[1]}};
+      break;
+    case EffectKind::amplifier_lag:
+      if (e.amplifier_lag)
+        p = {{"time_constant_s", e.amplifier_lag->time_constant_s},
+             {"bandwidth_hz", 1.0 / (2.0 * M_PI * e.amplifier_lag->time_constant_s)}};
+      break;
+    case EffectKind::rotor_mode:
+      if (e.rotor_mode) p = {{"frequency_scale", e.rotor_mode->frequency_scale}};
+      break;
+    case EffectKind::magnetic_saturation:
+      if (e.saturation) p = {{"saturation_current_a", e.saturation->saturation_current_a}};
+      break;
+    case EffectKind::sensor_mass:
+      if (e.sensor_mass) p = {{"mass_kg", e.sensor_mass->mass_kg}};
+      break;
+  }
+  return p;
+}
+
+ResidualStructure analyse_structure(const SteadyData& d, const board::BoardConfig& b, const SteadyEvaluation& ev) {
+  ResidualStructure s;
+  const size_t nb = d.bands.size();
+  // Measured/model PSD ratio, averaged over the channels, smoothed over 3 bands.
+  std::vector<double> ratio_db(nb, 0.0);
+  for (size_t i = 0; i < nb; ++i) {
+    double r = 0.0;
+    for (int c = 0; c < k_channels; ++c)
+      r += 10.0 * std::log10(d.bands[i].psd[static_cast<size_t>(c)] / ev.psd_pred[i][static_cast<size_t>(c)]);
+    ratio_db[i] = r / k_channels;
+  }
+  std::vector<double> sm(nb, 0.0);
+  for (size_t i = 0; i < nb; ++i) {
+    double a = 0.0;
+    int n = 0;
+    for (size_t j = (i > 0 ? i - 1 : 0); j <= std::min(nb - 1, i + 1); ++j, ++n) a += ratio_db[j];
+    sm[i] = a / n;
+  }
+  for (size_t i = 1; i + 1 < nb; ++i) {
+    if (sm[i] > 3.0 && sm[i] >= sm[i - 1] && sm[i] >= sm[i + 1]) s.resonance_excess.emplace_back(d.bands[i].f_hz, sm[i]);
+    if (sm[i] < -3.0 && sm[i] <= sm[i - 1] && sm[i] <= sm[i + 1]) s.resonance_deficit.emplace_back(d.bands[i].f_hz, sm[i]);
+  }
+  auto by_size = [](const auto& x, const auto& y) { return std::abs(x.second) > std::abs(y.second); };
+  std::sort(s.resonance_excess.begin(), s.resonance_excess.end(), by_size);
+  std::sort(s.resonance_deficit.begin(), s.resonance_deficit.end(), by_size);
+  double sub = 0.0;
+  int nsub = 0;
+  for (size_t i = 0; i < nb; ++i)
+    if (d.bands[i].f_hz < 0.9 * d.spin_hz) { sub += ratio_db[i]; ++nsub; }
+  s.subsynchronous_excess_db = nsub ? sub / nsub : 0.0;
+
+  // Speed-order lines: residual power relative to the noise at that frequency.
+  for (int h = 1; h <= k_orders; ++h) {
+    double snr = 0.0;
+    // Noise power of a line estimate: 2 P / T with P the model PSD interpolated at h f.
+    for (int c = 0; c < k_channels; ++c) {
+      double p = 0.0, best = k_inf;
+      for (size_t i = 0; i < nb; ++i)
+        if (std::abs(d.bands[i].f_hz - h * d.spin_hz) < best) {
+          best = std::abs(d.bands[i].f_hz - h * d.spin_hz);
+          p = ev.psd_pred[i][static_cast<size_t>(c)];
+        }
+      const cd r = d.order[static_cast<size_t>(c)][static_cast<size_t>(h - 1)] - ev.order_pred[static_cast<size_t>(c)][static_cast<size_t>(h - 1)];
+      snr += std::norm(r) / (2.0 * p / d.window_s) / k_channels;
+    }
+    s.order_excess_snr[static_cast<size_t>(h - 1)] = snr;
+  }
+  // Statics.
+  double mi = 0.0, pi = 0.0;
+  for (int j = 0; j < 4; ++j) {
+    mi += std::abs(d.mean[static_cast<size_t>(4 + j)]);
+    pi += std::abs(ev.static_pred[static_cast<size_t>(4 + j)]);
+  }
+  s.static_current_ratio = pi > 0 ? mi / pi : 1.0;
+  s.has_rest = d.has_rest;
+  if (d.has_rest)
+    for (int k = 0; k < 4; ++k) s.rest_offset_m[static_cast<size_t>(k)] = d.rest_mean_m[static_cast<size_t>(k)] - ev.rest_pred_m[static_cast<size_t>(k)];
+  // Phase of current relative to displacement at 1x, plane A first axis (model minus measured).
+  {
+    const cd ym = d.order[4][0] / d.order[0][0], yp = ev.order_pred[4][0] / ev.order_pred[0][0];
+    if (std::abs(d.order[0][0]) > 0 && std::abs(ev.order_pred[0][0]) > 0)
+      s.current_phase_lag_deg = std::arg(yp / ym) * 180.0 / M_PI;
+  }
+  // Time-domain residual per channel and residual orbits per sensor plane.
+  const double two_pi = 2.0 * M_PI;
+  std::array<std::vector<double>, 4> r_sens;
+  for (int c = 0; c < k_channels; ++c) {
+    const auto& y = d.window[static_cast<size_t>(c)];
+    double rr = 0.0;
+    if (c < 4) r_sens[static_cast<size_t>(c)].resize(y.size());
+    for (size_t i = 0; i < y.size(); ++i) {
+      const double t = static_cast<double>(i) / d.fs_hz;
+      double m = ev.static_pred[static_cast<size_t>(c)];
+      for (int h = 1; h <= k_orders; ++h)
+        m += (ev.order_pred[static_cast<size_t>(c)][static_cast<size_t>(h - 1)] * std::exp(cd(0.0, two_pi * h * d.spin_hz * t))).real();
+      rr += (y[i] - m) * (y[i] - m);
+      if (c < 4) r_sens[static_cast<size_t>(c)][i] = y[i] - m;
+    }
+    s.channel_rms_residual[static_cast<size_t>(c)] = std::sqrt(rr / static_cast<double>(y.size()));
+  }
+  for (int pl = 0; pl < 2; ++pl) {
+    const auto s1 = model::magnet::axis_direction(b.plant.sensor[static_cast<size_t>(2 * pl)].angle_deg);
+    const auto s2 = model::magnet::axis_direction(b.plant.sensor[static_cast<size_t>(2 * pl + 1)].angle_deg);
+    Eigen::Matrix2d sm2;
+    sm2 << s1[0], s1[1], s2[0], s2[1];
+    const Eigen::Matrix2d inv = sm2.inverse();
+    double rmax = 0.0;
+    for (size_t i = 0; i < r_sens[0].size(); ++i) {
+      const Eigen::Vector2d xy = inv * Eigen::Vector2d(r_sens[static_cast<size_t>(2 * pl)][i], r_sens[static_cast<size_t>(2 * pl + 1)][i]);
+      rmax = std::max(rmax, xy.norm());
+    }
+    s.orbit_residual_max_m[static_cast<size_t>(pl)] = rmax;
+    // Full spectrum: sensor phasors -> (X, Y) -> forward (X + jY)/2, backward conj(X - jY)/2.
+    for (int h = 1; h <= k_orders; ++h) {
+      auto fb = [&](const cd& a1, const cd& a2) {
+        const cd x = inv(0, 0) * a1 + inv(0, 1) * a2, y = inv(1, 0) * a1 + inv(1, 1) * a2;
+        return std::pair<double, double>{std::abs(x + cd(0, 1) * y) / 2.0 * 2.0, std::abs(x - cd(0, 1) * y) / 2.0 * 2.0};
+      };
+      const auto& o1 = d.order[static_cast<size_t>(2 * pl)][static_cast<size_t>(h - 1)];
+      const auto& o2 = d.order[static_cast<size_t>(2 * pl + 1)][static_cast<size_t>(h - 1)];
+      const auto& p1 = ev.order_pred[static_cast<size_t>(2 * pl)][static_cast<size_t>(h - 1)];
+      const auto& p2 = ev.order_pred[static_cast<size_t>(2 * pl + 1)][static_cast<size_t>(h - 1)];
+      FullSpectrumLine l;
+      l.plane = pl;
+      l.order = h;
+      std::tie(l.forward_measured_m, l.backward_measured_m) = fb(o1, o2);
+      std::tie(l.forward_residual_m, l.backward_residual_m) = fb(o1 - p1, o2 - p2);
+      s.full_spectrum.push_back(l);
+    }
+  }
+  // Notes.
+  for (size_t i = 0; i < std::min<size_t>(3, s.resonance_excess.size()); ++i)
+    s.notes.push_back(fmt("fixed-frequency excess at %.1f Hz: +%.1f dB (%s)", s.resonance_excess[i].first, s.resonance_excess[i].second) +
+                      (std::abs(std::fmod(s.resonance_excess[i].first / d.spin_hz + 0.5, 1.0) - 0.5) < 0.05 ? "near a speed order)" : "not speed-locked)"));
+  for (size_t i = 0; i < std::min<size_t>(2, s.resonance_deficit.size()); ++i)
+    s.notes.push_back(fmt("model peak without data at %.1f Hz: %.1f dB", s.resonance_deficit[i].first, s.resonance_deficit[i].second));
+  for (int h = 1; h <= k_orders; ++h)
+    if (s.order_excess_snr[static_cast<size_t>(h - 1)] > 10.0)
+      s.notes.push_back(fmt("speed-locked residual at order %.0f: %.0f times the noise", h, s.order_excess_snr[static_cast<size_t>(h - 1)]));
+  if (std::abs(s.subsynchronous_excess_db) > 2.0)
+    s.notes.push_back(fmt("sub-synchronous content off the model by %.1f dB", s.subsynchronous_excess_db));
+  if (std::abs(s.static_current_ratio - 1.0) > 0.1)
+    s.notes.push_back(fmt("static currents %.2f times the model's", s.static_current_ratio));
+  if (d.has_rest)
+    s.notes.push_back(fmt("rest readings off the model by %.1f / %.1f um (plane A), %.1f um (B1)", s.rest_offset_m[0] * 1e6,
+                          s.rest_offset_m[1] * 1e6, s.rest_offset_m[2] * 1e6));
+  return s;
+}
+
+ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig& b, const LoopOptions& o) {
+  ResidualOutcome out;
+  Fitter fit{d, b, {}, o.max_evaluations};
+  fit.bd.f_max_hz = d.bands.empty() ? 1000.0 : 0.9 * d.bands.back().f_hz;
+  fit.bd.rotor_mass_kg = model::rotor::build_rotor_model(b.plant.rotor).mass_kg;
+  fit.bd.bias_a = b.plant.amb[0].bias_current_a;
+
+  EffectSet current;
+  out.before = evaluate_steady(d, b, current);
+  out.structure = analyse_structure(d, b, out.before);
+  SteadyEvaluation now = out.before;
+  const std::vector<EffectKind> kinds{EffectKind::pedestal_resonance, EffectKind::sensor_runout,
+                                      EffectKind::aux_bearing_offset,  EffectKind::amplifier_lag,
+                                      EffectKind::rotor_mode,          EffectKind::magnetic_saturation};
+  for (int round = 0; round < o.max_effects; ++round) {
+    const ResidualStructure st = round == 0 ? out.structure : analyse_structure(d, b, now);
+    std::vector<double> peaks;
+    for (size_t i = 0; i < std::min<size_t>(3, st.resonance_excess.size()); ++i) peaks.push_back(st.resonance_excess[i].first);
+    std::vector<CandidateScore> scores;
+    std::vector<EffectSet> fitted;
+    for (EffectKind k : kinds) {
+      if (current.has(k)) continue;
+      CandidateScore c;
+      c.name = model::effects::effect_name(k);
+      if (k == EffectKind::aux_bearing_offset && !d.has_rest) {
+        c.testable = false;
+        c.delta_bic = -k_inf;
+        c.evidence = evidence_for(k, st, 0.0);
+        scores.push_back(c);
+        fitted.push_back(current);
+        continue;
+      }
+      const EffectSet e = fit.fit_candidate(current, k, peaks);
+      const SteadyEvaluation ev = evaluate_steady(d, b, e);
+      c.delta_bic = now.bic - ev.bic;
+      c.evidence = evidence_for(k, st, c.delta_bic);
+      scores.push_back(c);
+      fitted.push_back(e);
+    }
+    std::vector<size_t> idx(scores.size());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t c) { return scores[a].delta_bic > scores[c].delta_bic; });
+    if (round == 0)
+      for (size_t i : idx) out.ranking.push_back(scores[i]);
+    if (idx.empty() || !(scores[idx[0]].delta_bic > o.min_delta_bic)) break;
+    // Add the top one and refit every nonlinear parameter together.
+    const EffectSet joint = fit.refine(fitted[idx[0]]);
+    const SteadyEvaluation ev = evaluate_steady(d, b, joint);
+    const double gain = now.bic - ev.bic;
+    if (!(gain > o.min_delta_bic)) break;
+    const auto kind = *model::effects::effect_from_name(scores[idx[0]].name);
+    current = ev.effects;
+    now = ev;
+    EffectAdded a;
+    a.name = scores[idx[0]].name;
+    a.delta_bic = gain;
+    a.evidence = scores[idx[0]].evidence;
+    out.effects_added.push_back(a);
+    (void)kind;
+  }
+  // Final parameters of every added element (after the last joint refit).
+  for (auto& a : out.effects_added) a.parameters = effect_parameters(current, *model::effects::effect_from_name(a.name));
+  out.after = now;
+  out.structure_after = analyse_structure(d, b, now);
+  std::vector<std::string> names;
+  for (const auto& a : out.effects_added) names.push_back(a.name);
+  out.verdict = names.empty() ? "none" : join(names, "+");
+  return out;
+}
+
+}  // namespace amb::host::residual

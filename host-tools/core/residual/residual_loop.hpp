@@ -1,0 +1,78 @@
+#pragma once
+// The residual loop on a steady-state record: fit the board's model, look at the residual's
+// structure, rank the candidate model elements by how much each earns (BIC), add the top
+// one and refit everything, keep it only if the BIC falls by more than `min_delta_bic`,
+// repeat while something significant remains.
+#include <complex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "firmware/board/board.hpp"
+#include "host-tools/core/residual/steady_data.hpp"
+#include "host-tools/core/residual/steady_fit.hpp"
+
+namespace amb::host::residual {
+
+struct LoopOptions {
+  double min_delta_bic = 10.0;   ///< BIC decrease an element must earn ("very strong" evidence)
+  int max_effects = 3;           ///< elements added at most
+  int max_evaluations = 120;     ///< per Nelder-Mead refinement
+};
+
+/// Full-spectrum (seed 002) components of one bearing plane at one speed order:
+/// z = x + j y, forward at +h*spin, backward at -h*spin (amplitudes, m).
+struct FullSpectrumLine {
+  int plane = 0, order = 1;
+  double forward_measured_m = 0.0, backward_measured_m = 0.0;
+  double forward_residual_m = 0.0, backward_residual_m = 0.0;
+};
+
+struct ResidualStructure {
+  std::vector<std::pair<double, double>> resonance_excess;  ///< (f Hz, dB) peaks of measured/model PSD
+  std::vector<std::pair<double, double>> resonance_deficit; ///< (f Hz, dB) model peaks the data lacks
+  std::array<double, k_orders> order_excess_snr{};          ///< residual line power / noise, per order
+  double subsynchronous_excess_db = 0.0;                    ///< mean measured/model PSD below the speed, dB
+  double static_current_ratio = 1.0;                        ///< |measured| / |model| static currents
+  std::array<double, 4> rest_offset_m{};                    ///< rest readings minus model, m (0 without rest)
+  bool has_rest = false;
+  double current_phase_lag_deg = 0.0;                       ///< model minus measured current-to-displacement phase at 1x, deg
+  std::array<double, k_channels> channel_rms_residual{};    ///< time-domain residual RMS per channel (m, A)
+  std::array<double, 2> orbit_residual_max_m{};             ///< largest residual orbit radius per sensor plane, m
+  std::vector<FullSpectrumLine> full_spectrum;
+  std::vector<std::string> notes;                           ///< human-readable findings
+};
+
+struct CandidateScore {
+  std::string name;
+  bool testable = true;
+  double delta_bic = 0.0;        ///< BIC(current) - BIC(with it), > 0: it earns its parameters
+  std::string evidence;
+};
+
+struct EffectAdded {
+  std::string name;
+  std::vector<std::pair<std::string, double>> parameters;
+  std::string evidence;
+  double delta_bic = 0.0;
+};
+
+struct ResidualOutcome {
+  SteadyEvaluation before, after;
+  ResidualStructure structure;               ///< of the residual before anything was added
+  ResidualStructure structure_after;
+  std::vector<CandidateScore> ranking;       ///< first round, best first
+  std::vector<EffectAdded> effects_added;
+  std::string verdict;                       ///< "none", else the added names joined with "+"
+};
+
+/// Structure of the residual of an evaluation.
+ResidualStructure analyse_structure(const SteadyData& d, const board::BoardConfig& b, const SteadyEvaluation& ev);
+
+/// Named parameters of an element in a set (SI units in the names).
+std::vector<std::pair<std::string, double>> effect_parameters(const model::effects::EffectSet& e,
+                                                              model::effects::EffectKind k);
+
+ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig& b, const LoopOptions& o = {});
+
+}  // namespace amb::host::residual

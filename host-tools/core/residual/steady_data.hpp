@@ -1,0 +1,57 @@
+#pragma once
+// What the residual loop extracts from a steady-state record (levitated rotor at constant
+// speed, optionally preceded by the rotor at rest on its auxiliary bearings):
+//  * channels mapped to the board's 4 sensors and 4 actuator axes by position and angle,
+//  * the rest segment (coil currents ~0 at the start) and its mean sensor readings,
+//  * the steady window (speed within 0.5 % of its final value), the refined speed,
+//  * per channel: static mean, complex phasors of speed orders 1..k_orders, and the Welch
+//    PSD of what remains, on log-spaced bands (bands at speed orders left out).
+#include <array>
+#include <complex>
+#include <vector>
+
+#include "firmware/board/board.hpp"
+#include "host-tools/core/residual/measured_record.hpp"
+
+namespace amb::host::residual {
+
+inline constexpr int k_channels = 8;  ///< [sensors A1, A2, B1, B2 (m); currents per actuator axis (A)]
+inline constexpr int k_orders = 3;    ///< speed orders analysed
+
+struct Band {
+  double f_hz = 0.0;        ///< centre frequency, Hz
+  double averages = 0.0;    ///< effective number of averaged periodogram values (chi^2 dof / 2)
+  std::array<double, k_channels> psd{};  ///< one-sided PSD, unit^2/Hz
+};
+
+struct SteadyData {
+  double fs_hz = 0.0;
+  double spin_hz = 0.0;                 ///< refined speed in the steady window, Hz
+  double window_s = 0.0;                ///< steady window length, s
+  size_t window_start = 0, window_len = 0;
+  std::array<double, k_channels> mean{};                     ///< static mean (m, A)
+  std::array<double, k_channels> rms{};                      ///< RMS about zero of the window
+  std::array<std::array<std::complex<double>, k_orders>, k_channels> order{}; ///< phasors at h*spin
+  std::vector<Band> bands;
+  bool has_rest = false;
+  size_t rest_len = 0;
+  std::array<double, 4> rest_mean_m{};  ///< sensor means at rest, m
+  std::array<double, 4> rest_std_m{};   ///< their sample standard deviations, m
+  std::array<std::vector<double>, k_channels> window;  ///< the steady window's samples
+  std::vector<std::string> unmatched;   ///< record columns not matched to the rig
+};
+
+/// Options of the extraction.
+struct SteadyOptions {
+  double window_s = 2.0;        ///< steady window (the last this many seconds), s
+  double segment_s = 0.25;      ///< Welch segment, s (resolution 1/segment_s)
+  double f_min_hz = 8.0;        ///< lowest band, Hz
+  double f_max_hz = 1500.0;     ///< highest band, Hz (clamped to 0.4 fs)
+  int bands_per_octave = 12;
+};
+
+/// Throws std::runtime_error if the record lacks a channel the rig needs, or has no
+/// steady window.
+SteadyData extract_steady(const MeasuredRecord& r, const board::BoardConfig& b, const SteadyOptions& o = {});
+
+}  // namespace amb::host::residual

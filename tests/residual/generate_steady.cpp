@@ -1,0 +1,86 @@
+#include "tests/residual/generate_steady.hpp"
+
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "firmware/sil/sil_rig.hpp"
+#include "host-tools/core/residual/measured_record.hpp"
+#include "model/effects/effect_plant.hpp"
+
+namespace amb::test {
+namespace {
+
+class Collector final : public fw::SampleSink {
+ public:
+  void on_sample(const fw::LoopSample& s) override { samples.push_back(s); }
+  std::vector<fw::LoopSample> samples;
+};
+
+}  // namespace
+
+std::string generate_steady_record(const std::string& dir, const std::string& stem,
+                                   const model::effects::EffectSet& effects, const SteadyRecordOptions& o) {
+  board::BoardConfig b = board::load_board(o.board);
+  // The generator's rig: the board's, changed by the effect; the firmware keeps the board.
+  board::BoardConfig truth = b;
+  model::effects::apply_to_params(effects, truth.plant);
+  auto plant = std::make_unique<model::effects::EffectPlant>(sil::make_board_plant(truth, o.seed), truth.plant, effects);
+  b.lifecycle.spin_accel_hz_per_s = o.spin_accel_hz_per_s;
+  sil::SilOptions so;
+  so.noise_seed = o.seed;
+  sil::SilRig rig(b, std::move(plant), so);
+  Collector sink;
+  sink.samples.reserve(static_cast<size_t>((o.rest_s + o.steady_s + 3.0) * b.rate_hz));
+  rig.set_sink(&sink);
+  fw::Supervisor& sup = rig.supervisor();
+  rig.run_for(o.rest_s);
+  sup.post(fw::Command::levitate);
+  auto at = [](fw::Phase p) { return [p](const fw::Status& s) { return s.phase == p || s.state == fw::State::fault; }; };
+  if (!rig.run_until(at(fw::Phase::levitated), 5.0) || sup.state() == fw::State::fault)
+    throw std::runtime_error("generator: no lift-off for " + stem);
+  sup.post(fw::Command::run);
+  if (!rig.run_until(at(fw::Phase::at_speed), 10.0) || sup.state() == fw::State::fault)
+    throw std::runtime_error("generator: did not reach speed for " + stem);
+  rig.run_for(o.settle_s + o.steady_s);
+  if (sup.state() == fw::State::fault) throw std::runtime_error("generator: fault while steady for " + stem);
+  rig.set_sink(nullptr);
+
+  host::residual::MeasuredRecord r;
+  r.rig = o.board;
+  r.sample_rate_hz = b.rate_hz;
+  r.trigger_index = 0;
+  r.notes = "generated steady-state run";
+  auto add = [&](const std::string& col, const std::string& q, const std::string& unit, double axial, double angle) {
+    host::residual::RecordChannel c;
+    c.column = col;
+    c.quantity = q;
+    c.unit = unit;
+    c.axial_m = axial;
+    c.angle_deg = angle;
+    c.values.reserve(sink.samples.size());
+    r.channels.push_back(c);
+  };
+  add("t_s", "time", "s", 0, 0);
+  const char* dn[4] = {"xa1", "xa2", "xb1", "xb2"};
+  const char* in[4] = {"ia1", "ia2", "ib1", "ib2"};
+  for (int k = 0; k < 4; ++k) add(dn[k], "displacement", "m", b.plant.sensor[static_cast<size_t>(k)].axial_m, b.plant.sensor[static_cast<size_t>(k)].angle_deg);
+  for (int j = 0; j < 4; ++j)
+    add(in[j], "current", "A", b.plant.amb[static_cast<size_t>(j / 2)].axial_m,
+        b.plant.amb[static_cast<size_t>(j / 2)].actuator_angle_deg[static_cast<size_t>(j % 2)]);
+  add("n", "speed", "Hz", 0, 0);
+  const int64_t t0 = sink.samples.empty() ? 0 : sink.samples.front().t_ns;
+  for (const auto& s : sink.samples) {
+    r.channels[0].values.push_back(static_cast<double>(s.t_ns - t0) * 1e-9);
+    for (size_t k = 0; k < 4; ++k) r.channels[1 + k].values.push_back(s.displacement_m[k]);
+    for (size_t j = 0; j < 4; ++j) r.channels[5 + j].values.push_back(s.coil_current_a[j]);
+    r.channels[9].values.push_back(s.speed_hz);
+  }
+  std::filesystem::create_directories(dir);
+  const std::string path = (std::filesystem::path(dir) / (stem + ".json")).string();
+  host::residual::write_measured_record(r, path);
+  return path;
+}
+
+}  // namespace amb::test

@@ -1,0 +1,27 @@
+#pragma once
+// Test-data generator: the firmware levitates the board's plant with one model element
+// switched on (model/effects/effect_plant.hpp), rests first on the aux bearings, spins up
+// and holds a steady speed; the loop samples are written as a measured event
+// (formats/measured-event.md) with declared_faults = []. Nothing else is passed on: the
+// code under test reads only the files.
+#include <cstdint>
+#include <string>
+
+#include "model/effects/effect_set.hpp"
+
+namespace amb::test {
+
+struct SteadyRecordOptions {
+  std::string board = "bath-amb-rig";
+  double rest_s = 0.3;          ///< at rest on the aux bearings before the levitate command, s
+  double steady_s = 2.3;        ///< recorded at speed after the settle time, s
+  double settle_s = 0.3;        ///< after reaching speed, s
+  double spin_accel_hz_per_s = 100.0;
+  std::uint64_t seed = 7;       ///< sensor-noise seed
+};
+
+/// Writes DIR/STEM.json + DIR/STEM.csv; returns the sidecar path. Throws on a failed run.
+std::string generate_steady_record(const std::string& dir, const std::string& stem,
+                                   const model::effects::EffectSet& effects, const SteadyRecordOptions& o = {});
+
+}  // namespace amb::test
