@@ -1,0 +1,155 @@
+// amb-host residual EVENT: close the loop with measured data. EVENT is a measured-event
+// sidecar (NAME.json, formats/measured-event.md) of a steady-state run, or a current-to-
+// response sweep: a directory holding Sweep_Time_Anregung.mat + Sweep_Time_Ausgang.mat
+// (the TUM MLPS export; board tum-mlps-rig unless --board says otherwise).
+// Logic: host-tools/core/residual/.
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/io/mat_file.hpp"
+#include "host-tools/core/residual/measured_record.hpp"
+#include "host-tools/core/residual/residual_loop.hpp"
+#include "host-tools/core/residual/steady_data.hpp"
+#include "host-tools/core/residual/sweep_frf.hpp"
+
+namespace {
+
+namespace hr = amb::host::residual;
+
+struct Args {
+  std::string event;
+  std::string board;
+  bool json = false;
+};
+
+nlohmann::json figures(const hr::ErrorFigures& e) {
+  return {{"rms", e.rms}, {"spectral", e.spectral}, {"pearson", e.pearson}};
+}
+
+nlohmann::json added(const std::vector<hr::EffectAdded>& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& e : v) {
+    nlohmann::json p = nlohmann::json::object();
+    for (const auto& [k, x] : e.parameters) p[k] = x;
+    a.push_back({{"name", e.name}, {"parameters", p}, {"evidence", e.evidence}, {"delta_bic", e.delta_bic}});
+  }
+  return a;
+}
+
+nlohmann::json ranking(const std::vector<hr::CandidateScore>& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& c : v)
+    a.push_back({{"name", c.name}, {"testable", c.testable},
+                 {"delta_bic", c.testable ? nlohmann::json(c.delta_bic) : nlohmann::json(nullptr)}, {"evidence", c.evidence}});
+  return a;
+}
+
+void print_text(const std::string& verdict, const hr::ErrorFigures& b, const hr::ErrorFigures& a,
+                const std::vector<hr::CandidateScore>& rank, const std::vector<hr::EffectAdded>& add,
+                const std::vector<std::string>& notes) {
+  std::printf("residual structure:\n");
+  for (const auto& n : notes) std::printf("  %s\n", n.c_str());
+  std::printf("candidates (best first):\n");
+  for (const auto& c : rank) std::printf("  %-20s %s\n", c.name.c_str(), c.evidence.c_str());
+  for (const auto& e : add) {
+    std::printf("added %s:", e.name.c_str());
+    for (const auto& [k, x] : e.parameters) std::printf(" %s=%.4g", k.c_str(), x);
+    std::printf("\n");
+  }
+  std::printf("error before: rms %.4g  spectral %.3g  pearson %.3f\n", b.rms, b.spectral, b.pearson);
+  std::printf("error after : rms %.4g  spectral %.3g  pearson %.3f\n", a.rms, a.spectral, a.pearson);
+  std::printf("verdict: %s\n", verdict.c_str());
+}
+
+int run_steady(const Args& a) {
+  const auto rec = hr::read_measured_record(a.event);
+  const auto b = amb::board::load_board(a.board.empty() ? rec.rig : a.board);
+  const auto d = hr::extract_steady(rec, b);
+  const auto o = hr::run_residual_loop(d, b);
+  if (a.json) {
+    nlohmann::json j;
+    j["effects_added"] = added(o.effects_added);
+    j["error_before"] = figures(o.before.error);
+    j["error_after"] = figures(o.after.error);
+    j["verdict"] = o.verdict;
+    j["ranking"] = ranking(o.ranking);
+    j["structure"] = o.structure.notes;
+    j["spin_hz"] = d.spin_hz;
+    j["bic_before"] = o.before.bic;
+    j["bic_after"] = o.after.bic;
+    nlohmann::json fs = nlohmann::json::array();
+    for (const auto& l : o.structure.full_spectrum)
+      fs.push_back({{"plane", l.plane}, {"order", l.order}, {"forward_measured_m", l.forward_measured_m},
+                    {"backward_measured_m", l.backward_measured_m}, {"forward_residual_m", l.forward_residual_m},
+                    {"backward_residual_m", l.backward_residual_m}});
+    j["full_spectrum"] = fs;
+    j["channel_rms_residual"] = o.structure_after.channel_rms_residual;
+    j["orbit_residual_max_m"] = o.structure_after.orbit_residual_max_m;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    print_text(o.verdict, o.before.error, o.after.error, o.ranking, o.effects_added, o.structure.notes);
+  }
+  return 0;
+}
+
+int run_sweep(const Args& a) {
+  const std::string in_mat = a.event + "/Sweep_Time_Anregung.mat", out_mat = a.event + "/Sweep_Time_Ausgang.mat";
+  const auto in = amb::host::read_mat_vector(in_mat, "Signal.y_values.values");
+  const double dt = amb::host::read_mat_scalar(in_mat, "Signal.x_values.increment");
+  const auto acc = amb::host::read_mat_matrix(out_mat, "Signal_0");
+  std::vector<std::vector<double>> out(acc.cols);
+  for (size_t c = 0; c < acc.cols; ++c) {
+    out[c] = acc.column(c);
+    for (double& v : out[c]) v *= 9.80665;  // stored in g
+  }
+  const auto b = amb::board::load_board(a.board.empty() ? "tum-mlps-rig" : a.board);
+  const auto o = hr::run_sweep_residual(in, out, 1.0 / dt, b);
+  if (a.json) {
+    nlohmann::json j;
+    j["effects_added"] = added(o.effects_added);
+    j["error_before"] = figures(o.before.error);
+    j["error_after"] = figures(o.after.error);
+    j["verdict"] = o.verdict;
+    j["ranking"] = ranking(o.ranking);
+    j["structure"] = o.notes;
+    j["accelerometer_axial_m"] = o.after.accel_axial_m;
+    j["excited_axis"] = o.after.excited_axis;
+    j["gain_scale"] = o.after.gain_scale;
+    j["bic_before"] = o.before.bic;
+    j["bic_after"] = o.after.bic;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    print_text(o.verdict, o.before.error, o.after.error, o.ranking, o.effects_added, o.notes);
+  }
+  return 0;
+}
+
+const amb::host::Registration reg{
+    "residual", "Find the residual between measurement and model, trace it to a missing effect, add it, report",
+    [](CLI::App& sub, std::function<int()>& run) {
+      auto a = std::make_shared<Args>();
+      sub.add_option("EVENT", a->event, "measured-event sidecar (.json) or a sweep directory (TUM .mat pair)")->required();
+      sub.add_option("--board", a->board, "board name or file (default: the event's rig; tum-mlps-rig for a sweep)");
+      sub.add_flag("--json", a->json, "print the figures as JSON");
+      run = [a]() {
+        try {
+          if (std::filesystem::is_directory(a->event)) return run_sweep(*a);
+          if (!std::filesystem::exists(a->event)) {
+            std::fprintf(stderr, "amb-host residual: error: '%s' does not exist\n", a->event.c_str());
+            return 1;
+          }
+          return run_steady(*a);
+        } catch (const std::exception& e) {
+          std::fprintf(stderr, "amb-host residual: error: %s\n", e.what());
+          return 1;
+        }
+      };
+    }};
+
+}  // namespace
