@@ -106,14 +106,17 @@ std::string SpeedRidgeTracker::configure(const SpeedTrackerOptions& options) {
   for (size_t k = 0; k < options.n_orders; ++k) o_max = std::max(o_max, options.orders[k]);
   const double smear_hz = options.max_accel_hz_per_s * window_s;  // chirp sweep per window
   const double f_reach = o_max * (options.max_speed_hz + grid_hz_ + smear_hz) + 4.0 * lobe_hz;
+  // A floor block must be much wider than a line's main lobe, or the line lifts its own
+  // floor: at least 16 main-lobe half-widths.
+  floor_block_ = std::max(options.floor_block_bins,
+                          static_cast<size_t>(std::ceil(16.0 * lobe_hz / bin_hz_)));
   n_bins_used_ = std::min(so.nfft / 2 + 1,
-                          static_cast<size_t>(std::ceil(f_reach / bin_hz_)) +
-                              options.floor_block_bins);
+                          static_cast<size_t>(std::ceil(f_reach / bin_hz_)) + floor_block_);
   level_db_.assign(n_bins_used_, 0.0);
   floor_db_.assign(n_bins_used_, 0.0);
   prom_db_.assign(n_bins_used_, 0.0);
-  scratch_.assign(options.floor_block_bins, 0.0);
-  medians_.assign((n_bins_used_ + options.floor_block_bins - 1) / options.floor_block_bins, 0.0);
+  scratch_.assign(floor_block_, 0.0);
+  medians_.assign((n_bins_used_ + floor_block_ - 1) / floor_block_, 0.0);
   score_.assign(n_cand, 0.0);
   best_score_.assign(n_cand, 0.0);
   best_level_db_.assign(n_bins_used_, 0.0);
@@ -308,7 +311,7 @@ void SpeedRidgeTracker::analyse_spectrum() {
   const SpeedTrackerOptions& o = options_;
   const std::span<const double> power = stft_.power();
   for (size_t k = 0; k < n_bins_used_; ++k) level_db_[k] = 10.0 * std::log10(power[k] + 1e-300);
-  block_median_floor(level_db_, o.floor_block_bins, scratch_, medians_, floor_db_);
+  block_median_floor(level_db_, floor_block_, scratch_, medians_, floor_db_);
   for (size_t k = 0; k < n_bins_used_; ++k)
     prom_db_[k] = std::clamp(level_db_[k] - floor_db_[k], 0.0, o.line_cap_db);
 }

@@ -95,7 +95,8 @@ struct SpeedTrackerOptions {
   /// score beats the track's by this margin for acquire_frames consecutive updates, dB;
   /// [0, 50].
   double multiple_margin_db = 3.0;
-  /// Width of the noise-floor median blocks, bins; [8, 4096].
+  /// Width of the noise-floor median blocks, bins; [8, 4096]. Raised internally to 16
+  /// main-lobe half-widths so a line never lifts its own floor.
   size_t floor_block_bins = 64;
 
   /// Empty if valid; otherwise a message naming the bad field and its allowed range.
@@ -192,6 +193,7 @@ class SpeedRidgeTracker {
   double grid_hz_ = 0.0;          // candidate spacing
   double grid_lo_hz_ = 0.0;       // first candidate
   size_t n_bins_used_ = 0;        // bins of the spectrum the comb can reach
+  size_t floor_block_ = 0;        // floor median block, bins
   size_t max_jump_ = 0;           // candidates per hop at max_accel
   double hop_s_ = 0.0;
   std::vector<double> level_db_;  // n_bins_used_

@@ -1,0 +1,126 @@
+// amb-host track-speed: tachless shaft speed of a recorded channel (STFT speed-ridge tracker).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/io/mat_file.hpp"
+#include "host-tools/core/tracking/track_speed.hpp"
+#include "model/signal/window_function.hpp"
+
+namespace {
+
+struct Args {
+  std::string mat, var, window = "hamming", orders;
+  double fs_hz = 0.0;
+  bool json = false;
+  amb::host::TrackSpeedOptions opt{};
+};
+
+// Parses "1,2,3" into the tracker's order comb (weights 1 - 0.1 k). Empty: keep defaults.
+bool parse_orders(const std::string& text, amb::model::signal::SpeedTrackerOptions& t, std::string& err) {
+  if (text.empty()) return true;
+  size_t n = 0, pos = 0;
+  while (pos <= text.size()) {
+    const size_t comma = text.find(',', pos);
+    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    if (n >= amb::model::signal::k_max_orders) {
+      err = "--orders takes at most " + std::to_string(amb::model::signal::k_max_orders) + " values";
+      return false;
+    }
+    try {
+      size_t used = 0;
+      t.orders[n] = std::stod(item, &used);
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      err = "--orders: '" + item + "' is not a number (expected e.g. 1,2,3)";
+      return false;
+    }
+    t.order_weights[n] = 1.0 - 0.1 * static_cast<double>(n);
+    ++n;
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  t.n_orders = n;
+  return true;
+}
+
+int run(Args& a) {
+  std::string err;
+  if (!amb::model::signal::parse_window(a.window, a.opt.tracker.stft.window)) {
+    std::fprintf(stderr, "amb-host track-speed: error: --window must be one of rectangular, hann, hamming, blackman; got '%s'\n",
+                 a.window.c_str());
+    return 1;
+  }
+  // Keep the chirp-rate step inside the acceleration limit when only the limit was lowered.
+  a.opt.tracker.rate_step_hz_per_s = std::min(a.opt.tracker.rate_step_hz_per_s, a.opt.tracker.max_accel_hz_per_s);
+  if (!parse_orders(a.orders, a.opt.tracker, err)) {
+    std::fprintf(stderr, "amb-host track-speed: error: %s\n", err.c_str());
+    return 1;
+  }
+  if (std::string v = a.opt.validate(a.fs_hz); !v.empty()) {
+    std::fprintf(stderr, "amb-host track-speed: error: %s\n", v.c_str());
+    return 1;
+  }
+  std::vector<double> x;
+  try {
+    x = amb::host::read_mat_vector(a.mat, a.var);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "amb-host track-speed: error: %s\n", e.what());
+    return 1;
+  }
+  amb::host::TrackSpeedResult r;
+  try {
+    r = amb::host::track_speed(x, a.fs_hz, a.opt);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "amb-host track-speed: error: %s\n", e.what());
+    return 1;
+  }
+  if (a.json) {
+    std::printf("%s\n", amb::host::to_json(r).dump(1).c_str());
+    return 0;
+  }
+  const double med = amb::host::median_speed_hz(r);
+  std::printf("track-speed %s:%s  (%zu samples at %.1f Hz, decimated by %zu to %.1f Hz)\n", a.mat.c_str(),
+              a.var.c_str(), x.size(), a.fs_hz, r.decimation, r.tracker_rate_hz);
+  std::printf("  updates        %zu at %.1f per second (window %.3f s, latency %.3f s)\n", r.t_s.size(),
+              r.summary.update_rate_hz, a.opt.tracker.stft.window_s, r.summary.latency_s);
+  if (std::isfinite(med))
+    std::printf("  median speed   %.3f Hz = %.1f rpm\n", med, 60.0 * med);
+  else
+    std::printf("  median speed   none (no valid update)\n");
+  std::printf("  lost           %.1f %% of updates (stated minimum %.2f Hz; %llu acquisitions, %llu losses)\n",
+              100.0 * amb::host::lost_fraction(r), r.summary.stated_min_speed_hz,
+              static_cast<unsigned long long>(r.summary.acquisitions), static_cast<unsigned long long>(r.summary.losses));
+  return 0;
+}
+
+const amb::host::Registration reg{
+    "track-speed", "tachless shaft speed from a vibration or 1x displacement channel (STFT speed ridge)",
+    [](CLI::App& sub, std::function<int()>& run_fn) {
+      auto a = std::make_shared<Args>();
+      auto& t = a->opt.tracker;
+      sub.add_option("--mat", a->mat, "MATLAB .mat file")->required();
+      sub.add_option("--var", a->var, "variable name (struct fields with dots)")->required();
+      sub.add_option("--fs", a->fs_hz, "sample rate of the variable, Hz")->required();
+      sub.add_flag("--json", a->json, "print t_s, speed_hz, confidence, lost (arrays) as JSON");
+      sub.add_option("--window", a->window, "window: rectangular, hann, hamming (default), blackman");
+      sub.add_option("--window-s", t.stft.window_s, "window length, s (default 0.5)");
+      sub.add_option("--overlap", t.stft.overlap, "overlap fraction [0, 0.99] (default 0.9)");
+      sub.add_option("--nfft", t.stft.nfft, "FFT length, power of two (default 8192)");
+      sub.add_option("--min-hz", t.min_speed_hz, "lowest shaft speed reported, Hz (default 8)");
+      sub.add_option("--max-hz", t.max_speed_hz, "highest shaft speed searched, Hz (default 300)");
+      sub.add_option("--predict-hz", t.initial_speed_hz, "initial speed guess, Hz (0: unknown, wide search)");
+      sub.add_option("--band-hz", t.search_half_band_hz, "narrow-band half width around the prediction, Hz (default 10)");
+      sub.add_option("--max-accel", t.max_accel_hz_per_s, "largest |d speed/dt| followed, Hz/s (default 150)");
+      sub.add_option("--orders", a->orders, "comb orders, e.g. 1,2,3,4 (default) or 3.568,7.136 for ball-pass lines");
+      sub.add_option("--decimate", a->opt.decimate, "decimation factor: 0 auto (default), 1 none");
+      run_fn = [a]() { return run(*a); };
+    }};
+
+}  // namespace
