@@ -1,7 +1,7 @@
 #include "firmware/persistence/generation_store.hpp"
 
 #include "firmware/common/byte_codec.hpp"
-#include "firmware/common/crc32.hpp"
+#include "firmware/persistence/crc32c.hpp"
 
 namespace amb::fw {
 
@@ -24,8 +24,8 @@ std::vector<uint8_t> GenerationStore::encode(uint64_t generation, std::span<cons
   w.u16(0);
   w.u64(generation);
   w.u32(static_cast<uint32_t>(payload.size()));
-  w.u32(crc32(payload));
-  w.u32(crc32(std::span<const uint8_t>(out.data(), out.size())));
+  w.u32(crc32c(payload));
+  w.u32(crc32c(std::span<const uint8_t>(out.data(), out.size())));
   out.insert(out.end(), payload.begin(), payload.end());
   return out;
 }
@@ -48,7 +48,7 @@ bool GenerationStore::decode(const std::vector<uint8_t>& bytes, uint64_t& genera
     error = "bad magic";
     return false;
   }
-  if (header_crc != crc32(std::span<const uint8_t>(bytes.data(), k_header_bytes - 4))) {
+  if (header_crc != crc32c(std::span<const uint8_t>(bytes.data(), k_header_bytes - 4))) {
     error = "header checksum mismatch";
     return false;
   }
@@ -62,7 +62,7 @@ bool GenerationStore::decode(const std::vector<uint8_t>& bytes, uint64_t& genera
     return false;
   }
   const std::span<const uint8_t> p(bytes.data() + k_header_bytes, size);
-  if (crc32(p) != payload_crc) {
+  if (crc32c(p) != payload_crc) {
     error = "payload checksum mismatch";
     return false;
   }

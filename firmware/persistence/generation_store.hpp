@@ -1,7 +1,7 @@
 #pragma once
 // Power-loss-safe storage of one record in two generations (A/B) on top of hal::Storage.
 // Each slot holds a container: header (magic "AMBG", version, generation number, payload size,
-// payload CRC-32, header CRC-32) followed by the payload. A new record always goes to the slot
+// payload CRC-32C, header CRC-32C (see crc32c.hpp for why not CRC-32)) followed by the payload. A new record always goes to the slot
 // that does NOT hold the newest valid generation, so a write torn at any byte (even on a
 // storage whose write_atomic is not atomic) leaves the newest good record untouched. At open
 // the valid slot with the highest generation wins; torn or corrupt slots are reported.

@@ -4,6 +4,7 @@
 // and 4 read the same registers. 32- and 64-bit values span 2 or 4 registers, most
 // significant word first; strings are 2 ASCII characters per register, first in the high byte.
 // RO: read-only (writes answered with exception 2). RW: readable and writable.
+// Checksums on the link are CRC-32C (firmware/persistence/crc32c.hpp).
 // UNSAFE: writable only while the rotor rests (not levitating/running): exception 6 otherwise.
 #include <cstdint>
 
@@ -72,7 +73,7 @@ inline constexpr uint16_t event_count = 0x2000;        ///< RO, stored events
 inline constexpr uint16_t event_list_version = 0x2001; ///< RO, changes whenever the list changes
 inline constexpr uint16_t event_browse_index = 0x2002; ///< RW, which entry 0x2003.. shows
 inline constexpr uint16_t event_entry_size = 0x2003;   ///< RO, u32 bytes (0 if index out of range)
-inline constexpr uint16_t event_entry_crc = 0x2005;    ///< RO, u32 CRC-32 of the file
+inline constexpr uint16_t event_entry_crc = 0x2005;    ///< RO, u32 CRC-32C of the file
 inline constexpr uint16_t event_entry_name = 0x2007;   ///< RO, 16 registers, 32 characters
 inline constexpr uint16_t event_entry_end = 0x2017;
 inline constexpr uint16_t event_delete = 0x2020;       ///< UNSAFE, write [index, crc hi, crc lo]: remove that event
@@ -81,7 +82,7 @@ inline constexpr uint16_t event_delete = 0x2020;       ///< UNSAFE, write [index
 inline constexpr uint16_t dl_select = 0x3000;          ///< RW, [index, crc hi, crc lo, block hi, block lo] (5 regs)
 inline constexpr uint16_t dl_status = 0x3008;          ///< RO, DownloadStatus
 inline constexpr uint16_t dl_valid_bytes = 0x3009;     ///< RO, bytes of this block (0..k_block_bytes)
-inline constexpr uint16_t dl_block_crc = 0x300A;       ///< RO, u32 CRC-32 of this block's bytes
+inline constexpr uint16_t dl_block_crc = 0x300A;       ///< RO, u32 CRC-32C of this block's bytes
 inline constexpr uint16_t dl_block = 0x300C;           ///< RO, u32 block number shown
 inline constexpr uint16_t dl_total_bytes = 0x300E;     ///< RO, u32 size of the selected item
 inline constexpr uint16_t dl_data = 0x3010;            ///< RO, block data (k_block_bytes / 2 regs)
@@ -95,7 +96,7 @@ enum DownloadStatus : uint16_t { dl_ok = 0, dl_no_selection = 1, dl_stale = 2, d
 inline constexpr uint16_t wear_present = 0x4000;       ///< 0/1
 inline constexpr uint16_t wear_sequence = 0x4001;      ///< u32
 inline constexpr uint16_t wear_event_count = 0x4003;   ///< u32
-inline constexpr uint16_t wear_record_crc = 0x4005;    ///< u32 CRC-32 of the whole encoded record
+inline constexpr uint16_t wear_record_crc = 0x4005;    ///< u32 CRC-32C of the whole encoded record
 inline constexpr uint16_t wear_friction_micro = 0x4007;///< u32, last friction coefficient x 1e6
 inline constexpr uint16_t wear_updated_unix_s = 0x4009;///< i64, s
 inline constexpr uint16_t wear_life_ppm = 0x400D;      ///< 2 x u32, life used per aux bearing, parts per million
@@ -107,7 +108,7 @@ inline constexpr uint16_t wear_end = 0x4018;
 // ---- write-back area ----------------------------------------------------------------------------
 inline constexpr uint16_t wb_control = 0x5000;         ///< RW: write [1 begin, size hi, size lo, crc hi, crc lo] | [2 commit] (UNSAFE) | [3 abort]; read: WbSession
 inline constexpr uint16_t wb_size = 0x5001;            ///< RO (set by begin), u32 bytes announced
-inline constexpr uint16_t wb_crc = 0x5003;             ///< RO (set by begin), u32 CRC-32 announced
+inline constexpr uint16_t wb_crc = 0x5003;             ///< RO (set by begin), u32 CRC-32C announced
 inline constexpr uint16_t wb_received = 0x5005;        ///< RO, u32 contiguous bytes received
 inline constexpr uint16_t wb_result = 0x5007;          ///< RO, fw::WriteBackResult of the last commit
 inline constexpr uint16_t wb_stored_sequence = 0x5008; ///< RO, u32 sequence of the stored record

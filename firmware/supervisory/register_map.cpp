@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "firmware/common/crc32.hpp"
+#include "firmware/persistence/crc32c.hpp"
 
 namespace amb::fw {
 
@@ -77,7 +77,7 @@ void RegisterMap::refresh_events() {
     EventEntry e{n, 0, 0};
     if (src_.events->read(n, bytes, err)) {
       e.size = static_cast<uint32_t>(bytes.size());
-      e.crc = crc32(bytes);
+      e.crc = crc32c(bytes);
     }
     fresh.push_back(std::move(e));
   }
@@ -181,7 +181,7 @@ bool RegisterMap::render(uint16_t start, uint16_t end, Block& b) {
         const size_t from = static_cast<size_t>(dl_block_) * k_block_bytes;
         const size_t n = std::min<size_t>(k_block_bytes, dl_bytes_.size() - from);
         put16(b, 1, static_cast<uint16_t>(n));
-        put32(b, 2, crc32(std::span<const uint8_t>(dl_bytes_.data() + from, n)));
+        put32(b, 2, crc32c(std::span<const uint8_t>(dl_bytes_.data() + from, n)));
         for (size_t i = 0; i < n; ++i) {
           const size_t r = regs::dl_data - regs::dl_status + i / 2;
           b[r] = static_cast<uint16_t>(b[r] | (i % 2 == 0 ? dl_bytes_[from + i] << 8 : dl_bytes_[from + i]));
@@ -197,7 +197,7 @@ bool RegisterMap::render(uint16_t start, uint16_t end, Block& b) {
         const WearRecord& r = w->record();
         put32(b, 1, r.sequence);
         put32(b, 3, r.event_count);
-        put32(b, 5, crc32(w->encoded()));
+        put32(b, 5, crc32c(w->encoded()));
         put32(b, 7, static_cast<uint64_t>(std::max(0.0f, r.last_friction_coefficient) * 1e6f));
         put64(b, 9, static_cast<uint64_t>(r.updated_unix_s));
         for (size_t i = 0; i < 2; ++i) {
@@ -294,10 +294,10 @@ hal::RegisterHandler::Status RegisterMap::write_select(std::span<const uint16_t>
       return ok;
     }
     name = "\x01wear";
-    if (dl_name_ != name || dl_crc_ != crc32(src_.wear->encoded())) {
+    if (dl_name_ != name || dl_crc_ != crc32c(src_.wear->encoded())) {
       dl_bytes_ = src_.wear->encoded();
       dl_name_ = name;
-      dl_crc_ = crc32(dl_bytes_);
+      dl_crc_ = crc32c(dl_bytes_);
     }
   } else {
     refresh_events();
@@ -306,7 +306,9 @@ hal::RegisterHandler::Status RegisterMap::write_select(std::span<const uint16_t>
       return ok;
     }
     EventEntry& e = events_[index];
-    if (dl_name_ != e.name || dl_crc_ != e.crc) {
+    // Block 0 starts (or restarts) a download: read the file afresh so that a file rewritten
+    // under the same name is never served from an old copy.
+    if (dl_block_ == 0 || dl_name_ != e.name || dl_crc_ != e.crc) {
       std::string err;
       if (!src_.events->read(e.name, dl_bytes_, err)) {
         dl_status_ = regs::dl_read_error;
@@ -314,7 +316,7 @@ hal::RegisterHandler::Status RegisterMap::write_select(std::span<const uint16_t>
         return ok;
       }
       dl_name_ = e.name;
-      dl_crc_ = crc32(dl_bytes_);
+      dl_crc_ = crc32c(dl_bytes_);
       e.size = static_cast<uint32_t>(dl_bytes_.size());
       e.crc = dl_crc_;  // the file changed since it was listed: the host sees "stale" and re-lists
     }
@@ -354,7 +356,7 @@ hal::RegisterHandler::Status RegisterMap::write_wb_control(std::span<const uint1
         return illegal_value;
       }
       const std::vector<uint8_t> bytes(wb_staging_.begin(), wb_staging_.begin() + wb_size_);
-      if (crc32(bytes) != wb_crc_) {
+      if (crc32c(bytes) != wb_crc_) {
         wb_result_ = WriteBackResult::checksum_mismatch;
         wb_session_ = regs::wb_idle;
         return illegal_value;

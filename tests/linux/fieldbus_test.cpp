@@ -1,0 +1,235 @@
+// Field-bus protocol: codec round trips, refusal of malformed frames (fuzz), node-timeout
+// safe state, and no allocation in the board side's read/write.
+#define AMB_DEFINE_ALLOC_COUNTER
+#include "tests/firmware/alloc_counter.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "firmware/board/board.hpp"
+#include "firmware/fieldbus/field_bus_front_end.hpp"
+#include "firmware/fieldbus/protocol.hpp"
+#include "hal/sim/sim_rig.hpp"
+
+namespace {
+
+namespace fb = amb::fieldbus;
+using amb::hal::CanFrame;
+
+const fb::NodeIds k_ids{1, 2, 3};
+
+TEST(FieldBusCodec, RoundTripsEveryMessage) {
+  fb::Message m;
+  const std::array<double, 4> d{12.3e-6, -250.0e-6, 0.0, 3.2e-3};
+  ASSERT_EQ(fb::decode(fb::encode_position(2, d, 0), k_ids, fb::Side::board, m), fb::DecodeResult::ok);
+  EXPECT_EQ(m.kind, fb::Kind::position);
+  for (size_t i = 0; i < 4; ++i) EXPECT_NEAR(m.displacement_m[i], d[i], 0.05e-6);
+
+  const std::array<double, 4> c{1.234, -2.5, 0.0, 0.001};
+  ASSERT_EQ(fb::decode(fb::encode_current(3, c, 0b0100), k_ids, fb::Side::board, m), fb::DecodeResult::ok);
+  EXPECT_EQ(m.fault_bits, 0b0100u);
+  EXPECT_TRUE(std::isnan(m.current_a[2]));
+  EXPECT_NEAR(m.current_a[1], -2.5, 1e-3);
+
+  ASSERT_EQ(fb::decode(fb::encode_demand(3, c), k_ids, fb::Side::nodes, m), fb::DecodeResult::ok);
+  EXPECT_NEAR(m.current_a[0], 1.234, 1e-3);
+  ASSERT_EQ(fb::decode(fb::encode_drive(3, 7, true, 45.125), k_ids, fb::Side::nodes, m), fb::DecodeResult::ok);
+  EXPECT_EQ(m.flags, fb::drive_amplifiers_enabled);
+  EXPECT_NEAR(m.speed_hz, 45.125, 1e-3);
+  ASSERT_EQ(fb::decode(fb::encode_amp_status(3, 9, fb::amp_enabled | fb::amp_fault, 48.2, 41.5, 0x21), k_ids,
+                       fb::Side::board, m),
+            fb::DecodeResult::ok);
+  EXPECT_EQ(m.flags, fb::amp_enabled | fb::amp_fault);
+  EXPECT_NEAR(m.dc_bus_v, 48.2, 0.05);
+  EXPECT_NEAR(m.temperature_c, 41.5, 0.05);
+  EXPECT_EQ(m.amp_fault_code, 0x21);
+
+  ASSERT_EQ(fb::decode(fb::encode_sample_fd(2, 513, d, c, 44.5, 0), k_ids, fb::Side::board, m), fb::DecodeResult::ok);
+  EXPECT_EQ(m.sequence, 513);
+  for (size_t i = 0; i < 4; ++i) EXPECT_NEAR(m.displacement_m[i], d[i], 1e-9);
+  EXPECT_NEAR(m.speed_hz, 44.5, 1e-3);
+  ASSERT_EQ(fb::decode(fb::encode_demand_fd(3, 2, false, 10.0, c), k_ids, fb::Side::nodes, m), fb::DecodeResult::ok);
+  EXPECT_NEAR(m.current_a[3], 0.001, 1e-6);
+  ASSERT_EQ(fb::decode(fb::encode_heartbeat(2, fb::nmt_operational, 0), k_ids, fb::Side::board, m), fb::DecodeResult::ok);
+  EXPECT_EQ(m.kind, fb::Kind::heartbeat);
+  // Saturation instead of wrap-around.
+  ASSERT_EQ(fb::decode(fb::encode_position(2, {1.0, -1.0, 0, 0}, 0), k_ids, fb::Side::board, m), fb::DecodeResult::ok);
+  EXPECT_NEAR(m.displacement_m[0], 32767 * fb::k_position_lsb_m, 1e-12);
+  EXPECT_NEAR(m.displacement_m[1], -32767 * fb::k_position_lsb_m, 1e-12);
+}
+
+TEST(FieldBusCodec, RefusesMalformedFrames) {
+  fb::Message m;
+  CanFrame f = fb::encode_position(2, {}, 0);
+  f.len = 7;
+  EXPECT_EQ(fb::decode(f, k_ids, fb::Side::board, m), fb::DecodeResult::malformed);
+  f = fb::encode_position(2, {}, 0);
+  f.fd = true;
+  EXPECT_EQ(fb::decode(f, k_ids, fb::Side::board, m), fb::DecodeResult::malformed);
+  f = fb::encode_amp_status(3, 0, 0, 0, 0, 0);
+  f.data[0] = 0x80;  // reserved flag bit
+  EXPECT_EQ(fb::decode(f, k_ids, fb::Side::board, m), fb::DecodeResult::malformed);
+  f = fb::encode_heartbeat(2, 0x33, 0);  // no such NMT state
+  EXPECT_EQ(fb::decode(f, k_ids, fb::Side::board, m), fb::DecodeResult::malformed);
+  f = fb::encode_demand(3, {});
+  f.data[0] = 0x00;
+  f.data[1] = 0x80;  // "invalid" is not a demand
+  EXPECT_EQ(fb::decode(f, k_ids, fb::Side::nodes, m), fb::DecodeResult::malformed);
+  f = fb::encode_drive(3, 0, true, 0);
+  f.data[0] = 0x02;
+  EXPECT_EQ(fb::decode(f, k_ids, fb::Side::nodes, m), fb::DecodeResult::malformed);
+  // Other nodes' traffic and error frames are foreign, not malformed.
+  EXPECT_EQ(fb::decode(fb::encode_position(9, {}, 0), k_ids, fb::Side::board, m), fb::DecodeResult::foreign);
+  f = fb::encode_position(2, {}, 0);
+  f.error = true;
+  EXPECT_EQ(fb::decode(f, k_ids, fb::Side::board, m), fb::DecodeResult::foreign);
+  // The board does not consume its own commands.
+  EXPECT_EQ(fb::decode(fb::encode_demand(3, {}), k_ids, fb::Side::board, m), fb::DecodeResult::foreign);
+}
+
+// Random frames on our identifiers: every one is either accepted or refused; accepted ones
+// re-encode to an equal payload where the encoding is canonical; nothing crashes.
+TEST(FieldBusCodec, FuzzedFramesAreClassified) {
+  std::mt19937 rng(7);
+  const uint32_t functions[] = {fb::k_position, fb::k_current, fb::k_amp_status, fb::k_sample_fd, fb::k_heartbeat,
+                                fb::k_demand, fb::k_drive, fb::k_demand_fd};
+  const uint8_t lens[] = {0, 1, 2, 7, 8, 12, 24, 48, 64};
+  int ok = 0, malformed = 0, foreign = 0;
+  for (int i = 0; i < 200000; ++i) {
+    CanFrame f;
+    f.id = functions[rng() % 8] + 1 + rng() % 4;
+    f.fd = rng() % 2;
+    f.len = lens[rng() % 9];
+    if (!f.fd && f.len > 8) f.len = 8;
+    for (auto& b : f.data) b = static_cast<uint8_t>(rng());
+    fb::Message m;
+    for (auto side : {fb::Side::board, fb::Side::nodes}) {
+      switch (fb::decode(f, k_ids, side, m)) {
+        case fb::DecodeResult::ok: ++ok; break;
+        case fb::DecodeResult::malformed: ++malformed; break;
+        case fb::DecodeResult::foreign: ++foreign; break;
+      }
+    }
+  }
+  EXPECT_GT(ok, 1000);
+  EXPECT_GT(malformed, 10000);
+  EXPECT_GT(foreign, 10000);
+}
+
+amb::board::BoardConfig test_board() {
+  auto b = amb::board::load_board("bath-amb-rig");
+  b.comms.can.node_timeout_ms = 5;
+  return b;
+}
+
+/// A controllable clock for the front end.
+class ManualClock final : public amb::hal::Clock {
+ public:
+  int64_t t = 0;
+  int64_t now_ns() override { return t; }
+  int64_t wait_until_ns(int64_t d) override { t = d; return t; }
+};
+
+TEST(FieldBusFrontEnd, SamplesFlowAndMalformedFramesAreCountedNotUsed) {
+  const auto board = test_board();
+  amb::hal::sim::LoopbackCanBus boardside, nodes;
+  amb::hal::sim::LoopbackCanBus::connect(boardside, nodes);
+  ManualClock clock;
+  amb::fieldbus::FieldBusFrontEnd fe(boardside, clock, board.comms.can, nullptr);
+  amb::hal::AnalogInputs in;
+  EXPECT_FALSE(fe.read(in));  // nothing yet
+  nodes.send(fb::encode_position(2, {1e-6, 2e-6, 3e-6, 4e-6}, 0));
+  CanFrame bad = fb::encode_position(2, {9e-6, 9e-6, 9e-6, 9e-6}, 0);
+  bad.len = 6;
+  nodes.send(bad);
+  nodes.send(fb::encode_current(3, {0.1, 0.2, 0.3, 0.4}, 0));
+  ASSERT_TRUE(fe.read(in));
+  EXPECT_NEAR(in.displacement_m[3], 4e-6, 1e-7);
+  EXPECT_NEAR(in.coil_current_a[2], 0.3, 1e-3);
+  EXPECT_EQ(fe.counters().malformed, 1u);
+  amb::hal::AnalogOutputs out;
+  out.amplifiers_enabled = true;
+  out.current_demand_a = {0.5, -0.5, 0.25, 0};
+  fe.write(out);
+  CanFrame f;
+  fb::Message m;
+  int demands = 0, drives = 0, heartbeats = 0;
+  while (nodes.receive(f)) {
+    ASSERT_EQ(fb::decode(f, k_ids, fb::Side::nodes, m), fb::DecodeResult::ok);
+    demands += m.kind == fb::Kind::demand;
+    drives += m.kind == fb::Kind::drive;
+    heartbeats += m.kind == fb::Kind::heartbeat;
+  }
+  EXPECT_EQ(demands, 1);
+  EXPECT_EQ(drives, 1);
+  EXPECT_EQ(heartbeats, 1);
+}
+
+TEST(FieldBusFrontEnd, SilentNodeWhileLevitatedEntersSafeState) {
+  const auto board = test_board();
+  amb::fw::Supervisor sup;
+  sup.configure(board);
+  amb::hal::sim::LoopbackCanBus boardside, nodes;
+  amb::hal::sim::LoopbackCanBus::connect(boardside, nodes);
+  ManualClock clock;
+  amb::fieldbus::FieldBusFrontEnd fe(boardside, clock, board.comms.can, &sup);
+  amb::hal::AnalogInputs in;
+  amb::hal::AnalogOutputs out;
+  amb::hal::DiscreteOutputs dout;
+  auto period = [&] {
+    nodes.send(fb::encode_position(2, {}, 0));
+    nodes.send(fb::encode_current(3, {}, 0));
+    clock.t += 100'000;
+    const bool ok = fe.read(in);
+    sup.step(in, ok, {}, out, dout);
+    fe.write(out);
+    CanFrame f;
+    while (nodes.receive(f)) {
+    }
+  };
+  period();
+  ASSERT_TRUE(sup.post(amb::fw::Command::levitate));
+  for (int i = 0; i < 10; ++i) period();
+  ASSERT_EQ(sup.state(), amb::fw::State::levitating);
+  // The amplifier node goes silent (the sensor node keeps sampling): after node_timeout_ms
+  // (5 ms) the loop must be in the safe state.
+  for (int i = 0; i < 70 && sup.state() != amb::fw::State::fault; ++i) {
+    nodes.send(fb::encode_position(2, {}, 0));
+    clock.t += 100'000;
+    const bool ok = fe.read(in);
+    sup.step(in, ok, {}, out, dout);
+    fe.write(out);
+  }
+  EXPECT_EQ(sup.state(), amb::fw::State::fault);
+  EXPECT_EQ(sup.status().fault, amb::fw::FaultReason::comm_timeout);
+  EXPECT_FALSE(out.amplifiers_enabled);
+  EXPECT_EQ(fe.counters().node_timeouts, 1u);
+}
+
+TEST(FieldBusFrontEnd, ReadAndWriteDoNotAllocate) {
+  const auto board = test_board();
+  amb::hal::sim::LoopbackCanBus boardside, nodes;
+  amb::hal::sim::LoopbackCanBus::connect(boardside, nodes);
+  ManualClock clock;
+  amb::fieldbus::FieldBusFrontEnd fe(boardside, clock, board.comms.can, nullptr);
+  amb::hal::AnalogInputs in;
+  amb::hal::AnalogOutputs out;
+  CanFrame bad = fb::encode_position(2, {}, 0);
+  bad.len = 3;
+  const long before = amb::test::allocations();
+  for (int i = 0; i < 1000; ++i) {
+    nodes.send(fb::encode_position(2, {}, 0));
+    nodes.send(bad);
+    clock.t += 100'000;
+    fe.read(in);
+    fe.write(out);
+    CanFrame f;
+    while (nodes.receive(f)) {
+    }
+  }
+  EXPECT_EQ(amb::test::allocations() - before, 0);
+  EXPECT_EQ(fe.counters().malformed, 1000u);
+}
+
+}  // namespace
