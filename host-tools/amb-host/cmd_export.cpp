@@ -1,0 +1,56 @@
+// amb-host export EVENT --out STEM [--json]: convert an event (normally a board AMBE file) to
+// the measured-event exchange format STEM.csv + STEM.json. Logic:
+// host-tools/core/events/measured_event.hpp.
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/events/load_event.hpp"
+#include "host-tools/core/events/measured_event.hpp"
+
+namespace {
+
+struct Args {
+  std::string event;
+  std::string out;
+  bool json = false;
+};
+
+int run(const Args& a) {
+  amb::host::LoadedEvent e;
+  try {
+    e = amb::host::load_event(a.event);
+  } catch (const amb::host::EventLoadError& err) {
+    std::fprintf(stderr, "amb-host export: error: %s\n", err.what());
+    return 1;
+  }
+  amb::host::export_measured_event(e, a.out);
+  const auto paths = amb::host::measured_event_paths(a.out);
+  if (a.json) {
+    nlohmann::json j;
+    j["json"] = paths.json;
+    j["csv"] = paths.csv;
+    j["samples"] = e.samples();
+    j["sample_rate_hz"] = e.sample_rate_hz;
+    j["trigger_index"] = e.trigger_index;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("wrote %s and %s (%zu samples at %.1f Hz, trigger at %zu)\n", paths.json.c_str(), paths.csv.c_str(),
+                e.samples(), e.sample_rate_hz, e.trigger_index);
+  }
+  return 0;
+}
+
+const amb::host::Registration reg{
+    "export", "Convert an event (board AMBE file) to the measured-event exchange format (CSV + JSON)",
+    [](CLI::App& sub, std::function<int()>& runner) {
+      auto args = std::make_shared<Args>();
+      sub.add_option("EVENT", args->event, "board event file (or a measured event)")->required();
+      sub.add_option("--out", args->out, "output stem: writes STEM.csv and STEM.json")->required();
+      sub.add_flag("--json", args->json, "print what was written as JSON");
+      runner = [args] { return run(*args); };
+    }};
+
+}  // namespace
