@@ -1,39 +1,57 @@
-// Exploration / regimes of the drop model.
+// The three rubbing regimes of seed 000 (swinging, forward rub, backward whirl) appear for
+// parameters that should produce them (classification of the true aux-plane orbit).
 #include <cstdio>
 
 #include <gtest/gtest.h>
 
 #include "model/drop/rubbing_states.hpp"
-#include "model/drop/sensor_orbit.hpp"
 #include "tests/drop/drop_test_util.hpp"
 
 namespace md = amb::model::drop;
 
-TEST(DropExplore, Print) {
-  for (double unb : {2e-6, 1e-4, 4e-4}) {
-  for (double mu : {0.05, 0.4}) {
-    for (double jr : {2e-5, 2e-3}) {
-    for (double td : {0.02, 0.5}) {
-      auto p = amb::test::bath_board().plant;
-      p.aux[0].ring_inertia_kg_m2 = p.aux[1].ring_inertia_kg_m2 = jr;
-      p.aux[0].ring_friction_torque_n_m = p.aux[1].ring_friction_torque_n_m = td;
-      for (auto& d : p.rotor.disks) d.unbalance_kg_m = unb;
-      auto m = amb::test::make_drop_model(p);
-      m->set_friction_coefficient(mu);
-      md::DropScenario sc;
-      sc.window_s = 0.5;
-      const auto tr = md::simulate_drop(*m, sc);
-      std::vector<double> x, y;
-      for (size_t i = static_cast<size_t>(tr.trigger_index); i < tr.samples.size(); ++i) {
-        x.push_back(tr.samples[i].aux_x_m[0] - p.aux[0].centre_offset_x_m);
-        y.push_back(tr.samples[i].aux_y_m[0] - p.aux[0].centre_offset_y_m);
-      }
-      const auto r = md::classify_rubbing(x, y, tr.sample_period_s, p.aux[0].clearance_m, 1.0, 0, {});
-      std::printf("unb %.0e mu %.2f Jr %.0e td %.2f: swing %.3f fw %.3f bw %.3f  spin_end %.1f ring %.1f  pen %.2e unconv %lu sweeps %d fr %.3f imp %.3f proj %.4f\n",
-                  unb, mu, jr, td, r.durations.swing_s, r.durations.forward_s, r.durations.backward_s,
-                  tr.samples.back().spin_rad_s, tr.samples.back().ring_rad_s[0], tr.counters.max_penetration_m,
-                  static_cast<unsigned long>(tr.counters.solver_unconverged), tr.counters.solver_max_sweeps,
-                  tr.ledger.friction_dissipated_j, tr.ledger.impact_dissipated_j, tr.ledger.projection_energy_j);
-    }}
-  }}
+namespace {
+
+md::RubbingDurations drop_regime(double unbalance_kg_m, double mu, double ring_inertia_kg_m2) {
+  auto p = amb::test::bath_board().plant;
+  for (auto& a : p.aux) a.ring_inertia_kg_m2 = ring_inertia_kg_m2;
+  for (auto& d : p.rotor.disks) d.unbalance_kg_m = unbalance_kg_m;
+  auto m = amb::test::make_drop_model(p);
+  m->set_friction_coefficient(mu);
+  md::DropScenario sc;
+  sc.window_s = 0.5;
+  const auto tr = md::simulate_drop(*m, sc, false);
+  std::vector<double> x, y;
+  for (size_t i = static_cast<size_t>(tr.trigger_index); i < tr.samples.size(); ++i) {
+    x.push_back(tr.samples[i].aux_x_m[0]);
+    y.push_back(tr.samples[i].aux_y_m[0]);
+  }
+  const auto d = md::classify_rubbing(x, y, tr.sample_period_s, p.aux[0].clearance_m, 1.0, 0, {}).durations;
+  std::printf("unbalance %.0e kg m, mu %.2f, ring %.0e kg m^2: swing %.3f forward %.3f backward %.3f s\n", unbalance_kg_m, mu,
+              ring_inertia_kg_m2, d.swing_s, d.forward_s, d.backward_s);
+  return d;
+}
+
+}  // namespace
+
+TEST(DropRegimes, SwingingForSmallUnbalanceAndLowFriction) {
+  // The board's rotor (2e-6 kg m): the rotor bounces and swings at the bottom.
+  const auto d = drop_regime(2e-6, 0.05, 2e-5);
+  EXPECT_GT(d.swing_s, 0.45);
+  EXPECT_LT(d.forward_s + d.backward_s, 0.01);
+}
+
+TEST(DropRegimes, ForwardRubForLargeUnbalanceLowFrictionLightRing) {
+  // Unbalance force ~ 32 N per disk at 2700 rpm (~ the weight) drives a synchronous
+  // forward whirl; a light ring spins up so friction cannot reverse it.
+  const auto d = drop_regime(4e-4, 0.05, 2e-5);
+  EXPECT_GT(d.forward_s, 0.1);
+  EXPECT_LT(d.backward_s, 0.02);
+}
+
+TEST(DropRegimes, BackwardWhirlForHighFrictionHeavyRing) {
+  // High friction against a ring that cannot follow the collar (100 x the board's
+  // inertia): the friction force drives the rotor round against the spin (dry whirl).
+  const auto d = drop_regime(1e-4, 0.4, 2e-3);
+  EXPECT_GT(d.backward_s, 0.3);
+  EXPECT_LT(d.forward_s, 0.05);
 }

@@ -1,0 +1,148 @@
+// amb-host fit EVENT: Phase C of seed 000: fit the multibody drop model to a measured drop
+// (measured-event format) by implicit filtering; optionally fold the fitted event into a
+// wear record (Phase D/E). Logic: host-tools/core/fit/, host-tools/core/wear/.
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "firmware/board/board.hpp"
+#include "firmware/wear/wear_record.hpp"
+#include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/fit/drop_fit.hpp"
+#include "host-tools/core/fit/measured_event_io.hpp"
+#include "host-tools/core/wear/load_map.hpp"
+#include "host-tools/core/wear/wear_update.hpp"
+
+namespace {
+
+struct Args {
+  std::string event;
+  std::string board;
+  bool json = false;
+  double window_s = 0.4;
+  bool fit_restitution = false;
+  bool fit_offset = false;
+  std::string wear_in, wear_out;
+};
+
+int bad_input(const std::string& what) {
+  std::fprintf(stderr, "amb-host fit: error: %s\n", what.c_str());
+  return 1;
+}
+
+nlohmann::json durations(const amb::model::drop::RubbingDurations& d) {
+  return {{"swing", d.swing_s}, {"forward", d.forward_s}, {"backward", d.backward_s}};
+}
+
+int run(const Args& a) {
+  namespace hf = amb::host::fit;
+  namespace hw = amb::host::wear;
+  if (!std::filesystem::exists(a.event)) return bad_input("event file '" + a.event + "' does not exist");
+  amb::board::BoardConfig board;
+  hf::DropMeasurement m;
+  try {
+    const std::string rig = a.board.empty() ? hf::measured_event_rig(a.event) : a.board;
+    board = amb::board::load_board(rig);
+    m = hf::read_measured_event(a.event, board.plant);
+  } catch (const std::exception& e) {
+    return bad_input(e.what());
+  }
+  hf::DropFitOptions o;
+  o.max_window_s = a.window_s;
+  o.fit_restitution = a.fit_restitution;
+  o.fit_centre_offset = a.fit_offset;
+  o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  if (const std::string e = o.check(); !e.empty()) return bad_input(e);
+  hf::DropFitResult r;
+  try {
+    r = hf::fit_drop(m, board, o);
+  } catch (const std::invalid_argument& e) {
+    return bad_input(e.what());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "amb-host fit: fit failed: %s\n", e.what());
+    return 2;
+  }
+
+  // Optional Phase D/E: fold the fitted event into a wear record.
+  std::string wear_note;
+  if (!a.wear_out.empty()) {
+    amb::fw::WearRecord prev;
+    if (!a.wear_in.empty()) {
+      std::ifstream in(a.wear_in, std::ios::binary);
+      if (!in) return bad_input("--wear-in '" + a.wear_in + "' cannot be read");
+      const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      std::string err;
+      if (!amb::fw::decode_wear_record(bytes, prev, err)) return bad_input("--wear-in '" + a.wear_in + "': " + err);
+    }
+    hw::WearEvent ev;
+    ev.load = hw::event_load(r.trace.contact_steps);
+    ev.rubbing = r.rubbing;
+    ev.friction_coefficient = r.friction_coefficient;
+    const auto now = std::chrono::duration_cast<std::chrono::seconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+    amb::fw::WearRecord next;
+    try {
+      next = hw::update_wear_record(prev, ev, board.name, now, hw::WearOptions{});
+    } catch (const std::invalid_argument& e) {
+      return bad_input(e.what());
+    }
+    const auto bytes = amb::fw::encode_wear_record(next);
+    std::ofstream out(a.wear_out, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!out) return bad_input("--wear-out '" + a.wear_out + "' cannot be written");
+    wear_note = "wear record sequence " + std::to_string(next.sequence) + " written to " + a.wear_out;
+  }
+
+  if (a.json) {
+    nlohmann::json j;
+    j["friction_coefficient"] = r.friction_coefficient;
+    j["rubbing_s"] = durations(r.rubbing[0]);
+    j["rubbing_s_per_bearing"] = {durations(r.rubbing[0]), durations(r.rubbing[1])};
+    j["measured_rubbing_s_per_bearing"] = {durations(r.measured_rubbing[0]), durations(r.measured_rubbing[1])};
+    j["cost"] = r.cost.total;
+    j["cost_terms"] = {{"rubbing", r.cost.rubbing}, {"orbit", r.cost.orbit}, {"speed", r.cost.speed}};
+    j["evaluations"] = r.evaluations;
+    j["wall_s"] = r.wall_s;
+    j["converged"] = r.converged;
+    j["stop_reason"] = r.stop_reason;
+    j["restitution"] = r.restitution;
+    j["centre_offset_m"] = {r.centre_offset_m[0], r.centre_offset_m[1]};
+    j["cost_history"] = r.cost_history;
+    if (!wear_note.empty()) j["wear"] = wear_note;
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("friction coefficient %.4f (restitution %.2f), cost %.4f (rubbing %.4f, orbit %.4f, speed %.4f)\n",
+              r.friction_coefficient, r.restitution, r.cost.total, r.cost.rubbing, r.cost.orbit, r.cost.speed);
+  for (size_t b = 0; b < 2; ++b)
+    std::printf("aux bearing %zu: swing %.4f s, forward rub %.4f s, backward rub %.4f s (measured %.4f / %.4f / %.4f)\n", b + 1,
+                r.rubbing[b].swing_s, r.rubbing[b].forward_s, r.rubbing[b].backward_s, r.measured_rubbing[b].swing_s,
+                r.measured_rubbing[b].forward_s, r.measured_rubbing[b].backward_s);
+  std::printf("%d evaluations, %.2f s, %s (%s)\n", r.evaluations, r.wall_s, r.converged ? "converged" : "not converged",
+              r.stop_reason.c_str());
+  if (!wear_note.empty()) std::printf("%s\n", wear_note.c_str());
+  return 0;
+}
+
+const amb::host::Registration reg{
+    "fit", "fit the multibody drop model to a measured drop (friction coefficient, rubbing states)",
+    [](CLI::App& sub, std::function<int()>& run_fn) {
+      auto args = std::make_shared<Args>();
+      sub.add_option("EVENT", args->event, "measured event (.json sidecar of amb-measured-event/1, or its .csv)")->required();
+      sub.add_option("--board", args->board, "board name or file (default: the event's rig)");
+      sub.add_option("--window", args->window_s, "longest event window compared, s (default 0.4)");
+      sub.add_flag("--fit-restitution", args->fit_restitution, "also fit the restitution coefficient");
+      sub.add_flag("--fit-offset", args->fit_offset, "also fit an offset of the aux-bearing centres");
+      sub.add_option("--wear-in", args->wear_in, "previous wear record (AMBW) to update");
+      sub.add_option("--wear-out", args->wear_out, "write the updated wear record here");
+      sub.add_flag("--json", args->json, "print the figures as JSON");
+      run_fn = [args] { return run(*args); };
+    }};
+
+}  // namespace

@@ -1,0 +1,57 @@
+#pragma once
+// Phase C (seed 000 section 2.3): align the drop model with a measured drop by implicit
+// filtering over the unknown fault/contact parameters: the friction coefficient (one value
+// for both aux bearings, as seed 000), optionally the restitution coefficient and the
+// offset of the aux-bearing centres. Known fault parameters (Phase B) are set, not fitted.
+// Each cost evaluation restores the levitated pre-drop state (computed once), sets the
+// parameters, simulates the event window and compares through drop_cost.hpp.
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "firmware/board/board.hpp"
+#include "host-tools/core/fit/drop_cost.hpp"
+#include "host-tools/core/fit/drop_measurement.hpp"
+#include "host-tools/core/fit/implicit_filtering.hpp"
+#include "model/drop/drop_options.hpp"
+#include "model/drop/drop_simulation.hpp"
+#include "model/drop/rubbing_states.hpp"
+
+namespace amb::host::fit {
+
+struct DropFitOptions {
+  double mu_min = 0.02, mu_max = 0.6;          ///< friction coefficient bounds, 1
+  bool fit_restitution = false;                ///< also fit e_n
+  double restitution_min = 0.05, restitution_max = 0.9;
+  bool fit_centre_offset = false;              ///< also fit one (x, y) offset of both bearing centres
+  double offset_max_fraction = 0.25;           ///< offset bound, fraction of the clearance
+  double max_window_s = 0.4;                   ///< longest event window compared, s
+  double settle_s = 0.1;                       ///< levitated settling before the trigger, s
+  model::drop::DropOptions model;              ///< step, restitution, solver (noise is switched off)
+  model::drop::RubbingOptions rubbing;
+  DropCostWeights weights;
+  ImplicitFilteringOptions optimiser;
+  std::function<void(const std::string&)> progress;  ///< progress lines (may be empty)
+  std::string check() const;                   ///< empty when usable
+};
+
+struct DropFitResult {
+  double friction_coefficient = 0.0;           ///< fitted, 1
+  double restitution = 0.0;                    ///< used or fitted, 1
+  std::array<double, 2> centre_offset_m{};     ///< fitted common offset (x, y) added to the rig's, m
+  std::array<model::drop::RubbingDurations, 2> rubbing{};          ///< fitted simulation, per bearing
+  std::array<model::drop::RubbingDurations, 2> measured_rubbing{}; ///< the measurement's, per bearing
+  CostBreakdown cost;                          ///< at the fitted parameters
+  int evaluations = 0;
+  double wall_s = 0.0;                         ///< host wall time of the fit, s
+  bool converged = false;
+  std::string stop_reason;
+  std::vector<double> cost_history;
+  model::drop::DropTrace trace;                ///< Phase D record of the fitted simulation (contact steps kept)
+};
+
+/// Fit. Throws std::invalid_argument naming the problem for unusable measurement/options.
+DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board, const DropFitOptions& o);
+
+}  // namespace amb::host::fit

@@ -1,0 +1,27 @@
+#pragma once
+// What the Phase C fit needs from a measured drop, independent of where it came from (a
+// board event file, a user's measured-event export, a generator in the tests).
+#include <array>
+#include <string>
+#include <vector>
+
+#include "model/plant/plant_params.hpp"
+
+namespace amb::host::fit {
+
+struct DropMeasurement {
+  std::string source;                          ///< where it was read from (for messages)
+  std::string rig;                             ///< board name or path of the rig
+  double sample_rate_hz = 0.0;                 ///< uniform sampling, Hz
+  int trigger_index = 0;                       ///< first sample of the event (e.g. the AMB switch-off)
+  std::vector<std::array<double, 4>> sensor_m; ///< displacement sensors [A1, A2, B1, B2] per sample, m
+  std::vector<double> speed_rad_s;             ///< rotor speed per sample, rad/s (empty: not measured)
+  double speed_at_trigger_hz = 0.0;            ///< rotor speed at the trigger, Hz (> 0)
+  model::PlantFaults known_faults;             ///< Phase B result, times relative to the trigger
+  bool amplifiers_off = true;                  ///< the event cut all amplifier channels
+
+  /// Empty when usable, else what is wrong.
+  std::string check() const;
+};
+
+}  // namespace amb::host::fit
