@@ -57,6 +57,8 @@ void parse_modbus(TableReader r, comms::ModbusParams& m) {
 
 void parse_comms(TableReader r, comms::CommsParams& c) {
   c.present = true;
+  c.data_dir = r.string_or("data_dir", c.data_dir);
+  if (c.data_dir.empty() || c.data_dir[0] != '/') r.fail("data_dir", "must be an absolute path");
   if (r.has("can")) parse_can(r.table("can"), c.can);
   if (r.has("gpio")) parse_gpio(r.table("gpio"), c.gpio);
   if (r.has("modbus")) parse_modbus(r.table("modbus"), c.modbus);

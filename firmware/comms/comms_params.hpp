@@ -41,6 +41,7 @@ struct ModbusParams {
 
 struct CommsParams {
   bool present = false;               ///< the board file has a [comms] table
+  std::string data_dir = "/var/lib/amb"; ///< persistent storage root (events/, wear/); env AMB_DATA_DIR overrides
   CanParams can;
   GpioParams gpio;
   ModbusParams modbus;

@@ -1,0 +1,243 @@
+// amb-firmware --backend linux: the supervisor on real I/O. The field bus (SocketCAN) carries
+// samples and demands to the sensor and amplifier nodes, the discrete lines are on a GPIO chip
+// (libgpiod), the supervisory link is Modbus TCP (libmodbus, own thread), storage is a
+// directory with power-loss-safe replace. Wiring comes from the board file's [comms] table.
+//
+// Threads: the loop (SCHED_FIFO if permitted, memory locked) runs read -> step -> write; the
+// Modbus server thread and the event-writer thread exchange data with it only through
+// lock-free snapshots and SPSC rings.
+#ifdef AMB_HAVE_LINUX_HAL
+#include <pthread.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/mman.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <thread>
+
+#include "firmware/app/loop_runner.hpp"
+#include "firmware/capture/floating_capture.hpp"
+#include "firmware/events/event_writer.hpp"
+#include "firmware/fieldbus/field_bus_front_end.hpp"
+#include "firmware/main/run_modes.hpp"
+#include "firmware/persistence/wear_store.hpp"
+#include "firmware/supervisory/register_map.hpp"
+#include "hal/linux/file_storage.hpp"
+#include "hal/linux/gpiod_discrete_io.hpp"
+#include "hal/linux/linux_clock.hpp"
+#include "hal/linux/modbus_tcp_server.hpp"
+#include "hal/linux/socketcan_bus.hpp"
+
+namespace amb::fwmain {
+
+namespace {
+
+namespace lx = hal::linux_hw;
+
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop.store(true); }
+
+/// Discrete inputs from the GPIO lines, with the amplifier node's fault report (field bus)
+/// OR-ed into the amplifier fault. [RT]
+class BoardDiscreteIo final : public hal::DiscreteIo {
+ public:
+  BoardDiscreteIo(lx::GpiodDiscreteIo* gpio, const fieldbus::FieldBusFrontEnd& fe) : gpio_(gpio), fe_(fe) {}
+  hal::DiscreteInputs read() override {
+    hal::DiscreteInputs d = gpio_ ? gpio_->read() : hal::DiscreteInputs{};
+    d.amplifier_fault = d.amplifier_fault || fe_.amplifier_fault();
+    return d;
+  }
+  void write(const hal::DiscreteOutputs& out) override {
+    if (gpio_) gpio_->write(out);
+  }
+
+ private:
+  lx::GpiodDiscreteIo* gpio_;
+  const fieldbus::FieldBusFrontEnd& fe_;
+};
+
+/// Real-time setup of the calling (loop) thread; failures are reported, not fatal, so the
+/// firmware also runs unprivileged (tests, emulation).
+void make_realtime(bool& locked, bool& fifo) {
+  locked = ::mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
+  sched_param sp{};
+  sp.sched_priority = 80;
+  fifo = ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &sp) == 0;
+  const long cpus = std::thread::hardware_concurrency();
+  if (cpus > 1) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(static_cast<int>(cpus - 1), &set);
+    ::pthread_setaffinity_np(::pthread_self(), sizeof set, &set);
+  }
+}
+
+std::vector<lx::CanFilter> board_filters(const comms::CanParams& c) {
+  std::vector<lx::CanFilter> f;
+  for (uint32_t fn : {fieldbus::k_position, fieldbus::k_sample_fd, fieldbus::k_heartbeat})
+    f.push_back({fn + c.sensor_node_id, 0x7FF, false});
+  for (uint32_t fn : {fieldbus::k_current, fieldbus::k_amp_status, fieldbus::k_heartbeat})
+    f.push_back({fn + c.amplifier_node_id, 0x7FF, false});
+  return f;
+}
+
+}  // namespace
+
+int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
+  const comms::CommsParams& cm = board.comms;
+  if (!cm.present) {
+    std::fprintf(stderr, "amb-firmware: board %s has no [comms] table: the linux backend needs one\n",
+                 board.name.c_str());
+    return 1;
+  }
+  const char* env_dir = std::getenv("AMB_DATA_DIR");
+  const std::string data_dir = env_dir && *env_dir ? env_dir : cm.data_dir;
+  std::string err;
+
+  // ---- configure: open every device, allocate everything ------------------------------
+  lx::SocketCanBus can;
+  lx::SocketCanOptions co;
+  co.interface = cm.can.interface;
+  co.fd = cm.can.fd;
+  co.filters = board_filters(cm.can);
+  co.bus_off_restart_ns = static_cast<int64_t>(cm.can.bus_off_restart_ms) * 1'000'000;
+  if (!can.open(co, err)) {
+    std::fprintf(stderr, "amb-firmware: %s\n", err.c_str());
+    return 1;
+  }
+  std::unique_ptr<lx::GpiodDiscreteIo> gpio;
+  if (cm.gpio.enabled) {
+    gpio = std::make_unique<lx::GpiodDiscreteIo>();
+    lx::GpioLineMap lines;
+    lines.chip = cm.gpio.chip;
+    lines.amplifier_enable = static_cast<unsigned>(cm.gpio.amplifier_enable_line);
+    lines.watchdog = static_cast<unsigned>(cm.gpio.watchdog_line);
+    lines.status = static_cast<unsigned>(cm.gpio.status_line);
+    lines.amplifier_fault = static_cast<unsigned>(cm.gpio.amplifier_fault_line);
+    lines.landing_request = static_cast<unsigned>(cm.gpio.landing_request_line);
+    if (!gpio->open(lines, "amb-firmware", err)) {
+      std::fprintf(stderr, "amb-firmware: %s\n", err.c_str());
+      return 1;
+    }
+  }
+  std::unique_ptr<lx::FileStorage> events_fs, wear_fs;
+  try {
+    lx::FileStorage root(data_dir);  // creates the root if needed
+    events_fs = std::make_unique<lx::FileStorage>(data_dir + "/events");
+    wear_fs = std::make_unique<lx::FileStorage>(data_dir + "/wear");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "amb-firmware: %s\n", e.what());
+    return 1;
+  }
+  fw::WearStore wear(*wear_fs, board.name);
+  const fw::GenerationReport wear_report = wear.open();
+  std::printf("amb-firmware: storage %s: %zu event(s), wear record %s (generation %llu; %s), %d interrupted write(s) cleaned\n",
+              data_dir.c_str(), events_fs->list().size(),
+              wear.has_record() ? ("sequence " + std::to_string(wear.record().sequence)).c_str() : "absent",
+              static_cast<unsigned long long>(wear_report.generation), wear_report.detail.c_str(),
+              events_fs->stale_temporaries_removed() + wear_fs->stale_temporaries_removed());
+
+  fw::Supervisor sup;
+  sup.configure(board);
+  lx::LinuxClock clock;
+  fieldbus::FieldBusFrontEnd fe(can, clock, cm.can, &sup);
+  BoardDiscreteIo dio(gpio.get(), fe);
+  fw::FloatingCapture capture;
+  fw::configure_capture(capture, board);
+  fw::EventWriter writer(capture, *events_fs, board);
+  writer.on_event = [](const fw::EventRecord&, const std::string& name, bool stored) {
+    std::printf("amb-firmware: drop event %s %s\n", name.c_str(), stored ? "stored" : "NOT stored");
+    std::fflush(stdout);
+  };
+  fw::LoopRunner loop(clock, fe, dio, sup, &capture);
+  fw::SeqLock<fw::LoopStats> loop_stats;
+  loop_stats.store(fw::LoopStats{});
+
+  lx::ModbusTcpOptions mo;
+  mo.bind_address = cm.modbus.bind_address;
+  mo.port = cm.modbus.port;
+  mo.unit_id = cm.modbus.unit_id;
+  mo.max_clients = cm.modbus.max_clients;
+  lx::ModbusTcpServer server(mo);
+  fw::RegisterSources src;
+  src.supervisor = &sup;
+  src.loop_stats = [&] { return loop_stats.load(); };
+  src.can_stats = [&] { return can.stats(); };
+  src.fieldbus = [&] { return fe.counters(); };
+  src.link = [&] {
+    const auto s = server.stats();
+    return fw::LinkCounters{s.requests, s.exceptions, s.bad_frames, s.wrong_unit, s.connections};
+  };
+  src.nodes_alive = [&] { return fe.nodes_alive(); };
+  src.events = events_fs.get();
+  src.wear = &wear;
+  src.wear_corrupt_at_start = wear_report.corrupt_slots;
+  src.board_name = board.name;
+  src.unit_id = cm.modbus.unit_id;
+  src.rate_hz = board.rate_hz;
+  fw::RegisterMap map(src);
+  if (!server.start(map, err)) {
+    std::fprintf(stderr, "amb-firmware: %s\n", err.c_str());
+    return 1;
+  }
+  writer.start();
+
+  struct sigaction sa{};
+  sa.sa_handler = on_signal;
+  ::sigaction(SIGTERM, &sa, nullptr);
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::signal(SIGPIPE, SIG_IGN);
+
+  // ---- active: the loop ---------------------------------------------------------------
+  bool locked = false, fifo = false;
+  std::thread loop_thread([&] {
+    make_realtime(locked, fifo);
+    const int64_t stop_ns = opt.duration_s > 0 ? static_cast<int64_t>(opt.duration_s * 1e9) : -1;
+    int64_t deadline = clock.now_ns() + loop.period_ns();
+    uint64_t n = 0;
+    while (!g_stop.load(std::memory_order_relaxed)) {
+      deadline = loop.run_one(deadline);
+      if ((++n & 15u) == 0) loop_stats.store(loop.stats());
+      if (stop_ns > 0 && deadline >= stop_ns) break;
+    }
+    loop_stats.store(loop.stats());
+    // Leave the plant safe: amplifiers off, drive off, lines low.
+    sup.enter_safe_state(fw::FaultReason::emergency_stop);
+    fe.write(hal::AnalogOutputs{});
+    dio.write(hal::DiscreteOutputs{});
+  });
+  std::printf("amb-firmware: ready: board %s, %.0f Hz loop, CAN %s%s, GPIO %s, Modbus TCP %s:%u unit %u\n",
+              board.name.c_str(), board.rate_hz, cm.can.interface.c_str(), cm.can.fd ? " (FD)" : "",
+              gpio ? cm.gpio.chip.c_str() : "none", cm.modbus.bind_address.c_str(), server.bound_port(),
+              cm.modbus.unit_id);
+  std::fflush(stdout);
+  loop_thread.join();
+  writer.stop();
+  server.stop();
+
+  const fw::LoopStats ls = loop.stats();
+  const hal::CanStats cs = can.stats();
+  const fieldbus::FieldBusCounters fc = fe.counters();
+  const fw::Status st = sup.status();
+  std::printf("amb-firmware: stopped: %llu periods, %llu overruns, latency mean %.0f us max %.0f us, "
+              "memory %s, SCHED_FIFO %s\n",
+              static_cast<unsigned long long>(ls.periods), static_cast<unsigned long long>(ls.overruns),
+              ls.mean_latency_ns() * 1e-3, static_cast<double>(ls.max_latency_ns) * 1e-3, locked ? "locked" : "not locked",
+              fifo ? "yes" : "no (not permitted)");
+  std::printf("amb-firmware: CAN tx %llu rx %llu tx_dropped %llu rx_dropped %llu error_frames %llu bus_off %llu; "
+              "field bus samples %llu malformed %llu node_timeouts %llu; state %s, fault %s\n",
+              static_cast<unsigned long long>(cs.tx_frames), static_cast<unsigned long long>(cs.rx_frames),
+              static_cast<unsigned long long>(cs.tx_dropped), static_cast<unsigned long long>(cs.rx_dropped),
+              static_cast<unsigned long long>(cs.error_frames), static_cast<unsigned long long>(cs.bus_off_events),
+              static_cast<unsigned long long>(fc.samples), static_cast<unsigned long long>(fc.malformed),
+              static_cast<unsigned long long>(fc.node_timeouts), fw::to_string(st.state), fw::to_string(st.fault));
+  return 0;
+}
+
+}  // namespace amb::fwmain
+#endif  // AMB_HAVE_LINUX_HAL
