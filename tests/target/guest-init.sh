@@ -1,0 +1,76 @@
+#!/bin/sh
+# /init of the emulated ARM board (tests/target/run-target-test.sh builds the initramfs).
+# Brings up the field bus (vcan0), the network (QEMU user net), the data disk, starts
+# amb-plant and amb-firmware, then takes commands from the serial console, one per line,
+# and answers with marker lines the host waits for.
+export PATH=/bin:/sbin:/usr/bin
+mount -t proc proc /proc
+mount -t sysfs sys /sys
+mount -t devtmpfs dev /dev
+mkdir -p /tmp /data
+mount -t tmpfs tmp /tmp
+for m in crc16 crc32c_generic mbcache jbd2 ext4 virtio_mmio virtio_blk failover net_failover virtio_net \
+         can can-raw can-dev vcan; do
+  insmod /lib/modules/$m.ko 2>/dev/null || echo "GUEST: insmod $m failed"
+done
+echo "GUEST: kernel $(uname -r) $(grep -o 'PREEMPT_RT' /proc/version 2>/dev/null || uname -v)"
+ip link set lo up
+ip addr add 10.0.2.15/24 dev eth0
+ip link set eth0 up
+ip link add dev vcan0 type vcan && ip link set vcan0 up && echo "GUEST: vcan0 up"
+i=0
+while [ ! -b /dev/vda ] && [ $i -lt 50 ]; do sleep 0.1; i=$((i+1)); done
+mount -t ext4 -o sync /dev/vda /data || echo "GUEST: FAILED to mount /data"
+ls /dev/gpiochip* >/dev/null 2>&1 && echo "GUEST: $(ls /dev/gpiochip*) present"
+MODE=$(sed -n 's/.*amb\.mode=\([a-z0-9]*\).*/\1/p' /proc/cmdline)
+echo "GUEST: mode $MODE"
+
+candump -L vcan0 > /tmp/candump.log 2>&1 &
+CANDUMP=$!
+amb-plant --board /etc/amb/arm-virt-hil.toml > /tmp/plant.log 2>&1 &
+PLANT=$!
+AMB_DATA_DIR=/data/amb amb-firmware --board /etc/amb/arm-virt-hil.toml --backend linux > /tmp/firmware.log 2>&1 &
+FW=$!
+i=0
+while ! grep -q "ready" /tmp/firmware.log && [ $i -lt 300 ]; do sleep 0.1; i=$((i+1)); done
+sed 's/^/GUEST-FW: /' /tmp/firmware.log
+echo "GUEST_READY"
+
+while read -r cmd; do
+  case "$cmd" in
+    inject)
+      # A valid amplifier-status frame reporting a fault (flags 0x03: enabled + fault), a
+      # position frame one byte short, a heartbeat with an undefined NMT state, and frames of
+      # a node nobody listens to.
+      cansend vcan0 383#0301E001B4010000
+      cansend vcan0 182#01020304050607
+      cansend vcan0 702#33
+      cansend vcan0 185#0000000000000000
+      echo "INJECT_DONE";;
+    killplant)
+      kill $PLANT; wait $PLANT 2>/dev/null
+      sed 's/^/GUEST-PLANT: /' /tmp/plant.log
+      echo "PLANT_KILLED";;
+    candump)
+      kill $CANDUMP; wait $CANDUMP 2>/dev/null
+      echo "GUEST: candump captured $(wc -l < /tmp/candump.log) frames"
+      grep -m 3 ' vcan0 182#' /tmp/candump.log | sed 's/^/CANDUMP: /'
+      grep -m 3 ' vcan0 283#' /tmp/candump.log | sed 's/^/CANDUMP: /'
+      grep -m 2 ' vcan0 203#' /tmp/candump.log | sed 's/^/CANDUMP: /'
+      grep -m 2 ' vcan0 303#' /tmp/candump.log | sed 's/^/CANDUMP: /'
+      grep -m 1 ' vcan0 701#' /tmp/candump.log | sed 's/^/CANDUMP: /'
+      grep -m 1 ' vcan0 383#' /tmp/candump.log | sed 's/^/CANDUMP: /'
+      echo "CANDUMP_DONE";;
+    stop)
+      kill $FW; wait $FW 2>/dev/null
+      sed 's/^/GUEST-FW: /' /tmp/firmware.log | tail -n 6
+      kill $PLANT 2>/dev/null
+      ls -l /data/amb/events /data/amb/wear | sed 's/^/GUEST-DATA: /'
+      sync; umount /data
+      echo "GUEST_STOPPED"
+      poweroff -f;;
+    "") ;;
+    *) echo "GUEST: unknown command '$cmd'";;
+  esac
+done
+poweroff -f

@@ -1,0 +1,263 @@
+#!/usr/bin/env bash
+# Target test: the cross-built aarch64 amb-firmware and amb-plant on an emulated ARM board.
+#   Debian's PREEMPT_RT arm64 kernel (extracted from its package, never installed on the host)
+#   booted by qemu-system-aarch64 -M virt (TCG, cortex-a57) with an initramfs built here:
+#   busybox-static:arm64, can-utils:arm64, the binaries and their arm64 shared libraries, the
+#   kernel modules they need. Field bus on vcan0, discrete lines on the virt PL061
+#   (/dev/gpiochip0), storage on an ext4 virtual disk, Modbus TCP forwarded to 127.0.0.1.
+# The host-built amb-host fetches a drop event and writes a wear record back; the board is
+# restarted and must still hold the record. mbpoll reads the register map; candump/cansend
+# see and inject field-bus frames. See docs/target-test.md.
+#
+# usage: bash tests/target/run-target-test.sh HOST_BUILD_DIR ARM_BUILD_DIR
+set -uo pipefail
+HOST_BUILD=$(cd "${1:?usage: run-target-test.sh HOST_BUILD_DIR ARM_BUILD_DIR}" && pwd)
+ARM_BUILD=$(cd "${2:?usage: run-target-test.sh HOST_BUILD_DIR ARM_BUILD_DIR}" && pwd)
+HERE=$(cd "$(dirname "$0")" && pwd)
+ROOT=$(cd "$HERE/../.." && pwd)
+CACHE=${AMB_TARGET_CACHE:-$HOST_BUILD/target-cache}
+WORK=$(mktemp -d /tmp/amb-target.XXXXXX)
+T_START=$(date +%s)
+QEMU_PID=""
+FAILS=0
+PASSES=0
+
+pass() { echo "PASS: $*"; PASSES=$((PASSES + 1)); }
+fail() { echo "FAIL: $*"; FAILS=$((FAILS + 1)); }
+die() { echo "FAIL: $*"; finish; }
+cleanup() {
+  if [ -n "$QEMU_PID" ] && kill -0 "$QEMU_PID" 2>/dev/null; then kill "$QEMU_PID" 2>/dev/null; sleep 1; kill -9 "$QEMU_PID" 2>/dev/null; fi
+  exec 3>&- 2>/dev/null
+  [ "${AMB_TARGET_KEEP:-0}" = 1 ] || rm -rf "$WORK"
+}
+finish() {
+  cleanup
+  trap - EXIT
+  echo "target test: $PASSES passed, $FAILS failed ($(( $(date +%s) - T_START )) s)"
+  [ "$FAILS" -eq 0 ] && [ "$PASSES" -gt 0 ] && exit 0
+  exit 1
+}
+trap finish EXIT
+trap 'echo "FAIL: interrupted"; FAILS=$((FAILS + 1)); exit 1' INT TERM
+
+FW=$ARM_BUILD/firmware/amb-firmware
+PLANT=$ARM_BUILD/host-tools/amb-plant
+HOST=$HOST_BUILD/host-tools/amb-host
+for f in "$FW" "$PLANT" "$HOST"; do [ -x "$f" ] || die "missing $f (build amb-firmware and amb-plant for aarch64 with -DAMB_BUILD_PLANT=ON, amb-host for the host)"; done
+for t in qemu-system-aarch64 mkfs.ext4 cpio mbpoll python3 readelf dpkg-deb apt-get; do
+  command -v $t >/dev/null || die "missing tool $t (scripts/setup-debian.sh installs it)"
+done
+readelf -h "$FW" 2>/dev/null | grep -q AArch64 || die "$FW is not an aarch64 binary"
+
+# ---- kernel, busybox, can-utils: Debian arm64 packages, downloaded once into the cache ----------
+mkdir -p "$CACHE"
+fetch_pkg() {  # fetch_pkg PACKAGE:arm64 -> extracted dir path on stdout
+  local pkg=$1 dir="$CACHE/x-${1%%:*}"
+  if [ ! -f "$dir/.done" ]; then
+    ( cd "$CACHE" && rm -f "${pkg%%:*}"_*.deb && apt-get download -q "$pkg" >/dev/null 2>&1 ) || {
+      [ "$(id -u)" = 0 ] && apt-get update -q >/dev/null 2>&1
+      ( cd "$CACHE" && apt-get download -q "$pkg" >/dev/null 2>&1 ) || return 1; }
+    rm -rf "$dir" && mkdir -p "$dir" && dpkg-deb -x "$CACHE/${pkg%%:*}"_*.deb "$dir" && touch "$dir/.done"
+  fi
+  echo "$dir"
+}
+KPKG=$(apt-cache depends linux-image-rt-arm64:arm64 2>/dev/null | sed -n 's/.*Depends: \(linux-image-[0-9].*-rt-arm64\).*/\1/p' | head -1)
+[ -n "$KPKG" ] || KPKG=$(ls -d "$CACHE"/x-linux-image-*-rt-arm64 2>/dev/null | head -1 | sed 's|.*/x-||')
+[ -n "$KPKG" ] || die "cannot resolve the versioned package of linux-image-rt-arm64 (apt-get update?)"
+KDIR=$(fetch_pkg "$KPKG:arm64") || die "cannot download $KPKG:arm64"
+BBDIR=$(fetch_pkg busybox-static:arm64) || die "cannot download busybox-static:arm64"
+CUDIR=$(fetch_pkg can-utils:arm64) || die "cannot download can-utils:arm64"
+KVER=$(ls "$KDIR/lib/modules" | head -1)
+KIMG=$KDIR/boot/vmlinuz-$KVER
+[ -f "$KIMG" ] || die "no kernel image in $KPKG"
+grep -q '^CONFIG_PREEMPT_RT=y' "$KDIR/boot/config-$KVER" && pass "kernel $KVER is PREEMPT_RT (from $KPKG, extracted, not installed)" \
+  || fail "kernel $KVER is not PREEMPT_RT"
+
+# ---- initramfs ----------------------------------------------------------------------------------
+R=$WORK/root
+mkdir -p "$R"/{bin,sbin,usr/bin,proc,sys,dev,tmp,data,etc/amb,lib/modules,lib/aarch64-linux-gnu}
+cp "$BBDIR/bin/busybox" "$R/bin/"
+for a in $("$BBDIR/bin/busybox" --list 2>/dev/null || qemu-aarch64 "$BBDIR/bin/busybox" --list); do
+  [ -e "$R/bin/$a" ] || ln -s busybox "$R/bin/$a"
+done
+cp "$FW" "$PLANT" "$CUDIR/usr/bin/candump" "$CUDIR/usr/bin/cansend" "$R/usr/bin/"
+cp "$ROOT/boards/arm-virt-hil.toml" "$R/etc/amb/"
+cp "$HERE/guest-init.sh" "$R/init" && chmod +x "$R/init"
+# Shared libraries: the NEEDED closure, from the multiarch arm64 install.
+libdirs="/usr/lib/aarch64-linux-gnu /lib/aarch64-linux-gnu /usr/aarch64-linux-gnu/lib"
+todo="$R/usr/bin/amb-firmware $R/usr/bin/amb-plant $R/usr/bin/candump $R/usr/bin/cansend"
+seen=" "
+while [ -n "$todo" ]; do
+  next=""
+  for bin in $todo; do
+    for lib in $(readelf -d "$bin" 2>/dev/null | sed -n 's/.*Shared library: \[\(.*\)\].*/\1/p'); do
+      case "$seen" in *" $lib "*) continue;; esac
+      seen="$seen$lib "
+      src=""
+      for d in $libdirs; do [ -e "$d/$lib" ] && { src="$d/$lib"; break; }; done
+      [ -n "$src" ] || die "arm64 library $lib not found (install the :arm64 -dev packages)"
+      cp -L "$src" "$R/lib/aarch64-linux-gnu/$lib"
+      next="$next $R/lib/aarch64-linux-gnu/$lib"
+    done
+  done
+  todo=$next
+done
+LD=/lib/ld-linux-aarch64.so.1
+for d in /usr/aarch64-linux-gnu/lib /lib /usr/lib/aarch64-linux-gnu /lib/aarch64-linux-gnu; do
+  [ -e "$d/ld-linux-aarch64.so.1" ] && { cp -L "$d/ld-linux-aarch64.so.1" "$R/lib/"; break; }
+done
+[ -e "$R$LD" ] || die "no arm64 dynamic loader ld-linux-aarch64.so.1"
+KM=$KDIR/lib/modules/$KVER/kernel
+for m in lib/crc16 crypto/crc32c_generic fs/mbcache fs/jbd2/jbd2 fs/ext4/ext4 drivers/virtio/virtio_mmio \
+         drivers/block/virtio_blk net/core/failover drivers/net/net_failover drivers/net/virtio_net \
+         net/can/can net/can/can-raw drivers/net/can/dev/can-dev drivers/net/can/vcan; do
+  if [ -f "$KM/$m.ko" ]; then cp "$KM/$m.ko" "$R/lib/modules/"; fi  # absent: built in
+done
+( cd "$R" && find . | cpio -o -H newc 2>/dev/null | gzip -1 ) > "$WORK/initrd.gz"
+echo "initramfs: $(du -h "$WORK/initrd.gz" | cut -f1), $(ls "$R/lib/aarch64-linux-gnu" | wc -l) shared libraries"
+
+# ---- the board's disk and network ---------------------------------------------------------------
+DISK=$WORK/data.img
+mkfs.ext4 -q -F -L ambdata "$DISK" 64M || die "mkfs.ext4 failed"
+PORT=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+LOG=""
+
+boot() {  # boot MODE: start qemu with the serial console on a fifo (commands) and a log
+  LOG=$WORK/console-$1.log
+  rm -f "$WORK/cmd"
+  mkfifo "$WORK/cmd"
+  timeout 900 qemu-system-aarch64 -M virt -cpu cortex-a57 -smp 2 -m 1024 -accel tcg \
+    -kernel "$KIMG" -initrd "$WORK/initrd.gz" \
+    -append "console=ttyAMA0 panic=-1 quiet amb.mode=$1" \
+    -drive file="$DISK",format=raw,if=none,id=d0 -device virtio-blk-device,drive=d0 \
+    -netdev user,id=n0,hostfwd=tcp:127.0.0.1:$PORT-:502 -device virtio-net-device,netdev=n0 \
+    -display none -monitor none -serial stdio -no-reboot < "$WORK/cmd" > "$LOG" 2>&1 &
+  QEMU_PID=$!
+  exec 3> "$WORK/cmd"
+}
+wait_for() {  # wait_for PATTERN SECONDS
+  local i=0
+  while ! grep -q "$1" "$LOG" 2>/dev/null; do
+    sleep 1; i=$((i + 1))
+    kill -0 "$QEMU_PID" 2>/dev/null || { echo "--- console:"; tail -n 40 "$LOG"; return 1; }
+    [ $i -ge "$2" ] && { echo "--- console (timeout waiting for '$1'):"; tail -n 40 "$LOG"; return 1; }
+  done
+}
+send() { echo "$1" >&3; }
+shutdown_vm() {
+  send stop
+  wait_for GUEST_STOPPED 120 || fail "guest did not stop cleanly"
+  local i=0
+  while kill -0 "$QEMU_PID" 2>/dev/null && [ $i -lt 30 ]; do sleep 1; i=$((i + 1)); done
+  kill "$QEMU_PID" 2>/dev/null
+  exec 3>&-
+  QEMU_PID=""
+}
+MB="mbpoll -m tcp -p $PORT -a 1 -0 -1 -t 4:hex"
+reg() {  # reg ADDRESS: one holding register (0-based) as a decimal, via mbpoll
+  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r "$1" -c 1 127.0.0.1 2>/dev/null | sed -n 's/^\[[0-9]*\]:[[:space:]]*//p' | head -1
+}
+reg32() { local hi lo; hi=$(reg "$1"); lo=$(reg $(( $1 + 1 ))); echo $(( (hi & 0xFFFF) * 65536 + (lo & 0xFFFF) )); }
+
+# ---- first boot ---------------------------------------------------------------------------------
+T_BOOT=$(date +%s)
+boot first
+wait_for GUEST_READY 300 || die "board did not come up"
+grep -q "GUEST: vcan0 up" "$LOG" && pass "vcan0 field bus up in the guest" || fail "vcan0 not up"
+grep -q "gpiochip0 present" "$LOG" && pass "PL061 /dev/gpiochip0 present" || fail "no /dev/gpiochip0"
+grep -q "GUEST-FW: amb-firmware: ready" "$LOG" && pass "amb-firmware (aarch64) running on the linux backend: $(grep -o 'ready: .*' "$LOG" | head -1)" \
+  || die "amb-firmware did not start: $(grep GUEST-FW "$LOG" | tail -3)"
+echo "boot to ready: $(( $(date +%s) - T_BOOT )) s"
+
+i=0; until $MB -r 0 -c 1 127.0.0.1 >/dev/null 2>&1 || [ $i -ge 60 ]; do sleep 1; i=$((i + 1)); done
+IDENT=$($MB -r 0 -c 24 127.0.0.1 2>&1)
+if echo "$IDENT" | grep -q '^\[0\]:[[:space:]]*0x414D'; then
+  pass "mbpoll (Debian) reads the identity block over the forwarded Modbus TCP port"
+  echo "$IDENT" | grep '^\[' | head -8
+else fail "mbpoll identity read: $IDENT"; fi
+STATE=$(mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 256 -c 10 127.0.0.1 2>&1)
+echo "$STATE" | grep -q '^\[256\]' && pass "mbpoll reads the state block (state $(reg 256), step count low word $(reg 263))" \
+  || fail "mbpoll state read: $STATE"
+if mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 28672 -c 2 127.0.0.1 2>&1 | grep -qi 'illegal data address'; then
+  pass "unknown address answered with Modbus exception 2 (illegal data address)"
+else fail "unknown address not refused"; fi
+mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 256 127.0.0.1 7 >/dev/null 2>&1
+EXC=$(reg32 $((0x522)))
+[ "${EXC:-0}" -ge 2 ] && pass "bad Modbus requests counted by the board ($EXC exceptions)" || fail "Modbus exceptions not counted ($EXC)"
+
+# Field bus: frames injected with cansend (can-utils) are decoded or refused and counted.
+MAL0=$(reg32 $((0x514))); AMPF0=$(reg32 $((0x518)))
+send inject
+wait_for INJECT_DONE 60 || fail "inject"
+sleep 2
+MAL1=$(reg32 $((0x514))); AMPF1=$(reg32 $((0x518)))
+[ $((MAL1 - MAL0)) -ge 2 ] && pass "malformed field-bus frames from cansend refused and counted ($((MAL1 - MAL0)))" \
+  || fail "malformed frames not counted ($MAL0 -> $MAL1)"
+[ $((AMPF1 - AMPF0)) -ge 1 ] && pass "valid amplifier-status frame from cansend decoded (amplifier fault seen)" \
+  || fail "cansend amplifier-status frame not decoded ($AMPF0 -> $AMPF1)"
+SAMPLES=$(reg32 $((0x510)))
+[ "${SAMPLES:-0}" -gt 100 ] && pass "board receives samples from amb-plant over vcan0 ($SAMPLES)" || fail "no samples from amb-plant ($SAMPLES)"
+echo "loop: periods $(reg32 $((0x402))) (low), overruns $(reg32 $((0x406))) (low), max latency $(reg32 $((0x408))) ns, p99 $(reg32 $((0x40C))) ns"
+
+# Levitate, then lose the plant's nodes: the board must go to the safe state (comm_timeout or
+# an earlier fault) and capture a drop event.
+mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 4096 127.0.0.1 1 >/dev/null 2>&1
+sleep 3
+S=$(reg 256); F=$(reg 258)
+echo "after levitate: state $S fault $F (2 levitating, 4 fault)"
+if [ "$S" = 2 ]; then
+  if mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r $((0x5000)) 127.0.0.1 2 2>&1 | grep -qi 'busy'; then
+    pass "write-back commit refused while levitating (exception 6)"
+  else fail "write-back commit not refused while levitating"; fi
+fi
+send killplant
+wait_for PLANT_KILLED 60 || fail "could not stop amb-plant"
+grep 'GUEST-PLANT' "$LOG" | tail -1
+i=0; n=0
+while [ $i -lt 90 ]; do
+  n=$("$HOST" fetch --host 127.0.0.1 --port "$PORT" --list --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["events_on_board"])' 2>/dev/null || echo 0)
+  [ "${n:-0}" -ge 1 ] && break
+  sleep 2; i=$((i + 2))
+done
+S=$(reg 256); F=$(reg 258)
+[ "$S" = 4 ] && pass "safe state after the nodes went silent (state fault, reason $F; 5 = comm_timeout)" || fail "not in the safe state (state $S)"
+[ "${n:-0}" -ge 1 ] && pass "drop event captured and stored on the board's disk ($n event(s))" || fail "no drop event on the board"
+T_FETCH=$(date +%s)
+FJ=$("$HOST" fetch --host 127.0.0.1 --port "$PORT" --out "$WORK/events" --json 2>&1)
+if [ $? -eq 0 ]; then
+  echo "$FJ" | python3 -c 'import json,sys; j=json.load(sys.stdin); [print("  %s %d bytes crc32c %08x %s" % (e["name"], e["bytes"], e["crc32"], e["status"])) for e in j["fetched"]]; print("  fetch throughput (emulated board, TCG): %.1f KiB/s, %d bytes in %.2f s" % (j["throughput_kib_s"], j["bytes"], j["wall_s"]))'
+  pass "amb-host fetch downloaded the drop event(s), CRC-32C checked end to end"
+else fail "amb-host fetch: $FJ"; fi
+
+# Write a wear record back (encoded by an independent Python encoder of AMBW v1).
+SEQ=$(( $(reg32 $((0x4001))) + 1 ))
+python3 "$HERE/make_wear_record.py" "$WORK/wear.ambw" arm-virt-hil "$SEQ" "${n:-1}" >/dev/null
+WJ=$("$HOST" writeback "$WORK/wear.ambw" --host 127.0.0.1 --port "$PORT" --json 2>&1)
+if echo "$WJ" | grep -q '"verified": true'; then
+  pass "amb-host writeback: record sequence $SEQ accepted, validated and persisted by the board"
+else fail "amb-host writeback: $WJ"; fi
+WCRC=$(echo "$WJ" | python3 -c 'import json,sys; print(json.load(sys.stdin)["crc32"])' 2>/dev/null)
+BAD=$WORK/bad.ambw; cp "$WORK/wear.ambw" "$BAD"; printf '\x02' | dd of="$BAD" bs=1 seek=4 conv=notrunc 2>/dev/null
+"$HOST" writeback "$BAD" --host 127.0.0.1 --port "$PORT" >/dev/null 2>&1 && fail "a record with a bad version was accepted" \
+  || pass "a record with a bad version is refused"
+
+send candump
+wait_for CANDUMP_DONE 60 || fail "candump"
+grep '^CANDUMP' "$LOG" | head -12
+grep -q 'CANDUMP:.* vcan0 182#' "$LOG" && grep -q 'CANDUMP:.* vcan0 203#' "$LOG" && grep -q 'CANDUMP:.* vcan0 701#' "$LOG" \
+  && pass "candump (can-utils) sees position (0x182), demand (0x203) and heartbeat (0x701) frames" \
+  || fail "candump did not see the field-bus frames"
+shutdown_vm
+grep 'GUEST-FW: amb-firmware: stopped\|GUEST-FW: amb-firmware: CAN' "$LOG" | sed 's/^/  /'
+
+# ---- second boot: the wear record must still be there -------------------------------------------
+boot second
+wait_for GUEST_READY 300 || die "board did not come up the second time"
+i=0; until $MB -r 0 -c 1 127.0.0.1 >/dev/null 2>&1 || [ $i -ge 60 ]; do sleep 1; i=$((i + 1)); done
+grep 'GUEST-FW: amb-firmware: storage' "$LOG" | sed 's/^/  /'
+"$HOST" fetch --host 127.0.0.1 --port "$PORT" --out "$WORK/after" --wear "$WORK/after.ambw" --json > "$WORK/after.json" 2>&1
+if [ "$(reg32 $((0x4001)))" = "$SEQ" ] && cmp -s "$WORK/wear.ambw" "$WORK/after.ambw"; then
+  pass "after a restart the board serves the same wear record (sequence $SEQ, byte-identical, crc32c $WCRC)"
+else fail "wear record lost or changed across the restart: $(cat "$WORK/after.json")"; fi
+shutdown_vm
+echo "target test runtime: $(( $(date +%s) - T_START )) s"
