@@ -7,6 +7,7 @@
 #include "boards/embedded_boards.hpp"
 #include "firmware/board/parse_comms.hpp"
 #include "firmware/board/parse_capture.hpp"
+#include "firmware/board/parse_tracker.hpp"
 #include "firmware/board/toml_reader.hpp"
 
 namespace amb::board {
@@ -210,6 +211,7 @@ BoardConfig parse_board(std::string_view toml_text, const std::string& source) {
   parse_lifecycle(top.table("lifecycle"), b);
   if (top.has("capture")) parse_capture(top.table("capture"), b.capture, b.rate_hz);
   if (top.has("triggers")) parse_triggers(top.table("triggers"), b.capture.triggers);
+  if (top.has("tracker")) parse_tracker(top.table("tracker"), b.tracker, b.rate_hz);
   if (top.has("comms")) parse_comms(top.table("comms"), b.comms);
   if (top.has("assumed")) parse_assumed(top.table("assumed"), root, b);
   top.finish();

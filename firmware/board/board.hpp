@@ -9,6 +9,7 @@
 
 #include "firmware/comms/comms_params.hpp"
 #include "firmware/capture/capture_params.hpp"
+#include "firmware/tracking/tracker_params.hpp"
 #include "model/control/pid_params.hpp"
 #include "model/plant/plant_params.hpp"
 
@@ -35,6 +36,7 @@ struct BoardConfig {
   double rate_hz = 10000.0;           ///< control loop rate, Hz (1 kHz .. 40 kHz)
   LifecycleParams lifecycle;
   fw::CaptureParams capture;          ///< [capture] and [triggers]; defaults when absent
+  fw::TrackerParams tracker;          ///< on-board speed tracker ([tracker], optional)
   comms::CommsParams comms;           ///< I/O wiring of the linux backend ([comms], optional)
   std::map<std::string, std::string> assumed;  ///< key path -> why the value is assumed
 };

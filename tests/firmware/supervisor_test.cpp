@@ -9,6 +9,7 @@
 
 #include "firmware/app/supervisor.hpp"
 #include "firmware/board/board.hpp"
+#include "model/rotor/rotor_model.hpp"
 
 using namespace amb::fw;
 
@@ -174,9 +175,6 @@ TEST_F(SupervisorTest, LiftOffStartsWithTheWeightPreloaded) {
     const double ki = board.plant.amb[static_cast<size_t>(b)].ki_n_per_a;
     lift_n += ki * (out.current_demand_a[static_cast<size_t>(2 * b)] + out.current_demand_a[static_cast<size_t>(2 * b + 1)]) * std::cos(a);
   }
-  double mass_kg = 0.0;
-  for (const auto& e : board.plant.rotor.elements)
-    mass_kg += e.density_kg_m3 * M_PI / 4 * (e.outer_diameter_m * e.outer_diameter_m - e.inner_diameter_m * e.inner_diameter_m) * e.length_m;
-  for (const auto& d : board.plant.rotor.disks) mass_kg += d.mass_kg;
+  const double mass_kg = amb::model::rotor::build_rotor_model(board.plant.rotor).mass_kg;
   EXPECT_NEAR(lift_n, mass_kg * board.plant.gravity_m_s2, 0.02 * mass_kg * board.plant.gravity_m_s2);
 }
