@@ -25,7 +25,7 @@ ls /dev/gpiochip* >/dev/null 2>&1 && echo "GUEST: $(ls /dev/gpiochip*) present"
 MODE=$(sed -n 's/.*amb\.mode=\([a-z0-9]*\).*/\1/p' /proc/cmdline)
 echo "GUEST: mode $MODE"
 
-candump -L vcan0 > /tmp/candump.log 2>&1 &
+candump -L -n 3000 vcan0 > /tmp/candump.log 2>&1 &
 CANDUMP=$!
 amb-plant --board /etc/amb/arm-virt-hil.toml > /tmp/plant.log 2>&1 &
 PLANT=$!
