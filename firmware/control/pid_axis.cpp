@@ -50,6 +50,10 @@ void PidAxis::reset() {
 
 void PidAxis::preload_force(double force_n) {
   integral_n_ = std::clamp(-force_n, -p_.integrator_limit_n, p_.integrator_limit_n);
+  // Start the notches in their steady state for that output (unit DC gain), so the preload
+  // reaches the actuators at once instead of through the filters' start-up transient.
+  const double u0 = -integral_n_;
+  for (auto& n : notch_) n.x1 = n.x2 = n.y1 = n.y2 = u0;
 }
 
 double PidAxis::step(double q_m, double q_ref_m, bool& saturated) {
