@@ -136,13 +136,30 @@ TEST(DropModel, ConvergesWithStepSize) {
   };
   auto p = amb::test::bath_board().plant;
   const auto ref = orbit0(run(p, 0.15, 1.25e-6, false));
-  std::vector<double> err;
-  for (double h : {4e-5, 2e-5, 1e-5, 5e-6}) {
-    err.push_back(max_distance(orbit0(run(p, 0.15, h, false)), ref, 150));
-    std::printf("h %.1e s: max orbit error over 15 ms %.3e m\n", h, err.back());
+  // RMS orbit error over the 15 ms; the impact falls at a random phase of a step, so single
+  // halvings scatter: the order is the least-squares slope of log(error) over log(h).
+  const std::vector<double> hs{4e-5, 2e-5, 1e-5, 5e-6};
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  double err_20us = 0.0;
+  for (double h : hs) {
+    const auto o = orbit0(run(p, 0.15, h, false));
+    double sum = 0.0;
+    const size_t n = std::min<size_t>(150, std::min(o.size(), ref.size()));
+    for (size_t i = 0; i < n; ++i) sum += std::pow(std::hypot(o[i][0] - ref[i][0], o[i][1] - ref[i][1]), 2);
+    const double e = std::sqrt(sum / static_cast<double>(n));
+    if (h == 2e-5) err_20us = e;
+    std::printf("h %.1e s: RMS orbit error over 15 ms %.3e m\n", h, e);
+    sx += std::log(h);
+    sy += std::log(e);
+    sxx += std::log(h) * std::log(h);
+    sxy += std::log(h) * std::log(e);
   }
-  for (size_t k = 1; k < err.size(); ++k) EXPECT_LT(err[k], 0.75 * err[k - 1]) << "h halving " << k;
-  EXPECT_LT(err[1], 0.02 * p.aux[0].clearance_m);
+  const double np = static_cast<double>(hs.size());
+  const double order = (np * sxy - sx * sy) / (np * sxx - sx * sx);
+  std::printf("observed order %.2f\n", order);
+  EXPECT_GT(order, 0.6);
+  EXPECT_LT(order, 2.0);
+  EXPECT_LT(err_20us, 0.01 * p.aux[0].clearance_m);
 
   auto p_fw = p;
   for (auto& d : p_fw.rotor.disks) d.unbalance_kg_m = 4e-4;
