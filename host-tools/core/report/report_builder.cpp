@@ -1,0 +1,263 @@
+#include "host-tools/core/report/report_builder.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "firmware/app/supervisor.hpp"
+#include "host-tools/core/wear/load_map.hpp"
+#include "model/drop/rubbing_states.hpp"
+#include "model/drop/sensor_orbit.hpp"
+
+namespace amb::host::report {
+
+namespace {
+constexpr double k_two_pi = 6.283185307179586;
+
+std::string fmt(const char* f, double v) {
+  char b[96];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+std::string yes_no(bool b) { return b ? "yes" : "no"; }
+}  // namespace
+
+ReportData new_report_data(const std::string& title) {
+  ReportData d;
+  d.title = title;
+  d.orbit.unavailable("no event loaded");
+  d.rubbing.unavailable("no event loaded");
+  d.speed.unavailable("no event loaded");
+  d.replay.unavailable("the event was not replayed (amb-host report replays board events unless --no-replay)");
+  d.forces.unavailable("contact forces come from the drop model's Phase D record (the Phase C fit, amb-host fit) or a "
+                       "simulated drop; neither was given for this event");
+  d.load.unavailable("the load over the circumference comes from the Phase D record (this event) and the wear record "
+                     "(cumulative); neither was given: pass --wear FILE for the cumulative load");
+  d.fit.unavailable("no Phase C fit for this event: `amb-host fit` fits measured-event files; its result is not "
+                    "passed to the report");
+  d.residual.unavailable("the residual loop (amb-host residual) runs on a steady-state record, not on a drop event; no "
+                         "residual result was given");
+  d.wear.unavailable("no wear record given: pass --wear FILE (AMBW, e.g. downloaded with `amb-host fetch`)");
+  return d;
+}
+
+void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig& board, const std::string& source) {
+  const fw::EventMetadata& m = e.meta;
+  const size_t n = e.samples.size();
+  const size_t trig = std::min<size_t>(m.trigger_index, n ? n - 1 : 0);
+  const double rate = m.rate_hz > 0.0 ? m.rate_hz : board.rate_hz;
+  d.subtitle = source;
+  auto& f = d.facts.rows;
+  f.clear();
+  f.emplace_back("board", m.board_name + " (rig " + m.rig_name + ", " + m.board_source + ")");
+  f.emplace_back("firmware", m.firmware_version);
+  f.emplace_back("event number", std::to_string(m.event_number));
+  f.emplace_back("trigger cause", std::string(fw::to_string(m.cause)));
+  f.emplace_back("trigger time", fmt("%.4f s (HAL clock)", static_cast<double>(m.trigger_t_ns) * 1e-9));
+  f.emplace_back("speed at trigger", fmt("%.2f Hz", m.speed_at_trigger_hz) + fmt(" (%.0f rpm)", m.speed_at_trigger_hz * 60.0));
+  f.emplace_back("window", std::to_string(n) + " samples at " + fmt("%.0f Hz", rate) + fmt(" (%.3f s before, ", trig / rate) +
+                               fmt("%.3f s after the trigger)", (static_cast<double>(n - trig)) / rate));
+  f.emplace_back("lost samples (seq gaps)", std::to_string(m.seq_gaps));
+  if (e.has_diagnosis) {
+    f.emplace_back("Phase B", std::string(fw::diag::to_string(e.diagnosis.type)) + fmt(" (confidence %.2f)", e.diagnosis.confidence));
+    if (!e.diagnosis.summary.empty()) f.emplace_back("Phase B summary", e.diagnosis.summary);
+  }
+  if (n == 0) return;
+  auto t_of = [&](size_t i) { return (static_cast<double>(i) - static_cast<double>(trig)) / rate; };
+
+  // Orbits at both planes through the sensor view (model/drop/sensor_orbit).
+  const model::drop::SensorOrbit view(board.plant);
+  std::vector<OrbitPlane> planes(2);
+  for (int b = 0; b < 2; ++b) {
+    OrbitPlane& p = planes[static_cast<size_t>(b)];
+    p.name = std::string("bearing ") + (b ? "B" : "A");
+    p.clearance_m = board.plant.aux[static_cast<size_t>(b)].clearance_m;
+    for (const fw::LoopSample& s : e.samples) {
+      const std::array<double, 4> r{s.displacement_m[0], s.displacement_m[1], s.displacement_m[2], s.displacement_m[3]};
+      const auto xy = view.at_sensor_plane(r, b);
+      const auto aux = view.at_aux_plane(r, b);
+      p.sensor_x_m.push_back(xy[0]);
+      p.sensor_y_m.push_back(xy[1]);
+      p.aux_x_m.push_back(aux[0] - board.plant.aux[static_cast<size_t>(b)].centre_offset_x_m);
+      p.aux_y_m.push_back(aux[1] - board.plant.aux[static_cast<size_t>(b)].centre_offset_y_m);
+    }
+  }
+
+  // Rubbing states from the measured orbit at the aux planes, from the trigger on.
+  std::vector<RubbingTrace> rub;
+  const model::drop::RubbingOptions ro;
+  const double spin_sign = m.speed_at_trigger_hz < 0.0 ? -1.0 : 1.0;
+  for (size_t b = 0; b < 2; ++b) {
+    const auto r = model::drop::classify_rubbing(planes[b].aux_x_m, planes[b].aux_y_m, 1.0 / rate, planes[b].clearance_m,
+                                                 spin_sign, static_cast<int>(trig), ro);
+    RubbingTrace t;
+    t.name = planes[b].name;
+    for (size_t i = trig; i < n && i < r.angle_rad.size(); ++i) {
+      t.t_s.push_back(t_of(i));
+      t.angle_deg.push_back(r.angle_rad[i] * 180.0 / 3.141592653589793);
+      t.slope_hz.push_back(i < r.slope_rad_s.size() ? r.slope_rad_s[i] / k_two_pi : NAN);
+      t.state.push_back(i < r.state.size() ? static_cast<int>(r.state[i]) : 0);
+    }
+    t.durations_s = {r.durations.swing_s, r.durations.forward_s, r.durations.backward_s};
+    rub.push_back(std::move(t));
+  }
+
+  SpeedTrace sp;
+  for (size_t i = 0; i < n; ++i) {
+    sp.t_s.push_back(t_of(i));
+    sp.speed_hz.push_back(e.samples[i].speed_hz);
+    sp.speed_command_hz.push_back(e.samples[i].speed_command_hz);
+  }
+  d.orbit.set(std::move(planes), source + ": sensors [A1, A2, B1, B2] through the sensor view (aux plane: rigid-rotor extrapolation)");
+  d.rubbing.set(std::move(rub), source + ": measured orbit at the aux planes, model/drop/rubbing_states (contact at " +
+                                    fmt("%.2f", ro.contact_radius_fraction) + " x clearance)");
+  d.speed.set(std::move(sp), source + ": the firmware's speed estimate and drive command per sample");
+}
+
+void add_replay(ReportData& d, const replay::ReplayResult& r) {
+  ReplayVerdict v;
+  const bool outputs_ok = r.mode == "not_reproducible" || r.comparison.bit_exact;
+  v.reproduced = outputs_ok && r.trigger.reproduced && r.diagnosis.type_reproduced;
+  const std::string compared = std::to_string(r.comparison.compared_samples) + " samples" +
+                               (r.comparison.compare_from == replay::k_no_index
+                                    ? std::string()
+                                    : " from sample " + std::to_string(r.comparison.compare_from));
+  const std::string trigger = "recorded sample " + std::to_string(r.trigger.recorded_index) + " (" + r.trigger.recorded_cause +
+                              "), replayed " +
+                              (r.trigger.replayed_frozen
+                                   ? std::to_string(r.trigger.replayed_index) + " (" + r.trigger.replayed_cause + ")"
+                                   : std::string("none"));
+  const std::string phase_b = std::string(fw::diag::to_string(r.diagnosis.recorded.type)) + " -> " +
+                              fw::diag::to_string(r.diagnosis.replayed.type) + (r.diagnosis.bit_exact ? " (bit-exact)" : "");
+  // Built as one list: GCC 12 warns falsely (-Warray-bounds) on emplace_back into an empty vector here.
+  v.rows = {{"mode", r.mode},
+            {"why", r.compare_from_reason},
+            {"compared bit for bit", compared},
+            {"mismatched samples", std::to_string(r.comparison.mismatched_samples)},
+            {"warm-up", std::to_string(r.warm_up.steps) + " periods, " + r.warm_up.note},
+            {"trigger", trigger},
+            {"Phase B", phase_b}};
+  if (!r.comparison.differences.empty()) {
+    const auto& x = r.comparison.differences.front();
+    v.rows.emplace_back("first difference", "sample " + std::to_string(x.index) + fmt(" (%+.4f s), ", x.t_from_trigger_s) + x.channel +
+                                                fmt(": %.9g", x.recorded) + fmt(" -> %.9g", x.replayed));
+  }
+  d.replay.set(std::move(v), "amb-host replay: fresh supervisor on the replay HAL backend");
+}
+
+void add_drop_trace(ReportData& d, const model::drop::DropTrace& t, const std::string& what) {
+  ForceTrace f;
+  for (const model::drop::DropSample& s : t.samples) {
+    f.t_s.push_back(s.t_s);
+    for (size_t b = 0; b < 2; ++b) {
+      f.normal_n[b].push_back(s.normal_n[b]);
+      f.friction_n[b].push_back(s.friction_n[b]);
+    }
+  }
+  d.forces.set(std::move(f), what + ": Phase D record (mean contact forces per sample)");
+  if (!t.contact_steps.empty()) {
+    const auto loads = wear::event_load(t.contact_steps);
+    LoadMap m = d.load.data.value_or(LoadMap{});
+    for (size_t b = 0; b < 2; ++b) m.event_n[b].assign(loads[b].load_n.begin(), loads[b].load_n.end());
+    const std::string src = what + ": Phase E load map of the contact steps (host-tools/core/wear/load_map)";
+    d.load.set(std::move(m), d.load.source.empty() ? src : d.load.source + "; " + src);
+  }
+}
+
+void add_fit(ReportData& d, const fit::DropFitResult& r, const std::string& source) {
+  FitConvergence c;
+  c.cost_history = r.cost_history;
+  c.friction_coefficient = r.friction_coefficient;
+  c.converged = r.converged;
+  c.evaluations = r.evaluations;
+  c.wall_s = r.wall_s;
+  c.stop_reason = r.stop_reason;
+  c.figures.emplace_back("restitution", r.restitution);
+  for (size_t b = 0; b < 2; ++b) {
+    const std::string k = b ? " B" : " A";
+    c.figures.emplace_back("swing s (fit)" + k, r.rubbing[b].swing_s);
+    c.figures.emplace_back("forward rub s (fit)" + k, r.rubbing[b].forward_s);
+    c.figures.emplace_back("backward rub s (fit)" + k, r.rubbing[b].backward_s);
+  }
+  d.fit.set(std::move(c), source);
+  if (!r.trace.samples.empty()) add_drop_trace(d, r.trace, "fitted drop model");
+}
+
+void add_wear_record(ReportData& d, const fw::WearRecord& w, const std::string& source) {
+  WearSummary s;
+  s.rows = {{"board", w.board_name},
+            {"sequence", std::to_string(w.sequence)},
+            {"events accounted", std::to_string(w.event_count)},
+            {"life model", w.life_model},
+            {"last friction coefficient", fmt("%.4f", w.last_friction_coefficient)},
+            {"updated (unix s)", std::to_string(w.updated_unix_s)}};
+  LoadMap m = d.load.data.value_or(LoadMap{});
+  for (size_t b = 0; b < 2; ++b) {
+    const fw::AuxBearingWear& x = w.bearing[b];
+    s.bearing[b] = {{"swinging", fmt("%.3f s", x.swing_s)},
+                    {"forward rub", fmt("%.3f s", x.forward_rub_s)},
+                    {"backward rub", fmt("%.3f s", x.backward_rub_s)},
+                    {"friction energy", fmt("%.2f J", x.friction_energy_j)},
+                    {"peak force", fmt("%.0f N", x.peak_force_n)},
+                    {"life used", fmt("%.3f %%", 100.0 * x.life_used_fraction)}};
+    m.cumulative_n[b].assign(x.cumulative_load_n.begin(), x.cumulative_load_n.end());
+    if (m.event_n[b].empty()) {
+      bool any = false;
+      for (float v : x.event_load_n) any = any || v != 0.0f;
+      if (any) m.event_n[b].assign(x.event_load_n.begin(), x.event_load_n.end());
+    }
+  }
+  d.wear.set(std::move(s), source);
+  const std::string src = source + ": wear record (AMBW) cumulative load";
+  d.load.set(std::move(m), d.load.source.empty() ? src : d.load.source + "; " + src);
+}
+
+void add_residual(ReportData& d, const residual::SteadyData& data, const residual::ResidualOutcome& o, const std::string& source) {
+  static const char* const names[4] = {"sensor A1", "sensor A2", "sensor B1", "sensor B2"};
+  std::vector<ResidualSpectra> out;
+  std::string added;
+  for (const auto& e : o.effects_added) added += (added.empty() ? "+ " : " + ") + e.name;
+  for (size_t c = 0; c < 4; ++c) {
+    ResidualSpectra r;
+    r.channel = names[c];
+    r.unit = "m\u00b2/Hz";
+    std::vector<double> before, after;
+    for (size_t k = 0; k < data.bands.size(); ++k) {
+      r.f_hz.push_back(data.bands[k].f_hz);
+      r.measured.push_back(data.bands[k].psd[c]);
+      before.push_back(k < o.before.psd_pred.size() ? o.before.psd_pred[k][c] : NAN);
+      after.push_back(k < o.after.psd_pred.size() ? o.after.psd_pred[k][c] : NAN);
+    }
+    r.model_steps.emplace_back("base model", std::move(before));
+    r.model_steps.emplace_back(added.empty() ? "after the loop (nothing added)" : "model " + added, std::move(after));
+    r.figures = {{"verdict", o.verdict},
+                 {"spectral error before", fmt("%.2f dB", o.before.error.spectral)},
+                 {"spectral error after", fmt("%.2f dB", o.after.error.spectral)},
+                 {"rms error before / after", fmt("%.3f", o.before.error.rms) + fmt(" / %.3f", o.after.error.rms)}};
+    out.push_back(std::move(r));
+  }
+  d.residual.set(std::move(out), source + " (the loop reports the model before and after all added effects; "
+                                          "intermediate steps are not kept by run_residual_loop)");
+}
+
+void add_scenario_trace(ReportData& d, const DropScenarioSummary& s) {
+  const ScenarioTrace& t = s.trace;
+  ForceTrace f;
+  SpeedTrace sp;
+  for (size_t i = 0; i < t.t_s.size(); ++i) {
+    if (t.t_s[i] < s.cut_time_s - 0.05) continue;
+    f.t_s.push_back(t.t_s[i] - s.cut_time_s);
+    for (size_t b = 0; b < 2; ++b) f.normal_n[b].push_back(i < t.contact_force_n.size() ? t.contact_force_n[i][b] : NAN);
+  }
+  d.forces.set(std::move(f), "SIL drop scenario (simulated plant truth, time from the AMB cut)");
+  if (!d.speed.available()) {
+    for (size_t i = 0; i < t.t_s.size() && i < t.speed_hz.size(); ++i) {
+      sp.t_s.push_back(t.t_s[i] - s.cut_time_s);
+      sp.speed_hz.push_back(t.speed_hz[i]);
+    }
+    d.speed.set(std::move(sp), "SIL drop scenario (simulated rotor speed, time from the AMB cut)");
+  }
+  d.notes.push_back("scenario: " + s.board + ", fault " + s.fault_reason + fmt(" detected after %.1f ms", s.detection_delay_ms) +
+                    fmt(", peak contact force %.0f N", s.max_contact_force_n) + ", levitated " + yes_no(s.levitated));
+}
+
+}  // namespace amb::host::report
