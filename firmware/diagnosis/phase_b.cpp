@@ -235,9 +235,9 @@ Diagnosis diagnose(const DiagnosisInput& in, const DiagnosisOptions& o) {
 
   // Signals: measured control currents, raw sensor readings, x/y per plane, speed.
   const size_t n = s.size();
-  Channels cur, dis;
+  Channels cur, res, dis;
   std::array<std::vector<double>, 2> x, y;
-  for (size_t k = 0; k < 4; ++k) { cur[k].resize(n); dis[k].resize(n); }
+  for (size_t k = 0; k < 4; ++k) { cur[k].resize(n); res[k].resize(n); dis[k].resize(n); }
   for (size_t b = 0; b < 2; ++b) { x[b].resize(n); y[b].resize(n); }
   std::array<AxisTransform, 2> xf;
   for (size_t b = 0; b < 2; ++b)
@@ -246,6 +246,7 @@ Diagnosis diagnose(const DiagnosisInput& in, const DiagnosisOptions& o) {
   for (size_t i = 0; i < n; ++i) {
     for (size_t k = 0; k < 4; ++k) {
       cur[k][i] = s[i].coil_current_a[k];
+      res[k][i] = static_cast<double>(s[i].coil_current_a[k]) - static_cast<double>(s[i].current_demand_a[k]);
       dis[k][i] = s[i].displacement_m[k];
     }
     for (size_t b = 0; b < 2; ++b) {
@@ -267,7 +268,12 @@ Diagnosis diagnose(const DiagnosisInput& in, const DiagnosisOptions& o) {
   for (size_t i = T; i < end_on; ++i)
     if (!amps_on(s[i])) { end_on = i; break; }
   const auto w = static_cast<size_t>(std::max(2.0, o.onset_window_s * fs));
-  const size_t on_c = onset(cur, nb, nb, end_on, w, o.onset_threshold, 1e-4);
+  // The currents' change: in the measured current itself, or in the part of it the controller
+  // did not ask for (measured - demand), whichever shows first. The second is far less noisy
+  // (the controller's derivative term puts the sensor noise into the demand) and is exactly
+  // what a disturbance of the amplifier adds.
+  const size_t on_c = std::min(onset(cur, nb, nb, end_on, w, o.onset_threshold, 1e-4),
+                               onset(res, nb, nb, end_on, w, o.onset_threshold, 1e-4));
   const size_t on_d = onset(dis, nb, nb, end_on, w, o.onset_threshold, 1e-8);
   double dist_score = 0.0;
   if (on_c < end_on) {
@@ -276,7 +282,7 @@ Diagnosis diagnose(const DiagnosisInput& in, const DiagnosisOptions& o) {
     size_t b = std::min(n, a + static_cast<size_t>(o.max_spectrum_s * fs));
     for (size_t i = a; i < b; ++i)
       if (!amps_on(s[i])) { b = i; break; }
-    const Spectrum sp = dominant_tone(cur, a, b, fs, o);
+    const Spectrum sp = dominant_tone(res, a, b, fs, o);
     const double sync_tol_hz = std::max(1.0, 1.5 / std::max(sp.length_s, 1e-3));
     const bool synchronous = spinning && std::abs(sp.f_hz - speed) < sync_tol_hz;
     const bool leads = d.current_lead_s >= o.min_current_lead_s;
@@ -327,11 +333,23 @@ Diagnosis diagnose(const DiagnosisInput& in, const DiagnosisOptions& o) {
           // 1x: DFT at the window's mean speed of the mean-free orbit; the radius is normalised
           // to the trigger speed by f^2 (unbalance response below the first bending mode) so a
           // speed ramp alone does not look like a changing unbalance.
+          // The window's linear trend is removed first: a moving centre would otherwise leak
+          // into the 1x bin and look like a changing radius.
+          const double tm = 0.5 * static_cast<double>(len - 1);
+          double sx = 0.0, sy = 0.0, tt = 0.0;
+          for (size_t i = a; i < a + len; ++i) {
+            const double u = static_cast<double>(i - a) - tm;
+            sx += u * (x[b][i] - mx);
+            sy += u * (y[b][i] - my);
+            tt += u * u;
+          }
+          const double bx = sx / tt, by = sy / tt;
           std::complex<double> X, Y;
           for (size_t i = a; i < a + len; ++i) {
+            const double u = static_cast<double>(i - a) - tm;
             const std::complex<double> e = std::polar(1.0, -k_two_pi * fw * static_cast<double>(i - a) / fs);
-            X += (x[b][i] - mx) * e;
-            Y += (y[b][i] - my) * e;
+            X += (x[b][i] - mx - bx * u) * e;
+            Y += (y[b][i] - my - by * u) * e;
           }
           X *= 2.0 / static_cast<double>(len);
           Y *= 2.0 / static_cast<double>(len);

@@ -45,7 +45,7 @@ struct DiagnosisOptions {
   double onset_window_s = 2e-3;           ///< moving-RMS window of the change statistic, s
   double onset_threshold = 5.0;           ///< change statistic (baseline standard deviations)
   double onset_margin_s = 0.1;            ///< search for the onset up to trigger + this, s
-  double min_current_lead_s = 1e-3;       ///< current change must lead the deflection change by this, s
+  double min_current_lead_s = 0.5e-3;     ///< current change must lead the deflection change by this, s
   double disturbance_min_hz = 5.0;        ///< below: a drift, not a disturbance, Hz
   double disturbance_max_hz = 1000.0;     ///< scan limit (also < 0.45 rate), Hz
   double min_explained = 0.3;             ///< fraction of the current change a sinusoid must explain
