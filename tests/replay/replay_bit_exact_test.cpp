@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 
 #include "firmware/events/event_codec.hpp"
 #include "host-tools/core/replay/event_board.hpp"
@@ -36,8 +38,21 @@ void print(const char* what, const ReplayResult& r) {
               r.diagnosis.bit_exact ? " (bit-exact)" : (" (first difference: " + r.diagnosis.first_difference + ")").c_str());
 }
 
+#ifndef AMB_ARTEFACT_DIR
+#define AMB_ARTEFACT_DIR "artefacts"
+#endif
+
+/// Keep the stored event files as artefacts (for amb-host replay / report by hand).
+void keep(const std::vector<uint8_t>& bytes, const char* name) {
+  std::filesystem::create_directories(AMB_ARTEFACT_DIR);
+  std::ofstream(std::string(AMB_ARTEFACT_DIR) + "/" + name, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
 TEST(ReplayBitExact, FullHistoryWindowIsReproducedFromTheFirstSample) {
   const auto& run = amb::test::sil_capture();
+  keep(run.event_full_history, "sil_event_full_history.ambe");
+  keep(run.event_default, "sil_event.ambe");
   const amb::fw::EventRecord ev = decode(run.event_full_history);
   ASSERT_FALSE(ev.samples.empty());
   ASSERT_EQ(ev.samples.front().seq, 0u) << "the full-history window must reach back to configure";
