@@ -56,7 +56,9 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
 
   md::DropScenario sc;
   sc.speed_hz = m.speed_at_trigger_hz;
-  sc.settle_s = o.settle_s;
+  // Levitated for the settling time plus the recorded pre-trigger history: the pre-drop
+  // transient of the model then has the age the measurement shows at its trigger.
+  sc.settle_s = o.settle_s + static_cast<double>(m.trigger_index) * period;
   sc.pre_trigger_s = 0.0;
   sc.window_s = static_cast<double>(n) * period;
   sc.sample_rate_hz = m.sample_rate_hz;

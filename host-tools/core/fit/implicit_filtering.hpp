@@ -21,7 +21,7 @@ namespace amb::host::fit {
 struct ImplicitFilteringOptions {
   int doe_points = 7;             ///< DOE points per unknown (>= 2)
   double initial_stencil = 0.125; ///< first stencil size h, fraction of each bound range
-  double min_stencil = 1.0 / 512; ///< stop when h falls below this, fraction of the range
+  double min_stencil = 1.0 / 4096; ///< stop when h falls below this, fraction of the range
   int max_evaluations = 200;      ///< budget of cost evaluations
   int max_iterations = 60;        ///< iteration cap
   int max_backtracks = 3;         ///< line-search halvings
