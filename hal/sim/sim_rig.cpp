@@ -43,10 +43,12 @@ bool SimAnalogFrontEnd::read(AnalogInputs& in) {
   const model::PlantOutputs o = rig_.plant_->outputs();
   in.t_ns = rig_.t_ns_;
   for (size_t i = 0; i < 4; ++i) {
-    in.displacement_m[i] = o.displacement_m[i];
-    in.coil_current_a[i] = o.coil_current_a[i];
+    // Samples are delivered at the front end's resolution: float32, as the capture stores
+    // them (an ADC word is exact in float32), so a replayed capture is bit-exact.
+    in.displacement_m[i] = static_cast<float>(o.displacement_m[i]);
+    in.coil_current_a[i] = static_cast<float>(o.coil_current_a[i]);
   }
-  in.tach_speed_hz = rig_.tach_ ? o.spin_speed_hz : -1.0;
+  in.tach_speed_hz = rig_.tach_ ? static_cast<float>(o.spin_speed_hz) : -1.0;
   in.fault_bits = 0;
   return true;
 }
