@@ -38,9 +38,3 @@ Linearisation linearise(const AxisLaw& law, double z_m, double ic_a);
 std::array<double, 2> axis_direction(double angle_deg);
 
 }  // namespace amb::model::magnet
-
-namespace amb::model {
-/// The first spelling of this namespace (amb::model::amb), kept because code elsewhere in
-/// model/ was written against it; prefer magnet:: in new code.
-namespace amb = magnet;
-}  // namespace amb::model
