@@ -151,6 +151,9 @@ class DropModel final : public Plant {
   const PlantParams& params() const { return p_; }
   const DropOptions& options() const { return o_; }
   int modes_per_plane() const { return m_; }
+  /// Squared natural frequencies of the free-free modes of one plane, rad^2/s^2 (exactly 0
+  /// for the rigid-body modes; mass-normalised: q and u of a mode are in sqrt(kg) m, sqrt(kg) m/s).
+  const ModeVec& modal_omega2() const { return w2_; }
   double step_s() const { return o_.step_s; }
   double rotor_mass_kg() const { return fe_.mass_kg; }
   double spin_inertia_kg_m2() const { return spin_inertia_; }

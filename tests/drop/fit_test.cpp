@@ -114,9 +114,10 @@ TEST(DropFit, RecoversFrictionCoefficient) {
                 mu, r.friction_coefficient, 100 * err, r.cost.total, r.cost.rubbing, r.cost.orbit, r.cost.speed, r.evaluations,
                 r.wall_s, r.stop_reason.c_str(), r.rubbing[0].swing_s, truth.swing_s, r.rubbing[0].forward_s, truth.forward_s,
                 r.rubbing[0].backward_s, truth.backward_s);
-    // Goal 3 %. Known: the fit is biased low by 1-3 % (all five cases), mu = 0.05 lands at
-    // -3.15 %; that case is held to 4 % until the bias is understood (docs/drop-model.md).
-    EXPECT_LE(std::abs(err), mu < 0.075 ? 0.04 : 0.03) << "mu " << mu;
+    // Goal 3 % for every friction value. The generator's levitated state is noise-driven;
+    // the fit estimates the rigid-body state at the trigger from the measured free fall.
+    EXPECT_LE(std::abs(err), 0.03) << "mu " << mu;
+    EXPECT_GT(r.free_fall_samples, 10) << "mu " << mu;
     const double total = truth.swing_s + truth.forward_s + truth.backward_s;
     EXPECT_LE(std::abs(r.rubbing[0].swing_s - truth.swing_s), 0.05 * std::max(truth.swing_s, 0.0) + 1e-9) << "mu " << mu;
     EXPECT_LE(std::abs(r.rubbing[0].forward_s - truth.forward_s), 0.05 * total) << "mu " << mu;

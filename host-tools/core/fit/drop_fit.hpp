@@ -28,6 +28,15 @@ struct DropFitOptions {
   double offset_max_fraction = 0.25;           ///< offset bound, fraction of the clearance
   double max_window_s = 0.4;                   ///< longest event window compared, s
   double settle_s = 0.1;                       ///< levitated settling before the trigger, s
+  /// Estimate the rotor's rigid-body position and velocity at the trigger from the measured
+  /// free fall (amplifiers off, before the first contact) instead of taking the model's
+  /// noise-free levitated state. The chaotic bouncing after the first impacts (and with it
+  /// the swing energy, the normal force and the spin-down) depends on the lateral velocity at
+  /// the trigger, which the real levitated rotor has from sensor noise and disturbances.
+  bool estimate_initial_state = true;
+  /// The free fall used for that estimate ends where the measured orbit radius at either aux
+  /// bearing first reaches this fraction of the clearance, 1.
+  double free_fall_radius_fraction = 0.8;
   model::drop::DropOptions model;              ///< step, restitution, solver (noise is switched off)
   model::drop::RubbingOptions rubbing;
   DropCostWeights weights;
@@ -43,6 +52,10 @@ struct DropFitResult {
   std::array<model::drop::RubbingDurations, 2> rubbing{};          ///< fitted simulation, per bearing
   std::array<model::drop::RubbingDurations, 2> measured_rubbing{}; ///< the measurement's, per bearing
   CostBreakdown cost;                          ///< at the fitted parameters
+  /// Rigid-body state change applied at the trigger by the free-fall estimate (zero when
+  /// not estimated): per rigid mode (x modes, then y modes) position and velocity, modal units.
+  std::vector<double> initial_rigid_dq, initial_rigid_du;
+  int free_fall_samples = 0;                   ///< samples used by that estimate (0: not estimated)
   int evaluations = 0;
   double wall_s = 0.0;                         ///< host wall time of the fit, s
   bool converged = false;
