@@ -56,19 +56,23 @@ struct ChannelSpec {
   double axial_m = 0.0, angle_deg = 0.0;
 };
 
+// `where`: the JSON path of the containing object ("" or "channels[3]."); messages name the
+// field as 'channels[3].unit'.
 double number_field(const json& j, const std::string& key, const std::string& where, const std::string& file) {
-  if (!j.contains(key)) fail(file, where + "'" + key + "' is missing; expected a number");
+  const std::string f = "field '" + where + key + "'";
+  if (!j.contains(key)) fail(file, f + " is missing; expected a number");
   const json& v = j.at(key);
-  if (!v.is_number()) fail(file, where + "'" + key + "' must be a number, got " + std::string(v.type_name()));
+  if (!v.is_number()) fail(file, f + " must be a number, got " + std::string(v.type_name()));
   const double d = v.get<double>();
-  if (!std::isfinite(d)) fail(file, where + "'" + key + "' must be finite");
+  if (!std::isfinite(d)) fail(file, f + " must be finite");
   return d;
 }
 
 std::string string_field(const json& j, const std::string& key, const std::string& where, const std::string& file) {
-  if (!j.contains(key)) fail(file, where + "'" + key + "' is missing; expected a string");
+  const std::string f = "field '" + where + key + "'";
+  if (!j.contains(key)) fail(file, f + " is missing; expected a string");
   const json& v = j.at(key);
-  if (!v.is_string()) fail(file, where + "'" + key + "' must be a string, got " + std::string(v.type_name()));
+  if (!v.is_string()) fail(file, f + " must be a string, got " + std::string(v.type_name()));
   return v.get<std::string>();
 }
 
@@ -110,10 +114,13 @@ MeasuredEventPaths measured_event_paths(const std::string& path) {
 }
 
 board::BoardConfig resolve_rig(const std::string& rig, const std::string& dir, const std::string& file) {
+  // A board named like the rig first (several boards may describe one rig, e.g. a HIL board).
   std::string known;
+  for (const std::string& name : board::embedded_board_names())
+    if (name == rig) return board::load_board(name);
   for (const std::string& name : board::embedded_board_names()) {
     board::BoardConfig b = board::load_board(name);
-    if (b.name == rig || b.plant.rig_name == rig) return b;
+    if (b.plant.rig_name == rig) return b;
     known += (known.empty() ? "" : ", ") + b.plant.rig_name;
   }
   for (const fs::path& p : {fs::path(rig), fs::path(dir) / rig}) {
@@ -150,11 +157,11 @@ LoadedEvent read_measured_event(const std::string& path) {
     if (!top_keys.count(k))
       fail(jf, "unknown field '" + k + "' (allowed: format, rig, sample_rate_hz, trigger_index, speed_rpm, channels, "
                                        "declared_faults, notes)");
-  const std::string format = string_field(j, "format", "field ", jf);
+  const std::string format = string_field(j, "format", "", jf);
   if (format != k_measured_event_format)
     fail(jf, "field 'format': expected \"" + std::string(k_measured_event_format) + "\", got \"" + format + "\"");
-  const std::string rig = string_field(j, "rig", "field ", jf);
-  const double fs_hz = number_field(j, "sample_rate_hz", "field ", jf);
+  const std::string rig = string_field(j, "rig", "", jf);
+  const double fs_hz = number_field(j, "sample_rate_hz", "", jf);
   if (!(fs_hz > 0.0)) fail(jf, "field 'sample_rate_hz' must be > 0, got " + std::to_string(fs_hz));
   if (!j.contains("trigger_index")) fail(jf, "field 'trigger_index' is missing; expected an integer >= 0");
   if (!j["trigger_index"].is_number_integer() || j["trigger_index"].get<long long>() < 0)
@@ -162,7 +169,7 @@ LoadedEvent read_measured_event(const std::string& path) {
   const auto trigger = static_cast<size_t>(j["trigger_index"].get<long long>());
   std::optional<double> speed_rpm;
   if (j.contains("speed_rpm")) {
-    speed_rpm = number_field(j, "speed_rpm", "field ", jf);
+    speed_rpm = number_field(j, "speed_rpm", "", jf);
     if (*speed_rpm < 0.0) fail(jf, "field 'speed_rpm' must be >= 0");
   }
   std::vector<std::string> declared;
@@ -175,7 +182,7 @@ LoadedEvent read_measured_event(const std::string& path) {
     }
   }
   std::string notes;
-  if (j.contains("notes")) notes = string_field(j, "notes", "field ", jf);
+  if (j.contains("notes")) notes = string_field(j, "notes", "", jf);
 
   // Channels.
   if (!j.contains("channels") || !j["channels"].is_array() || j["channels"].empty())
@@ -191,21 +198,21 @@ LoadedEvent read_measured_event(const std::string& path) {
     for (const auto& [k, v] : c.items())
       if (!ch_keys.count(k)) fail(jf, "field '" + where + k + "' is unknown (allowed: column, quantity, unit, axial_m, angle_deg)");
     ChannelSpec s;
-    s.column = string_field(c, "column", "field " + where, jf);
+    s.column = string_field(c, "column", where, jf);
     if (s.column.empty()) fail(jf, "field '" + where + "column' must not be empty");
     if (!columns.insert(s.column).second) fail(jf, "field '" + where + "column': '" + s.column + "' is named twice");
-    s.quantity = string_field(c, "quantity", "field " + where, jf);
+    s.quantity = string_field(c, "quantity", where, jf);
     static const std::set<std::string> quantities = {"time", "displacement", "current", "speed", "acceleration", "voltage"};
     if (!quantities.count(s.quantity))
       fail(jf, "field '" + where + "quantity': '" + s.quantity +
                    "' is not one of time, displacement, current, speed, acceleration, voltage");
-    s.unit = string_field(c, "unit", "field " + where, jf);
+    s.unit = string_field(c, "unit", where, jf);
     if (!unit_scale(s.quantity, s.unit, s.scale))
       fail(jf, "field '" + where + "unit': '" + s.unit + "' is not a unit of " + s.quantity + " (allowed: " +
                    allowed_units(s.quantity) + ")");
     if (positioned(s.quantity)) {
-      s.axial_m = number_field(c, "axial_m", "field " + where, jf);
-      s.angle_deg = number_field(c, "angle_deg", "field " + where, jf);
+      s.axial_m = number_field(c, "axial_m", where, jf);
+      s.angle_deg = number_field(c, "angle_deg", where, jf);
       if (s.axial_m < 0.0) fail(jf, "field '" + where + "axial_m' must be >= 0 m");
     } else if (c.contains("axial_m") || c.contains("angle_deg")) {
       fail(jf, "field '" + where + "': a " + s.quantity + " channel has no axial_m/angle_deg");
