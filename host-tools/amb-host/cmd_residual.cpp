@@ -29,7 +29,7 @@ struct Args {
 };
 
 nlohmann::json figures(const hr::ErrorFigures& e) {
-  return {{"rms", e.rms}, {"spectral", e.spectral}, {"pearson", e.pearson}};
+  return {{"rms", e.rms}, {"spectral", e.spectral}, {"pearson", e.pearson}, {"statics", e.statics}};
 }
 
 nlohmann::json added(const std::vector<hr::EffectAdded>& v) {

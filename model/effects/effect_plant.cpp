@@ -42,8 +42,10 @@ void EffectPlant::step(double dt_s, const PlantInputs& in) {
     if (fx_.saturation) d = equivalent_current_a(*fx_.saturation, rig_.amb[j / 2].bias_current_a, d);
     inner_in.current_demand_a[j] = d;
   }
-  if (fx_.pedestal && in.amplifiers_enabled) {
-    // Pedestal under the reaction of its plane's AMB forces (semi-implicit Euler, sub-steps).
+  if (fx_.pedestal) {
+    // Pedestal under the reactions of its plane's AMB forces and of the auxiliary bearing
+    // mounted on it (the touchdown bearing sits in the same housing: while the rotor rests
+    // on it, the AMB pull and the contact push cancel on the pedestal). Semi-implicit Euler.
     const auto& p = *fx_.pedestal;
     const size_t b = static_cast<size_t>(p.plane);
     const PlantTruth tr = inner_->truth();
@@ -53,10 +55,30 @@ void EffectPlant::step(double dt_s, const PlantInputs& in) {
       fx += u[0] * tr.amb_force_n[2 * b + a];
       fy += u[1] * tr.amb_force_n[2 * b + a];
     }
+    {
+      const double ex = tr.aux_x_m[b] - rig_.aux[b].centre_offset_x_m, ey = tr.aux_y_m[b] - rig_.aux[b].centre_offset_y_m;
+      const double r = std::hypot(ex, ey);
+      if (r > 0.0 && tr.contact_force_n[b] > 0.0) {
+        // Contact force on the rotor is -N e/|e|; on the housing +N e/|e|. The loop below
+        // applies (-fx, -fy), so add the rotor-side force here.
+        fx += -tr.contact_force_n[b] * ex / r;
+        fy += -tr.contact_force_n[b] * ey / r;
+      }
+    }
+    // The pedestal moves only while the rotor flies: with the rotor on its touchdown
+    // bearings (amplifiers off, lifting or landing) the housing is held, because the inner
+    // plant's touchdown bearings are fixed to ground and the sensors must keep reading the
+    // rest position relative to the housing.
+    const bool flying = in.amplifiers_enabled && tr.contact_force_n[0] <= 0.0 && tr.contact_force_n[1] <= 0.0;
+    if (!flying) {
+      ped_u_m_ = {};
+      ped_v_m_s_ = {};
+      fx = fy = 0.0;
+    }
     const double k = p.stiffness_n_per_m(), c = p.damping_n_s_per_m();
     const int sub = 8;
     const double h = dt_s / sub;
-    for (int s = 0; s < sub; ++s) {
+    for (int s = 0; s < sub && flying; ++s) {
       const std::array<double, 2> f{-fx, -fy};
       for (size_t d = 0; d < 2; ++d) {
         ped_v_m_s_[d] = (ped_v_m_s_[d] + h * (f[d] - k * ped_u_m_[d]) / p.mass_kg) / (1.0 + h * c / p.mass_kg);
@@ -72,8 +94,8 @@ void EffectPlant::step(double dt_s, const PlantInputs& in) {
       const double g = rig_.amb[b].ks_n_per_m / rig_.amb[b].ki_n_per_a;
       const double pos = u[0] * ped_u_m_[0] + u[1] * ped_u_m_[1];
       const double vel = u[0] * ped_v_m_s_[0] + u[1] * ped_v_m_s_[1];
-      correction_a_[2 * b + a] = -g * pos;
-      inner_in.current_demand_a[2 * b + a] += -g * (pos + tau * vel);
+      correction_a_[2 * b + a] = in.amplifiers_enabled ? -g * pos : 0.0;
+      if (in.amplifiers_enabled) inner_in.current_demand_a[2 * b + a] += -g * (pos + tau * vel);
     }
   }
   inner_->step(dt_s, inner_in);

@@ -8,7 +8,8 @@
 //   pedestal_resonance   a pedestal mass-spring-damper per the plane, driven by the reaction
 //                        of that plane's AMB forces; its sensors read rotor minus pedestal;
 //                        the gap term ks (z - u) is applied as a current correction
-//                        -ks u / ki, pre-compensated for the board's first-order amplifier
+//                        -ks u / ki, pre-compensated for the board's first-order amplifier;
+//                        the pedestal is held while the rotor touches its aux bearings
 //   sensor_runout        speed-locked vectors added to the sensor readings
 // aux_bearing_offset and rotor_mode change the rig itself: apply_to_params() before the
 // inner plant is built. sensor_mass is not applied in the time domain.

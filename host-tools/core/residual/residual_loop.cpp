@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "host-tools/core/residual/nelder_mead.hpp"
@@ -66,7 +67,8 @@ struct Fitter {
 
   double nll(const EffectSet& e) const {
     try {
-      return evaluate_steady(d, b, e).nll;
+      const double v = evaluate_steady(d, b, e).nll;
+      return std::isfinite(v) ? v : k_inf;
     } catch (const std::exception&) {
       return k_inf;
     }
@@ -121,7 +123,7 @@ struct Fitter {
     std::sort(scored.begin(), scored.end());
     EffectSet best = starts.at(scored.front().second);
     double best_v = scored.front().first;
-    for (size_t r = 0; r < std::min<size_t>(2, scored.size()); ++r) {
+    for (size_t r = 0; r < std::min<size_t>(1, scored.size()); ++r) {
       const EffectSet e = refine(starts[scored[r].second]);
       const double v = nll(e);
       if (v < best_v) {
@@ -370,6 +372,16 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
     for (size_t i = 0; i < std::min<size_t>(3, st.resonance_excess.size()); ++i) peaks.push_back(st.resonance_excess[i].first);
     std::vector<CandidateScore> scores;
     std::vector<EffectSet> fitted;
+    std::vector<int> material;
+    auto significant = [&](const SteadyEvaluation& a, const SteadyEvaluation& c) {
+      // Rest-position error counts once it exceeds 2 % of the clearance. Overwhelming
+      // evidence (BIC decrease >= strong_delta_bic) may carry half the practical gain.
+      const double r = o.min_relative_improvement;
+      if (a.bic - c.bic >= o.strong_delta_bic && c.error.spectral <= (1.0 - 0.5 * r) * a.error.spectral) return true;
+      return c.error.spectral <= (1.0 - r) * a.error.spectral ||
+             c.error.rms <= (1.0 - o.min_relative_improvement) * a.error.rms ||
+             (a.error.statics > 0.02 && c.error.statics <= (1.0 - o.min_relative_improvement) * a.error.statics);
+    };
     for (EffectKind k : kinds) {
       if (current.has(k)) continue;
       CandidateScore c;
@@ -380,26 +392,43 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
         c.evidence = evidence_for(k, st, 0.0);
         scores.push_back(c);
         fitted.push_back(current);
+        material.push_back(0);
         continue;
       }
       const EffectSet e = fit.fit_candidate(current, k, peaks);
       const SteadyEvaluation ev = evaluate_steady(d, b, e);
       c.delta_bic = now.bic - ev.bic;
-      c.evidence = evidence_for(k, st, c.delta_bic);
+      c.evidence = evidence_for(k, st, c.delta_bic) +
+                   fmt("; spectral %.2f -> %.2f dB, rms %.4f", now.error.spectral, ev.error.spectral, now.error.rms) +
+                   fmt(" -> %.4f", ev.error.rms);
+      if (!significant(now, ev)) c.evidence += " (not a material improvement)";
       scores.push_back(c);
       fitted.push_back(e);
+      material.push_back(significant(now, ev) ? 1 : 0);
     }
     std::vector<size_t> idx(scores.size());
     for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t c) { return scores[a].delta_bic > scores[c].delta_bic; });
+    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t c) {
+      // Materially improving candidates first, then by BIC decrease.
+      if (material[a] != material[c]) return material[a] > material[c];
+      return scores[a].delta_bic > scores[c].delta_bic;
+    });
     if (round == 0)
       for (size_t i : idx) out.ranking.push_back(scores[i]);
-    if (idx.empty() || !(scores[idx[0]].delta_bic > o.min_delta_bic)) break;
+    if (idx.empty() || !material[idx[0]] || !(scores[idx[0]].delta_bic > o.min_delta_bic)) break;
     // Add the top one and refit every nonlinear parameter together.
-    const EffectSet joint = fit.refine(fitted[idx[0]]);
-    const SteadyEvaluation ev = evaluate_steady(d, b, joint);
+    // The joint refit of every nonlinear parameter, or the candidate's own fit if the joint
+    // one is not better (or not a material improvement).
+    SteadyEvaluation ev = evaluate_steady(d, b, fitted[idx[0]]);
+    {
+      const SteadyEvaluation joint = evaluate_steady(d, b, fit.refine(fitted[idx[0]]));
+      if (joint.bic <= ev.bic && significant(now, joint)) ev = joint;
+    }
     const double gain = now.bic - ev.bic;
-    if (!(gain > o.min_delta_bic)) break;
+    if (std::getenv("AMB_RESIDUAL_DEBUG"))
+      std::fprintf(stderr, "accept? %s gain %g now.bic %g ev.bic %g rms %g->%g spec %g->%g\n", scores[idx[0]].name.c_str(), gain,
+                   now.bic, ev.bic, now.error.rms, ev.error.rms, now.error.spectral, ev.error.spectral);
+    if (!(gain > o.min_delta_bic) || !significant(now, ev)) break;
     const auto kind = *model::effects::effect_from_name(scores[idx[0]].name);
     current = ev.effects;
     now = ev;

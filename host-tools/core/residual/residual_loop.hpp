@@ -17,7 +17,14 @@ namespace amb::host::residual {
 struct LoopOptions {
   double min_delta_bic = 10.0;   ///< BIC decrease an element must earn ("very strong" evidence)
   int max_effects = 3;           ///< elements added at most
-  int max_evaluations = 120;     ///< per Nelder-Mead refinement
+  int max_evaluations = 50;      ///< per Nelder-Mead refinement
+  /// Practical significance: an element must also lower the spectral or the rms error by
+  /// this fraction (a statistically "significant" fix of a 4 % PSD mismatch is a modelling
+  /// detail, not a missing effect).
+  double min_relative_improvement = 0.10;
+  /// With a BIC decrease at least this large, half of min_relative_improvement on the
+  /// spectral error suffices.
+  double strong_delta_bic = 300.0;
 };
 
 /// Full-spectrum (seed 002) components of one bearing plane at one speed order:

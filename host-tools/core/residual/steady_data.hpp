@@ -47,7 +47,7 @@ struct SteadyOptions {
   double segment_s = 0.25;      ///< Welch segment, s (resolution 1/segment_s)
   double f_min_hz = 8.0;        ///< lowest band, Hz
   double f_max_hz = 1500.0;     ///< highest band, Hz (clamped to 0.4 fs)
-  int bands_per_octave = 12;
+  int bands_per_octave = 8;
 };
 
 /// Throws std::runtime_error if the record lacks a channel the rig needs, or has no

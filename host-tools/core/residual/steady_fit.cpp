@@ -150,7 +150,7 @@ SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& 
     for (const auto& a : b.plant.amb) lim = std::min(lim, a.coil_current_limit_a);
     for (int c = 0; c < k_channels; ++c) {
       const double pred = c < 4 ? st.sensor_m[static_cast<size_t>(c)] : st.current_a[static_cast<size_t>(c - 4)];
-      const double floor = c < 4 ? 0.05e-6 : 1e-4 * lim;
+      const double floor = c < 4 ? 0.2e-6 : 5e-4 * lim;
       const double v = p0[static_cast<size_t>(c)] / t + std::pow(0.02 * std::abs(pred) + floor, 2);
       ev.static_pred[static_cast<size_t>(c)] = pred;
       nll += 0.5 * (std::pow(d.mean[static_cast<size_t>(c)] - pred, 2) / v + std::log(v));
@@ -229,6 +229,12 @@ SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& 
     rho += yy > 0 ? rr / yy : 0.0;
   }
   ev.error.rms = std::sqrt(rho / k_channels);
+  if (d.has_rest) {
+    double q = 0.0;
+    for (int k = 0; k < 4; ++k)
+      q += std::pow((d.rest_mean_m[static_cast<size_t>(k)] - ev.rest_pred_m[static_cast<size_t>(k)]) / b.plant.aux[static_cast<size_t>(k / 2)].clearance_m, 2);
+    ev.error.statics = std::sqrt(q / 4.0);
+  }
   double s2 = 0.0, pr = 0.0;
   for (int c = 0; c < k_channels; ++c) {
     std::vector<double> a(nb), p(nb);

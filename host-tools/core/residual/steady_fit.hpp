@@ -11,7 +11,7 @@
 // Likelihood (negative log, up to constants):
 //   PSD bands  Whittle: sum K (ln P + P^/P), P = sigma^2 sum_k |H_ck|^2 2/fs
 //   lines      complex Gaussian, variance 2 P(h f)/T plus a 3 % model-error floor
-//   statics    Gaussian, variance P(f_min)/T plus floors (0.05 um; 1e-4 of the current limit)
+//   statics    Gaussian, variance P(f_min)/T plus floors (0.2 um; 5e-4 of the current limit)
 //   rest       Gaussian, variance std^2/N plus (0.5 um)^2
 #include <array>
 #include <complex>
@@ -27,6 +27,7 @@ struct ErrorFigures {
   double rms = 0.0;       ///< sqrt(mean over channels of sum r^2 / sum y^2), time domain (steady window, and the rest segment), 1
   double spectral = 0.0;  ///< rms over channels and bands of 10 log10(P^/P_model), dB
   double pearson = 0.0;   ///< mean over channels of the Pearson correlation of log P^ and log P_model, 1
+  double statics = 0.0;   ///< rms of the rest-position residuals (m) relative to the aux clearance, 1 (0 without rest)
 };
 
 struct SteadyEvaluation {

@@ -138,7 +138,8 @@ SweepFitEvaluation refine(const Problem& p, const EffectSet& e, int axis, double
   auto f = [&](const std::vector<double>& x) {
     const auto [ee, g] = unpack(x, e, p);
     try {
-      return evaluate(p, ee, axis, g).cost;
+      const double v = evaluate(p, ee, axis, g).cost;
+      return std::isfinite(v) ? v : k_inf;
     } catch (const std::exception&) {
       return k_inf;
     }
