@@ -39,7 +39,7 @@ struct DiagnosisOptions {
   double cutoff_min_demand_a = 0.1;       ///< |demand| above this counts as "demanded", A
   double cutoff_ratio = 0.1;              ///< |measured| < ratio |demand| (or < cutoff_zero_a) is "no current"
   double cutoff_zero_a = 0.01;            ///< A
-  double cutoff_min_run_s = 3e-3;         ///< consecutive samples of "demanded but no current", s
+  double cutoff_min_run_s = 1.5e-3;       ///< consecutive samples of "demanded but no current", s (>> amplifier lag)
   // 2. disturbance
   double baseline_fraction = 0.4;         ///< first part of the pre-trigger history used as baseline
   double onset_window_s = 2e-3;           ///< moving-RMS window of the change statistic, s
