@@ -102,7 +102,7 @@ int run_sweep(const Args& a) {
   const std::string in_mat = a.event + "/Sweep_Time_Anregung.mat", out_mat = a.event + "/Sweep_Time_Ausgang.mat";
   const auto in = amb::host::read_mat_vector(in_mat, "Signal.y_values.values");
   const double dt = amb::host::read_mat_scalar(in_mat, "Signal.x_values.increment");
-  const auto acc = amb::host::read_mat_matrix(out_mat, "Signal_0");
+  const auto acc = amb::host::read_mat_matrix(out_mat, "Signal_0.y_values.values");
   std::vector<std::vector<double>> out(acc.cols);
   for (size_t c = 0; c < acc.cols; ++c) {
     out[c] = acc.column(c);

@@ -19,7 +19,7 @@ TEST(ResidualTum, MeasuredSweepLoop) {
   if (!std::filesystem::exists(dir + "/Sweep_Time_Anregung.mat")) GTEST_SKIP() << "no TUM data at " << dir;
   const auto in = host::read_mat_vector(dir + "/Sweep_Time_Anregung.mat", "Signal.y_values.values");
   const auto dt = host::read_mat_scalar(dir + "/Sweep_Time_Anregung.mat", "Signal.x_values.increment");
-  const auto acc = host::read_mat_matrix(dir + "/Sweep_Time_Ausgang.mat", "Signal_0");
+  const auto acc = host::read_mat_matrix(dir + "/Sweep_Time_Ausgang.mat", "Signal_0.y_values.values");
   ASSERT_EQ(acc.cols, 8u);
   ASSERT_EQ(acc.rows, in.size());
   std::vector<std::vector<double>> out(8);
