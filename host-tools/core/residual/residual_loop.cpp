@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 
 #include "host-tools/core/residual/nelder_mead.hpp"
@@ -425,9 +424,6 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
       if (joint.bic <= ev.bic && significant(now, joint)) ev = joint;
     }
     const double gain = now.bic - ev.bic;
-    if (std::getenv("AMB_RESIDUAL_DEBUG"))
-      std::fprintf(stderr, "accept? %s gain %g now.bic %g ev.bic %g rms %g->%g spec %g->%g\n", scores[idx[0]].name.c_str(), gain,
-                   now.bic, ev.bic, now.error.rms, ev.error.rms, now.error.spectral, ev.error.spectral);
     if (!(gain > o.min_delta_bic) || !significant(now, ev)) break;
     const auto kind = *model::effects::effect_from_name(scores[idx[0]].name);
     current = ev.effects;
