@@ -95,6 +95,7 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
                  board.name.c_str());
     return 1;
   }
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // a service log: one line at a time
   const char* env_dir = std::getenv("AMB_DATA_DIR");
   const std::string data_dir = env_dir && *env_dir ? env_dir : cm.data_dir;
   std::string err;
@@ -142,6 +143,7 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
               static_cast<unsigned long long>(wear_report.generation), wear_report.detail.c_str(),
               events_fs->stale_temporaries_removed() + wear_fs->stale_temporaries_removed());
 
+  std::printf("amb-firmware: configuring the supervisor, capture and event writer\n");
   fw::Supervisor sup;
   sup.configure(board);
   lx::LinuxClock clock;

@@ -102,7 +102,8 @@ int main(int argc, char** argv) {
     ::poll(&p, 1, 10);
     const int64_t now = amb::hal::linux_hw::monotonic_ns();
     amb::hal::CanFrame f;
-    while (bus.receive(f)) nodes.on_frame(f, now);
+    // Bounded: a plant slower than the board (e.g. under emulation) must still see SIGTERM.
+    for (int k = 0; k < 64 && !g_stop.load() && bus.receive(f); ++k) nodes.on_frame(f, now);
     nodes.tick(now);
     if (duration_s > 0 && now - t0 > static_cast<int64_t>(duration_s * 1e9)) break;
   }

@@ -32,27 +32,32 @@ PLANT=$!
 AMB_DATA_DIR=/data/amb amb-firmware --board /etc/amb/arm-virt-hil.toml --backend linux > /tmp/firmware.log 2>&1 &
 FW=$!
 i=0
-while ! grep -q "ready" /tmp/firmware.log && [ $i -lt 300 ]; do sleep 0.1; i=$((i+1)); done
+while ! grep -q "ready" /tmp/firmware.log && [ $i -lt 1200 ] && kill -0 $FW 2>/dev/null; do sleep 0.1; i=$((i+1)); done
+echo "GUEST: firmware start took $((i / 10)) s"
 sed 's/^/GUEST-FW: /' /tmp/firmware.log
 echo "GUEST_READY"
 
 while read -r cmd; do
   case "$cmd" in
     inject)
-      # A valid amplifier-status frame reporting a fault (flags 0x03: enabled + fault), a
+      # A valid amplifier-status frame reporting a fault (flags 0x03: enabled + fault) and one
+      # clearing it again (flags 0x01), a
       # position frame one byte short, a heartbeat with an undefined NMT state, and frames of
       # a node nobody listens to.
       cansend vcan0 383#0301E001B4010000
+      cansend vcan0 383#0102E001B4010000
       cansend vcan0 182#01020304050607
       cansend vcan0 702#33
       cansend vcan0 185#0000000000000000
       echo "INJECT_DONE";;
     killplant)
-      kill $PLANT; wait $PLANT 2>/dev/null
+      kill $PLANT
+      i=0; while kill -0 $PLANT 2>/dev/null && [ $i -lt 100 ]; do sleep 0.1; i=$((i+1)); done
+      kill -9 $PLANT 2>/dev/null
       sed 's/^/GUEST-PLANT: /' /tmp/plant.log
       echo "PLANT_KILLED";;
     candump)
-      kill $CANDUMP; wait $CANDUMP 2>/dev/null
+      kill $CANDUMP 2>/dev/null
       echo "GUEST: candump captured $(wc -l < /tmp/candump.log) frames"
       grep -m 3 ' vcan0 182#' /tmp/candump.log | sed 's/^/CANDUMP: /'
       grep -m 3 ' vcan0 283#' /tmp/candump.log | sed 's/^/CANDUMP: /'
@@ -62,7 +67,8 @@ while read -r cmd; do
       grep -m 1 ' vcan0 383#' /tmp/candump.log | sed 's/^/CANDUMP: /'
       echo "CANDUMP_DONE";;
     stop)
-      kill $FW; wait $FW 2>/dev/null
+      kill $FW
+      i=0; while kill -0 $FW 2>/dev/null && [ $i -lt 300 ]; do sleep 0.1; i=$((i+1)); done
       sed 's/^/GUEST-FW: /' /tmp/firmware.log | tail -n 6
       kill $PLANT 2>/dev/null
       ls -l /data/amb/events /data/amb/wear | sed 's/^/GUEST-DATA: /'
