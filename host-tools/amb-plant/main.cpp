@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
   o.interface = iface;
   o.fd = c.fd;
   for (uint32_t fn : {fb::k_demand, fb::k_drive, fb::k_demand_fd}) o.filters.push_back({fn + c.amplifier_node_id, 0x7FF, false});
-  o.filters.push_back({fb::k_heartbeat + c.board_node_id, 0x7FF, false});
+  o.filters.push_back({static_cast<uint32_t>(fb::k_heartbeat + c.board_node_id), 0x7FF, false});
   std::string err;
   if (!bus.open(o, err)) {
     std::fprintf(stderr, "amb-plant: %s\n", err.c_str());

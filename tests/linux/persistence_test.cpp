@@ -112,7 +112,9 @@ TEST(Persistence, WriterInterruptedAtEveryByteLeavesOldOrNew) {
         st.budget = static_cast<long>(k);
         std::string d;
         const auto res = w.accept(third, d);
-        if (k < container) EXPECT_EQ(res, WriteBackResult::storage_failed);
+        if (k < container) {
+          EXPECT_EQ(res, WriteBackResult::storage_failed);
+        }
       }
       st.reboot();
       WearStore after(st, "test-board");
