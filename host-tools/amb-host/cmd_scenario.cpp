@@ -32,6 +32,13 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
     j["loop_overruns"] = s.loop_overruns;
     j["simulated_s"] = s.simulated_s;
     j["wall_s"] = s.wall_s;
+    j["event"] = {{"captured", s.event_captured}, {"path", s.event_path}, {"export", s.event_export_stem},
+                  {"trigger_cause", s.trigger_cause}, {"trigger_delay_ms", s.trigger_delay_ms},
+                  {"phase_b", {{"fault", s.phase_b_fault}, {"confidence", s.phase_b_confidence}, {"summary", s.phase_b_summary}}}};
+    j["fit"] = {{"ran", s.fitted}, {"friction_coefficient", s.friction_coefficient}, {"cost", s.fit_cost},
+                {"evaluations", s.fit_evaluations}, {"wall_s", s.fit_wall_s}, {"converged", s.fit_converged},
+                {"rubbing_s", {{"swing", s.rubbing_s[0]}, {"forward", s.rubbing_s[1]}, {"backward", s.rubbing_s[2]}}},
+                {"error", s.fit_error}};
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("Drop scenario on %s (simulated rig, sim HAL backend)\n", s.board.c_str());
@@ -47,10 +54,26 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
                 s.max_contact_force_n, s.friction_energy_j, s.speed_at_cut_hz, s.speed_end_hz);
     std::printf("  firmware           : final state %s, %llu loop periods, %llu overruns\n", s.final_state.c_str(),
                 static_cast<unsigned long long>(s.loop_periods), static_cast<unsigned long long>(s.loop_overruns));
+    if (s.event_captured) {
+      std::printf("  Phase A capture    : event %s, trigger %s %.1f ms after the cut\n", s.event_path.c_str(),
+                  s.trigger_cause.c_str(), s.trigger_delay_ms);
+      std::printf("  Phase B verdict    : %s (confidence %.2f) %s\n", s.phase_b_fault.c_str(), s.phase_b_confidence,
+                  s.phase_b_summary.c_str());
+      std::printf("  exchange format    : %s.csv / .json\n", s.event_export_stem.c_str());
+    } else {
+      std::printf("  Phase A capture    : NO event captured\n");
+    }
+    if (s.fitted)
+      std::printf("  Phase C fit        : friction coefficient %.4f, rubbing swing %.3f s / forward %.3f s / backward %.3f s,\n"
+                  "                       cost %.4g, %d evaluations in %.1f s, %s\n",
+                  s.friction_coefficient, s.rubbing_s[0], s.rubbing_s[1], s.rubbing_s[2], s.fit_cost, s.fit_evaluations,
+                  s.fit_wall_s, s.fit_converged ? "converged" : "not converged");
+    else if (!s.fit_error.empty())
+      std::printf("  Phase C fit        : not run: %s\n", s.fit_error.c_str());
     std::printf("  run                : %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.simulated_s, s.wall_s,
                 s.simulated_s / s.wall_s);
   }
-  const bool ok = s.levitated && s.reached_speed && s.fault_detected;
+  const bool ok = s.levitated && s.reached_speed && s.fault_detected && s.event_captured;
   return ok ? 0 : 2;
 }
 
@@ -63,6 +86,8 @@ const amb::host::Registration reg{
       sub.add_option("--hold-s", opt->hold_s, "time at speed before the AMBs are cut, s")->check(CLI::Range(0.0, 60.0));
       sub.add_option("--after-cut-s", opt->after_cut_s, "simulated time after the cut, s")->check(CLI::Range(0.0, 60.0));
       sub.add_option("--seed", opt->noise_seed, "sensor-noise seed");
+      sub.add_option("--out", opt->out_dir, "directory for the event, its export and the report (default amb-out)");
+      sub.add_flag("!--no-fit", opt->fit, "skip the Phase C fit");
       sub.add_flag("--json", *json, "print the figures as JSON");
       run_fn = [opt, json] { return run(*opt, *json); };
     }};

@@ -5,7 +5,17 @@
 #include <cmath>
 #include <cstdio>
 
+#include <filesystem>
+#include <fstream>
+
+#include "firmware/capture/floating_capture.hpp"
+#include "firmware/events/event_writer.hpp"
 #include "firmware/sil/sil_rig.hpp"
+#include "hal/sim/sim_rig.hpp"
+#include "host-tools/core/events/load_event.hpp"
+#include "host-tools/core/events/measured_event.hpp"
+#include "host-tools/core/fit/drop_fit.hpp"
+#include "host-tools/core/fit/measured_event_io.hpp"
 
 namespace amb::host {
 
@@ -27,8 +37,24 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
 
   sil::SilOptions so;
   so.noise_seed = o.noise_seed;
+  so.tachometer = true;  // the Bath rig measures rotor speed (seed 000, Fig. 9)
   sil::SilRig rig(board, so);
   fw::Supervisor& sup = rig.supervisor();
+  // Phase A: the floating capture sees every loop sample; its event thread's work (Phase B,
+  // storage) is done by polling the writer between loop periods here.
+  auto capture = std::make_unique<fw::FloatingCapture>();
+  fw::configure_capture(*capture, board);
+  rig.set_sink(capture.get());
+  hal::sim::MemoryStorage storage(256ull << 20);
+  fw::EventWriter writer(*capture, storage, board);
+  std::string event_name;
+  fw::EventRecord event;
+  writer.on_event = [&](const fw::EventRecord& r, const std::string& name, bool stored) {
+    if (stored && event_name.empty()) {
+      event_name = name;
+      event = r;
+    }
+  };
 
   // Decimated trace: every 1 ms of simulated time.
   const int every = std::max(1, static_cast<int>(std::lround(board.rate_hz / 1000.0)));
@@ -82,7 +108,11 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   sum.detection_delay_ms = (rig.time_s() - sum.cut_time_s) * 1e3;
   sum.fault_reason = fw::to_string(sup.status().fault);
   if (sum.fault_detected) say(fmt("safe state after %.1f ms", sum.detection_delay_ms) + " (" + sum.fault_reason + ")");
-  rig.run_for(std::max(0.0, sum.cut_time_s + o.after_cut_s - rig.time_s()));
+  // Long enough for the capture to record its post-trigger window and freeze it.
+  const double after_s = std::max(o.after_cut_s, board.capture.post_trigger_s + 0.1);
+  rig.run_for(std::max(0.0, sum.cut_time_s + after_s - rig.time_s()));
+  while (writer.poll() > 0) {
+  }
 
   const fw::Status st = sup.status();
   sum.final_state = fw::to_string(st.state);
@@ -91,6 +121,48 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   sum.loop_periods = rig.loop().stats().periods;
   sum.loop_overruns = rig.loop().stats().overruns;
   sum.simulated_s = rig.time_s();
+
+  // The stored event: write it out, export it to the exchange format, report Phase B.
+  if (!event_name.empty()) {
+    std::filesystem::create_directories(o.out_dir);
+    std::vector<uint8_t> bytes;
+    std::string err;
+    if (storage.read(event_name, bytes, err)) {
+      sum.event_path = (std::filesystem::path(o.out_dir) / event_name).string();
+      std::ofstream(sum.event_path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                                            static_cast<std::streamsize>(bytes.size()));
+      sum.event_captured = true;
+      sum.trigger_cause = fw::to_string(event.meta.cause);
+      sum.trigger_delay_ms = (static_cast<double>(event.meta.trigger_t_ns) * 1e-9 - sum.cut_time_s) * 1e3;
+      if (event.has_diagnosis) {
+        sum.phase_b_fault = fw::diag::to_string(event.diagnosis.type);
+        sum.phase_b_confidence = event.diagnosis.confidence;
+        sum.phase_b_summary = event.diagnosis.summary;
+      }
+      say("event " + sum.event_path + " (trigger " + sum.trigger_cause + "); Phase B: " + sum.phase_b_fault);
+      sum.event_export_stem = (std::filesystem::path(o.out_dir) / std::filesystem::path(event_name).stem()).string();
+      export_measured_event(load_event(sum.event_path), sum.event_export_stem);
+    }
+  }
+  // Phase C: fit the drop model to the captured drop (the fit reads only the export).
+  if (o.fit && sum.event_captured) {
+    try {
+      say("Phase C: fitting the drop model to the event (implicit filtering)");
+      const std::string json = sum.event_export_stem + ".json";
+      const fit::DropMeasurement m = fit::read_measured_event(json, board.plant);
+      fit::DropFitOptions fo;
+      const fit::DropFitResult r = fit::fit_drop(m, board, fo);
+      sum.fitted = true;
+      sum.friction_coefficient = r.friction_coefficient;
+      sum.fit_cost = r.cost.total;
+      sum.fit_evaluations = r.evaluations;
+      sum.fit_wall_s = r.wall_s;
+      sum.fit_converged = r.converged;
+      sum.rubbing_s = {r.rubbing[0].swing_s, r.rubbing[0].forward_s, r.rubbing[0].backward_s};
+    } catch (const std::exception& e) {
+      sum.fit_error = e.what();
+    }
+  }
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return sum;
 }

@@ -17,6 +17,8 @@ struct DropScenarioOptions {
   double hold_s = 0.5;                 ///< time at speed before the cut, s
   double after_cut_s = 1.5;            ///< simulated time after the cut, s
   uint64_t noise_seed = 1;
+  std::string out_dir = "amb-out";     ///< where the event, its export and the fit go
+  bool fit = true;                     ///< run the Phase C fit on the captured drop
   std::function<void(const std::string&)> progress;  ///< optional progress lines
 };
 
@@ -48,6 +50,24 @@ struct DropScenarioSummary {
   uint64_t loop_overruns = 0;
   double wall_s = 0.0;
   double simulated_s = 0.0;
+  // Phase A/B: the captured event.
+  bool event_captured = false;
+  std::string event_path;                 ///< board event file (AMBE v1)
+  std::string event_export_stem;          ///< measured-event export (CSV + JSON) of it
+  std::string trigger_cause;
+  double trigger_delay_ms = 0.0;          ///< cut -> capture trigger, ms
+  std::string phase_b_fault;              ///< Phase B verdict
+  double phase_b_confidence = 0.0;
+  std::string phase_b_summary;
+  // Phase C/E: the fit and the wear record.
+  bool fitted = false;
+  double friction_coefficient = 0.0;
+  double fit_cost = 0.0;
+  int fit_evaluations = 0;
+  double fit_wall_s = 0.0;
+  bool fit_converged = false;
+  std::array<double, 3> rubbing_s{};      ///< swing, forward, backward (bearing 1), s
+  std::string fit_error;                  ///< why the fit did not run, if it did not
   ScenarioTrace trace;
 };
 
