@@ -21,7 +21,8 @@ if [ "${AMB_SKIP_ARM:-0}" != 1 ]; then
   echo "== aarch64 cross build ($BUILD_ARM)"
   cmake -S . -B "$BUILD_ARM" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_TOOLCHAIN_FILE="$ROOT/cmake/aarch64-linux-gnu.cmake" \
-    -DAMB_BUILD_HOST_TOOLS=OFF -DAMB_BUILD_BENCH=OFF -DAMB_BUILD_PLANT=ON
+    -DAMB_BUILD_HOST_TOOLS=OFF -DAMB_BUILD_BENCH=OFF \
+    "-DAMB_TEST_DIRS=firmware;linux;rt;plant" -DAMB_BUILD_PLANT=ON
   cmake --build "$BUILD_ARM" -j"$JOBS"
   echo "== aarch64 unit tests under qemu-user"
   ctest --test-dir "$BUILD_ARM" -j"$JOBS" --output-on-failure --timeout 1800 -LE host_only
