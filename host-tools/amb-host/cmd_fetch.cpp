@@ -49,12 +49,12 @@ int run(const Args& a) {
   j["board"] = id.board_name;
   j["events_on_board"] = events.size();
   nlohmann::json listed = nlohmann::json::array();
-  for (const auto& e : events) listed.push_back({{"name", e.name}, {"bytes", e.size}, {"crc32", e.crc32}});
+  for (const auto& e : events) listed.push_back({{"name", e.name}, {"bytes", e.size}, {"crc32c", e.crc32}});
   j["list"] = listed;
   if (a.list_only) {
     if (a.json) std::printf("%s\n", j.dump(2).c_str());
     else
-      for (const auto& e : events) std::printf("%-34s %10u bytes  crc32 %08x\n", e.name.c_str(), e.size, e.crc32);
+      for (const auto& e : events) std::printf("%-34s %10u bytes  crc32c %08x\n", e.name.c_str(), e.size, e.crc32);
     return 0;
   }
   fs::create_directories(a.out_dir);
@@ -66,7 +66,7 @@ int run(const Args& a) {
     if (fs::exists(final_path)) {
       const auto have = read_file(final_path);
       if (have.size() == e.size && amb::fw::crc32c(have) == e.crc32) {
-        fetched.push_back({{"name", e.name}, {"bytes", e.size}, {"crc32", e.crc32}, {"status", "already_present"}});
+        fetched.push_back({{"name", e.name}, {"bytes", e.size}, {"crc32c", e.crc32}, {"status", "already_present"}});
         continue;
       }
     }
@@ -84,10 +84,10 @@ int run(const Args& a) {
     total.wall_s += s.wall_s;
     total.reconnects += s.reconnects;
     total.requests += s.requests;
-    fetched.push_back({{"name", e.name}, {"bytes", e.size}, {"crc32", e.crc32}, {"status", "downloaded"},
+    fetched.push_back({{"name", e.name}, {"bytes", e.size}, {"crc32c", e.crc32}, {"status", "downloaded"},
                        {"resumed_from", s.resumed_from}, {"reconnects", s.reconnects}});
     if (!a.json)
-      std::printf("fetched %s: %u bytes, crc32 %08x ok%s\n", e.name.c_str(), e.size, e.crc32,
+      std::printf("fetched %s: %u bytes, crc32c %08x ok%s\n", e.name.c_str(), e.size, e.crc32,
                   s.resumed_from ? (" (resumed at " + std::to_string(s.resumed_from) + ")").c_str() : "");
   }
   if (!a.names.empty() && fetched.size() != a.names.size()) {
@@ -106,8 +106,8 @@ int run(const Args& a) {
     const lk::BoardIdentity id2 = lk::read_identity(link);
     lk::download(link, amb::fw::regs::k_wear_item_index, w.crc32, id2.wear_record_bytes, rec, s);
     write_file(a.wear_out, rec);
-    j["wear"] = {{"sequence", w.sequence}, {"crc32", w.crc32}, {"bytes", rec.size()}, {"path", a.wear_out}};
-    if (!a.json) std::printf("fetched wear record: sequence %u, crc32 %08x -> %s\n", w.sequence, w.crc32, a.wear_out.c_str());
+    j["wear"] = {{"sequence", w.sequence}, {"crc32c", w.crc32}, {"bytes", rec.size()}, {"path", a.wear_out}};
+    if (!a.json) std::printf("fetched wear record: sequence %u, crc32c %08x -> %s\n", w.sequence, w.crc32, a.wear_out.c_str());
   }
   j["fetched"] = fetched;
   j["bytes"] = total.bytes;

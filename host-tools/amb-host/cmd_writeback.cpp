@@ -64,8 +64,8 @@ int run(const Args& a) {
                    {"result", o.result_name},
                    {"sequence", rec.sequence},
                    {"stored_sequence", after.sequence},
-                   {"crc32", amb::fw::crc32c(bytes)},
-                   {"stored_crc32", after.crc32},
+                   {"crc32c", amb::fw::crc32c(bytes)},
+                   {"stored_crc32c", after.crc32},
                    {"verified", ok},
                    {"bytes", bytes.size()},
                    {"resumed_from", o.stats.resumed_from},
@@ -74,7 +74,7 @@ int run(const Args& a) {
                    {"generation", after.generation}};
   if (a.json) std::printf("%s\n", j.dump(2).c_str());
   else
-    std::printf("writeback %s: %s (sequence %u, crc32 %08x, %zu bytes, %.3f s, %d reconnect(s))\n",
+    std::printf("writeback %s: %s (sequence %u, crc32c %08x, %zu bytes, %.3f s, %d reconnect(s))\n",
                 a.record_path.c_str(), o.result_name.c_str(), rec.sequence, amb::fw::crc32c(bytes), bytes.size(),
                 o.stats.wall_s, o.stats.reconnects);
   return ok ? 0 : 2;
