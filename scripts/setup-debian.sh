@@ -13,6 +13,7 @@ fi
 
 HOST_PKGS=(
   build-essential cmake ninja-build pkg-config git python3
+  ccache                   # compiler cache: repeated CI builds on one machine recompile only what changed
   libeigen3-dev            # maths (header-only)
   libgpiod-dev             # discrete lines, libgpiod v1.6 C API
   libmodbus-dev            # supervisory link
