@@ -39,6 +39,9 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
                 {"evaluations", s.fit_evaluations}, {"wall_s", s.fit_wall_s}, {"converged", s.fit_converged},
                 {"rubbing_s", {{"swing", s.rubbing_s[0]}, {"forward", s.rubbing_s[1]}, {"backward", s.rubbing_s[2]}}},
                 {"error", s.fit_error}};
+    j["wear_record"] = {{"written", s.wear_written}, {"path", s.wear_path}, {"sequence", s.wear_sequence},
+                        {"peak_force_n", s.wear_peak_force_n}, {"friction_energy_j", s.wear_friction_energy_j}};
+    j["report"] = s.report_path;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("Drop scenario on %s (simulated rig, sim HAL backend)\n", s.board.c_str());
@@ -70,9 +73,13 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
                   s.fit_wall_s, s.fit_converged ? "converged" : "not converged");
     else if (!s.fit_error.empty())
       std::printf("  Phase C fit        : not run: %s\n", s.fit_error.c_str());
+    if (s.wear_written)
+      std::printf("  Phase E wear record: %s (sequence %u): peak contact force %.0f N, friction energy %.2f J\n",
+                  s.wear_path.c_str(), s.wear_sequence, s.wear_peak_force_n, s.wear_friction_energy_j);
     std::printf("  run                : %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.simulated_s, s.wall_s,
                 s.simulated_s / s.wall_s);
   }
+  if (!s.report_path.empty()) std::printf("report: %s\n", s.report_path.c_str());
   const bool ok = s.levitated && s.reached_speed && s.fault_detected && s.event_captured;
   return ok ? 0 : 2;
 }

@@ -16,6 +16,10 @@
 #include "host-tools/core/events/measured_event.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
 #include "host-tools/core/fit/measured_event_io.hpp"
+#include "host-tools/core/report/report_builder.hpp"
+#include "host-tools/core/report/report_html.hpp"
+#include "host-tools/core/wear/load_map.hpp"
+#include "host-tools/core/wear/wear_update.hpp"
 
 namespace amb::host {
 
@@ -145,6 +149,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
     }
   }
   // Phase C: fit the drop model to the captured drop (the fit reads only the export).
+  std::unique_ptr<fit::DropFitResult> fitted;
   if (o.fit && sum.event_captured) {
     try {
       say("Phase C: fitting the drop model to the event (implicit filtering)");
@@ -159,11 +164,48 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       sum.fit_wall_s = r.wall_s;
       sum.fit_converged = r.converged;
       sum.rubbing_s = {r.rubbing[0].swing_s, r.rubbing[0].forward_s, r.rubbing[0].backward_s};
+      fitted = std::make_unique<fit::DropFitResult>(r);
     } catch (const std::exception& e) {
       sum.fit_error = e.what();
     }
   }
+  // Phase E: the load over each bearing's circumference from the fitted contact forces,
+  // accounted into the board's wear record (a fresh record here: first event).
+  fw::WearRecord wear;
+  if (fitted) {
+    wear::WearEvent we;
+    we.load = wear::event_load(fitted->trace.contact_steps);
+    we.rubbing = fitted->rubbing;
+    we.friction_coefficient = fitted->friction_coefficient;
+    fw::WearRecord previous;
+    previous.board_name = board.name;
+    const auto now_s = std::chrono::duration_cast<std::chrono::seconds>(
+                           std::chrono::system_clock::now().time_since_epoch()).count();
+    wear = wear::update_wear_record(previous, we, board.name, now_s, wear::WearOptions{});
+    const std::vector<uint8_t> bytes = fw::encode_wear_record(wear);
+    sum.wear_path = (std::filesystem::path(o.out_dir) / "wear_record.ambw").string();
+    std::ofstream(sum.wear_path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                                         static_cast<std::streamsize>(bytes.size()));
+    sum.wear_written = true;
+    sum.wear_sequence = wear.sequence;
+    sum.wear_peak_force_n = std::max(wear.bearing[0].peak_force_n, wear.bearing[1].peak_force_n);
+    sum.wear_friction_energy_j = wear.bearing[0].friction_energy_j + wear.bearing[1].friction_energy_j;
+  }
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  // The report: one self-contained HTML page for the event.
+  if (sum.event_captured) {
+    try {
+      report::ReportData d = report::new_report_data("Drop event on " + board.name + " (SIL scenario)");
+      report::add_event(d, event, board, sum.event_path);
+      report::add_scenario_trace(d, sum);
+      if (fitted) report::add_fit(d, *fitted, sum.event_export_stem + ".json");
+      if (sum.wear_written) report::add_wear_record(d, wear, sum.wear_path);
+      sum.report_path = report::write_event_report(d, (std::filesystem::path(o.out_dir) /
+                                                       (std::filesystem::path(sum.event_path).stem().string() + ".html")).string());
+    } catch (const std::exception& e) {
+      say(std::string("report not written: ") + e.what());
+    }
+  }
   return sum;
 }
 

@@ -68,6 +68,13 @@ struct DropScenarioSummary {
   bool fit_converged = false;
   std::array<double, 3> rubbing_s{};      ///< swing, forward, backward (bearing 1), s
   std::string fit_error;                  ///< why the fit did not run, if it did not
+  // Phase E and the report.
+  bool wear_written = false;
+  std::string wear_path;                  ///< wear record (AMBW v1) after this event
+  uint32_t wear_sequence = 0;
+  double wear_peak_force_n = 0.0;         ///< largest contact force in the fitted model, N
+  double wear_friction_energy_j = 0.0;    ///< both bearings, this event, J
+  std::string report_path;                ///< the HTML report of the event
   ScenarioTrace trace;
 };
 
