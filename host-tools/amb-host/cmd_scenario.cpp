@@ -40,7 +40,8 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
                 {"rubbing_s", {{"swing", s.rubbing_s[0]}, {"forward", s.rubbing_s[1]}, {"backward", s.rubbing_s[2]}}},
                 {"error", s.fit_error}};
     j["wear_record"] = {{"written", s.wear_written}, {"path", s.wear_path}, {"sequence", s.wear_sequence},
-                        {"peak_force_n", s.wear_peak_force_n}, {"friction_energy_j", s.wear_friction_energy_j}};
+                        {"peak_force_n", s.wear_peak_force_n}, {"friction_energy_j", s.wear_friction_energy_j},
+                        {"load_sum_n", s.load_sum_n}, {"load_peak_bin_deg", s.load_peak_bin_deg}};
     j["report"] = s.report_path;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
@@ -76,6 +77,9 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
     if (s.wear_written)
       std::printf("  Phase E wear record: %s (sequence %u): peak contact force %.0f N, friction energy %.2f J\n",
                   s.wear_path.c_str(), s.wear_sequence, s.wear_peak_force_n, s.wear_friction_energy_j);
+    if (s.wear_written)
+      std::printf("  load map (1 deg)   : bearing A sum %.3g N, peak at %d deg; bearing B sum %.3g N, peak at %d deg\n",
+                  s.load_sum_n[0], s.load_peak_bin_deg[0], s.load_sum_n[1], s.load_peak_bin_deg[1]);
     std::printf("  run                : %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.simulated_s, s.wall_s,
                 s.simulated_s / s.wall_s);
   }

@@ -190,6 +190,11 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
     sum.wear_sequence = wear.sequence;
     sum.wear_peak_force_n = std::max(wear.bearing[0].peak_force_n, wear.bearing[1].peak_force_n);
     sum.wear_friction_energy_j = wear.bearing[0].friction_energy_j + wear.bearing[1].friction_energy_j;
+    for (size_t b = 0; b < 2; ++b) {
+      const auto& load = wear.bearing[b].event_load_n;
+      sum.load_peak_bin_deg[b] = static_cast<int>(std::max_element(load.begin(), load.end()) - load.begin());
+      for (float f : load) sum.load_sum_n[b] += f;
+    }
   }
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   // The report: one self-contained HTML page for the event.

@@ -74,6 +74,8 @@ struct DropScenarioSummary {
   uint32_t wear_sequence = 0;
   double wear_peak_force_n = 0.0;         ///< largest contact force in the fitted model, N
   double wear_friction_energy_j = 0.0;    ///< both bearings, this event, J
+  std::array<int, 2> load_peak_bin_deg{};  ///< polar bin (deg from upward vertical) of the largest event load, per bearing
+  std::array<double, 2> load_sum_n{};      ///< sum of contact forces over all bins, per bearing, N
   std::string report_path;                ///< the HTML report of the event
   ScenarioTrace trace;
 };
