@@ -11,5 +11,7 @@ set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY BOTH)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE BOTH)
 set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE BOTH)
 set(ENV{PKG_CONFIG_LIBDIR} "/usr/lib/aarch64-linux-gnu/pkgconfig:/usr/share/pkgconfig")
-# Tests run under qemu-user with the arm64 sysroot of the multiarch install.
-set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /usr/aarch64-linux-gnu)
+# Tests run under qemu-user with the arm64 multiarch install as the sysroot (-L /): its loader
+# /lib/ld-linux-aarch64.so.1 matches the multiarch libc. The cross package's loader in
+# /usr/aarch64-linux-gnu paired with the multiarch libc hangs at the first thread or fork.
+set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /)
