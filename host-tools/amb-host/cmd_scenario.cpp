@@ -43,6 +43,10 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
                         {"peak_force_n", s.wear_peak_force_n}, {"friction_energy_j", s.wear_friction_energy_j},
                         {"load_sum_n", s.load_sum_n}, {"load_peak_bin_deg", s.load_peak_bin_deg}};
     j["report"] = s.report_path;
+    j["residual"] = {{"ran", s.residual_ran}, {"record", s.residual_record}, {"verdict", s.residual_verdict},
+                     {"error_before", {{"rms", s.residual_before[0]}, {"spectral", s.residual_before[1]}, {"pearson", s.residual_before[2]}}},
+                     {"error_after", {{"rms", s.residual_after[0]}, {"spectral", s.residual_after[1]}, {"pearson", s.residual_after[2]}}},
+                     {"error", s.residual_error}};
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("Drop scenario on %s (simulated rig, sim HAL backend)\n", s.board.c_str());
@@ -80,6 +84,13 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
     if (s.wear_written)
       std::printf("  load map (1 deg)   : bearing A sum %.3g N, peak at %d deg; bearing B sum %.3g N, peak at %d deg\n",
                   s.load_sum_n[0], s.load_peak_bin_deg[0], s.load_sum_n[1], s.load_peak_bin_deg[1]);
+    if (s.residual_ran)
+      std::printf("  residual loop      : undeclared effect in a steady run -> added: %s\n"
+                  "                       error before rms %.4f / spectral %.2f dB / pearson %.3f; after %.4f / %.2f dB / %.3f\n",
+                  s.residual_verdict.c_str(), s.residual_before[0], s.residual_before[1], s.residual_before[2],
+                  s.residual_after[0], s.residual_after[1], s.residual_after[2]);
+    else if (!s.residual_error.empty())
+      std::printf("  residual loop      : not run: %s\n", s.residual_error.c_str());
     std::printf("  run                : %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.simulated_s, s.wall_s,
                 s.simulated_s / s.wall_s);
   }
@@ -99,6 +110,7 @@ const amb::host::Registration reg{
       sub.add_option("--seed", opt->noise_seed, "sensor-noise seed");
       sub.add_option("--out", opt->out_dir, "directory for the event, its export and the report (default amb-out)");
       sub.add_flag("!--no-fit", opt->fit, "skip the Phase C fit");
+      sub.add_flag("!--no-residual", opt->residual, "skip the steady run with an undeclared effect");
       sub.add_flag("--json", *json, "print the figures as JSON");
       run_fn = [opt, json] { return run(*opt, *json); };
     }};

@@ -14,7 +14,7 @@
 #include "host-tools/core/residual/measured_record.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
-#include "tests/residual/generate_steady.hpp"
+#include "host-tools/core/scenario/steady_record.hpp"
 
 using namespace amb;
 namespace fx = amb::model::effects;
@@ -53,7 +53,7 @@ void report(const std::string& injected, const host::residual::ResidualOutcome& 
 }
 
 host::residual::ResidualOutcome run_case(const std::string& stem, const fx::EffectSet& e) {
-  const std::string path = test::generate_steady_record(temp_dir(), stem, e);
+  const std::string path = host::generate_steady_record(temp_dir(), stem, e);
   auto o = analyse(path);
   report(stem, o);
   std::filesystem::remove(path);

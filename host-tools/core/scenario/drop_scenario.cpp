@@ -17,6 +17,11 @@
 #include "host-tools/core/fit/drop_fit.hpp"
 #include "host-tools/core/fit/measured_event_io.hpp"
 #include "host-tools/core/report/report_builder.hpp"
+#include "host-tools/core/residual/measured_record.hpp"
+#include "host-tools/core/residual/residual_loop.hpp"
+#include "host-tools/core/residual/steady_data.hpp"
+#include "host-tools/core/scenario/steady_record.hpp"
+#include "model/effects/effect_set.hpp"
 #include "host-tools/core/report/report_html.hpp"
 #include "host-tools/core/wear/load_map.hpp"
 #include "host-tools/core/wear/wear_update.hpp"
@@ -194,6 +199,32 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       const auto& load = wear.bearing[b].event_load_n;
       sum.load_peak_bin_deg[b] = static_cast<int>(std::max_element(load.begin(), load.end()) - load.begin());
       for (float f : load) sum.load_sum_n[b] += f;
+    }
+  }
+  // Close the loop with a steady run whose plant carries sensor runout (speed-locked: 1x at plane A,
+  // 2x at plane B) that neither the firmware nor the host model is told about.
+  if (o.residual) {
+    try {
+      say("steady run with an undeclared effect; residual loop on its record");
+      model::effects::EffectSet hidden;
+      model::effects::SensorRunout r;
+      r.r_m[0][0] = {6e-6, 3e-6};  // plane A, 1x
+      r.r_m[1][1] = {0.0, 4e-6};   // plane B, 2x
+      hidden.runout = r;
+      SteadyRecordOptions so_steady;
+      so_steady.board = o.board;
+      sum.residual_record = generate_steady_record(o.out_dir, "steady_run", hidden, so_steady);
+      // The code under test: the record in, the loop's outcome out.
+      const auto rec = residual::read_measured_record(sum.residual_record);
+      const board::BoardConfig rb = board::load_board(rec.rig);
+      const auto steady = residual::extract_steady(rec, rb);
+      const auto out = residual::run_residual_loop(steady, rb);
+      sum.residual_ran = true;
+      sum.residual_verdict = out.verdict;
+      sum.residual_before = {out.before.error.rms, out.before.error.spectral, out.before.error.pearson};
+      sum.residual_after = {out.after.error.rms, out.after.error.spectral, out.after.error.pearson};
+    } catch (const std::exception& e) {
+      sum.residual_error = e.what();
     }
   }
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

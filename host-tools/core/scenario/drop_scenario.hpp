@@ -19,6 +19,7 @@ struct DropScenarioOptions {
   uint64_t noise_seed = 1;
   std::string out_dir = "amb-out";     ///< where the event, its export and the fit go
   bool fit = true;                     ///< run the Phase C fit on the captured drop
+  bool residual = true;                ///< steady run with an undeclared effect + the residual loop
   std::function<void(const std::string&)> progress;  ///< optional progress lines
 };
 
@@ -77,6 +78,13 @@ struct DropScenarioSummary {
   std::array<int, 2> load_peak_bin_deg{};  ///< polar bin (deg from upward vertical) of the largest event load, per bearing
   std::array<double, 2> load_sum_n{};      ///< sum of contact forces over all bins, per bearing, N
   std::string report_path;                ///< the HTML report of the event
+  // Closing the loop: a steady run at speed whose plant has an effect the host model lacks
+  // (chosen here, in the generator; the residual loop reads only the written record).
+  bool residual_ran = false;
+  std::string residual_record;            ///< the steady record (measured-event sidecar)
+  std::string residual_verdict;           ///< "none" or the effects added
+  std::array<double, 3> residual_before{}, residual_after{};  ///< rms, spectral (dB), pearson
+  std::string residual_error;
   ScenarioTrace trace;
 };
 

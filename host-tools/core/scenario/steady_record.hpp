@@ -1,5 +1,5 @@
 #pragma once
-// Test-data generator: the firmware levitates the board's plant with one model element
+// Steady-state record generator (tests and the main scenario): the firmware levitates the board's plant with one model element
 // switched on (model/effects/effect_plant.hpp), rests first on the aux bearings, spins up
 // and holds a steady speed; the loop samples are written as a measured event
 // (formats/measured-event.md) with declared_faults = []. Nothing else is passed on: the
@@ -9,7 +9,7 @@
 
 #include "model/effects/effect_set.hpp"
 
-namespace amb::test {
+namespace amb::host {
 
 struct SteadyRecordOptions {
   std::string board = "bath-amb-rig";
@@ -24,4 +24,4 @@ struct SteadyRecordOptions {
 std::string generate_steady_record(const std::string& dir, const std::string& stem,
                                    const model::effects::EffectSet& effects, const SteadyRecordOptions& o = {});
 
-}  // namespace amb::test
+}  // namespace amb::host

@@ -1,4 +1,4 @@
-#include "tests/residual/generate_steady.hpp"
+#include "host-tools/core/scenario/steady_record.hpp"
 
 #include <filesystem>
 #include <memory>
@@ -9,7 +9,7 @@
 #include "host-tools/core/residual/measured_record.hpp"
 #include "model/effects/effect_plant.hpp"
 
-namespace amb::test {
+namespace amb::host {
 namespace {
 
 class Collector final : public fw::SampleSink {
@@ -84,4 +84,4 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
   return path;
 }
 
-}  // namespace amb::test
+}  // namespace amb::host
