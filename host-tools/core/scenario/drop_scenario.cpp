@@ -16,6 +16,7 @@
 #include "host-tools/core/events/measured_event.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
 #include "host-tools/core/fit/measured_event_io.hpp"
+#include "host-tools/core/replay/event_replay.hpp"
 #include "host-tools/core/report/report_builder.hpp"
 #include "host-tools/core/residual/measured_record.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
@@ -203,6 +204,8 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   }
   // Close the loop with a steady run whose plant carries sensor runout (speed-locked: 1x at plane A,
   // 2x at plane B) that neither the firmware nor the host model is told about.
+  std::unique_ptr<residual::SteadyData> steady_data;
+  std::unique_ptr<residual::ResidualOutcome> residual_outcome;
   if (o.residual) {
     try {
       say("steady run with an undeclared effect; residual loop on its record");
@@ -223,6 +226,8 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       sum.residual_verdict = out.verdict;
       sum.residual_before = {out.before.error.rms, out.before.error.spectral, out.before.error.pearson};
       sum.residual_after = {out.after.error.rms, out.after.error.spectral, out.after.error.pearson};
+      steady_data = std::make_unique<residual::SteadyData>(steady);
+      residual_outcome = std::make_unique<residual::ResidualOutcome>(out);
     } catch (const std::exception& e) {
       sum.residual_error = e.what();
     }
@@ -233,9 +238,13 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
     try {
       report::ReportData d = report::new_report_data("Drop event on " + board.name + " (SIL scenario)");
       report::add_event(d, event, board, sum.event_path);
+      // Replay the stored event through a fresh firmware: the report shows whether the
+      // controller outputs, triggers and Phase B are reproduced bit for bit.
+      report::add_replay(d, replay::replay_event(event, board));
       report::add_scenario_trace(d, sum);
       if (fitted) report::add_fit(d, *fitted, sum.event_export_stem + ".json");
       if (sum.wear_written) report::add_wear_record(d, wear, sum.wear_path);
+      if (residual_outcome) report::add_residual(d, *steady_data, *residual_outcome, sum.residual_record);
       sum.report_path = report::write_event_report(d, (std::filesystem::path(o.out_dir) /
                                                        (std::filesystem::path(sum.event_path).stem().string() + ".html")).string());
     } catch (const std::exception& e) {
