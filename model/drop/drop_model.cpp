@@ -68,9 +68,7 @@ DropModel::DropModel(const PlantParams& plant, const PidParams& pid, double cont
   damp_ = to_vec(red_.damping.transpose());
   polar_ = red_.polar;
   // Gravity along -y on the consistent mass (as rotor_amb_plant.cpp).
-  Eigen::VectorXd t = Eigen::VectorXd::Zero(2 * fe_.node_count);
-  for (int n = 0; n < fe_.node_count; ++n) t(2 * n) = 1.0;
-  gravity_y_ = to_vec((-p_.gravity_m_s2 * (red_.shapes.transpose() * (fe_.planar_mass * t))).transpose());
+  gravity_y_ = to_vec(rotor::modal_gravity_load(fe_, red_, p_.gravity_m_s2).transpose());
 
   for (size_t b = 0; b < 2; ++b) {
     b_amb_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p_.amb[b].axial_m));

@@ -40,9 +40,7 @@ RotorAmbPlant::RotorAmbPlant(const PlantParams& p, const Options& o) : p_(p), o_
   polar_.resize(m_, m_);
   polar_ = red_.polar;
   // Gravity along -y on the consistent mass: f = Phi^T M (-g t), t = unit translation.
-  Eigen::VectorXd t = Eigen::VectorXd::Zero(2 * fe_.node_count);
-  for (int n = 0; n < fe_.node_count; ++n) t(2 * n) = 1.0;
-  gravity_y_ = to_vec((-p.gravity_m_s2 * (red_.shapes.transpose() * (fe_.planar_mass * t))).transpose());
+  gravity_y_ = to_vec(rotor::modal_gravity_load(fe_, red_, p.gravity_m_s2).transpose());
 
   for (size_t b = 0; b < 2; ++b) {
     b_amb_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p.amb[b].axial_m));

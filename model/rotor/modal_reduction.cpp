@@ -87,4 +87,10 @@ ModalConvergence check_modal_convergence(const RotorModel& m, const RotorParams&
   return c;
 }
 
+Eigen::VectorXd modal_gravity_load(const RotorModel& m, const ReducedRotor& r, double gravity_m_s2) {
+  Eigen::VectorXd t = Eigen::VectorXd::Zero(2 * m.node_count);
+  for (int n = 0; n < m.node_count; ++n) t(2 * n) = 1.0;
+  return -gravity_m_s2 * (r.shapes.transpose() * (m.planar_mass * t));
+}
+
 }  // namespace amb::model::rotor

@@ -25,6 +25,10 @@ ReducedRotor reduce_rotor(const RotorModel& m, const RotorParams& p, int modes_p
 /// Reduced interpolation row: modal coordinates -> displacement at `axial_m` (m per unit).
 Eigen::RowVectorXd modal_interpolation(const RotorModel& m, const ReducedRotor& r, double axial_m);
 
+/// Modal force of gravity acting along -y on the consistent mass: Phi^T M (-g t), with t the
+/// unit lateral translation of every node. `gravity_m_s2` >= 0; one entry per kept mode, N.
+Eigen::VectorXd modal_gravity_load(const RotorModel& m, const ReducedRotor& r, double gravity_m_s2);
+
 /// Free-free planar natural frequencies of the full FE model, ascending, rad/s.
 std::vector<double> free_free_frequencies_rad_s(const RotorModel& m);
 
