@@ -13,6 +13,7 @@
 
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/io/mat_file.hpp"
+#include "host-tools/core/residual/drop_residual.hpp"
 #include "host-tools/core/residual/measured_record.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
@@ -67,9 +68,58 @@ void print_text(const std::string& verdict, const hr::ErrorFigures& b, const hr:
   std::printf("verdict: %s\n", verdict.c_str());
 }
 
+nlohmann::json drop_errors(const hr::DropErrors& e) {
+  nlohmann::json c = nlohmann::json::array();
+  for (int k = 0; k < 2; ++k) {
+    const auto& m = e.measured_circle[static_cast<size_t>(k)];
+    const auto& s = e.simulated_circle[static_cast<size_t>(k)];
+    c.push_back({{"bearing", k}, {"valid", m.valid && s.valid}, {"measured_centre_m", m.centre_m},
+                 {"simulated_centre_m", s.centre_m}, {"model_centre_m", e.model_centre_m[static_cast<size_t>(k)]},
+                 {"sigma_m", m.sigma_m}, {"contact_points", m.points}});
+  }
+  return {{"error", figures(e.error)}, {"phase_c_cost", e.cost}, {"friction_coefficient", e.friction_coefficient},
+          {"contact_circles", c}};
+}
+
+int run_drop(const Args& a, const hr::MeasuredRecord& rec, const amb::board::BoardConfig& b) {
+  std::fprintf(stderr, "drop event: levitated part through the steady loop, drop part through the drop model fit\n");
+  const auto o = hr::run_drop_residual(rec, b);
+  std::vector<std::string> notes;
+  if (o.levitated_analysed) {
+    for (const auto& n : o.levitated.structure.notes) notes.push_back("levitated: " + n);
+  } else {
+    notes.push_back(o.levitated_note);
+  }
+  for (const auto& n : o.drop_notes) notes.push_back("drop: " + n);
+  std::vector<hr::CandidateScore> rank = o.levitated_analysed ? o.levitated.ranking : std::vector<hr::CandidateScore>{};
+  rank.insert(rank.end(), o.drop_ranking.begin(), o.drop_ranking.end());
+  if (a.json) {
+    nlohmann::json j;
+    j["event_kind"] = "drop";
+    j["effects_added"] = added(o.effects_added);
+    j["error_before"] = figures(o.before);
+    j["error_after"] = figures(o.after);
+    j["verdict"] = o.verdict;
+    j["ranking"] = ranking(rank);
+    j["structure"] = notes;
+    nlohmann::json seg;
+    if (o.levitated_analysed)
+      seg["levitated"] = {{"error_before", figures(o.levitated.before.error)},
+                          {"error_after", figures(o.levitated.after.error)},
+                          {"verdict", o.levitated.verdict}};
+    seg["drop"] = {{"before", drop_errors(o.drop_before)}, {"after", drop_errors(o.drop_after)}};
+    j["segments"] = seg;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    print_text(o.verdict, o.before, o.after, rank, o.effects_added, notes);
+  }
+  return 0;
+}
+
 int run_steady(const Args& a) {
   const auto rec = hr::read_measured_record(a.event);
   const auto b = amb::board::load_board(a.board.empty() ? rec.rig : a.board);
+  if (hr::is_drop_event(rec, b)) return run_drop(a, rec, b);
   const auto d = hr::extract_steady(rec, b);
   const auto o = hr::run_residual_loop(d, b);
   if (a.json) {

@@ -47,11 +47,10 @@ double line_power(const std::array<std::vector<double>, k_channels>& w, double f
 
 }  // namespace
 
-SteadyData extract_steady(const MeasuredRecord& r, const board::BoardConfig& b, const SteadyOptions& o) {
-  SteadyData d;
-  d.fs_hz = r.sample_rate_hz;
+ChannelMap match_channels(const MeasuredRecord& r, const board::BoardConfig& b) {
+  ChannelMap m;
   const double tol_m = b.capture.match_axial_tolerance_m, tol_deg = b.capture.match_angle_tolerance_deg;
-  std::array<int, k_channels> idx{};
+  auto& idx = m.index;
   for (int k = 0; k < 4; ++k) {
     const auto& s = b.plant.sensor[static_cast<size_t>(k)];
     idx[static_cast<size_t>(k)] = find_channel(r, "displacement", s.axial_m, s.angle_deg, tol_m, tol_deg);
@@ -64,13 +63,22 @@ SteadyData extract_steady(const MeasuredRecord& r, const board::BoardConfig& b, 
     if (idx[static_cast<size_t>(4 + k)] < 0)
       throw std::runtime_error("record " + r.path + ": no current channel at the rig's actuator axis " + std::to_string(k));
   }
-  int speed = -1;
   for (size_t i = 0; i < r.channels.size(); ++i) {
     const auto& c = r.channels[i];
-    if (c.quantity == "speed") speed = static_cast<int>(i);
+    if (c.quantity == "speed") m.speed = static_cast<int>(i);
     else if (c.quantity != "time" && std::find(idx.begin(), idx.end(), static_cast<int>(i)) == idx.end())
-      d.unmatched.push_back(c.column);
+      m.unmatched.push_back(c.column);
   }
+  return m;
+}
+
+SteadyData extract_steady(const MeasuredRecord& r, const board::BoardConfig& b, const SteadyOptions& o) {
+  SteadyData d;
+  d.fs_hz = r.sample_rate_hz;
+  const ChannelMap map = match_channels(r, b);
+  const auto& idx = map.index;
+  const int speed = map.speed;
+  d.unmatched = map.unmatched;
   const size_t n = r.samples();
   const auto col = [&](int c) -> const std::vector<double>& { return r.channels[static_cast<size_t>(idx[static_cast<size_t>(c)])].values; };
 

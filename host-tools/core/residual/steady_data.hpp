@@ -50,6 +50,17 @@ struct SteadyOptions {
   int bands_per_octave = 8;
 };
 
+/// Where the rig's channels are in a record (matched by quantity, axial position and angle
+/// within the board's capture tolerances).
+struct ChannelMap {
+  std::array<int, k_channels> index{};  ///< record channel of [sensors A1, A2, B1, B2, currents per actuator axis]
+  int speed = -1;                       ///< record channel of the speed, -1: none
+  std::vector<std::string> unmatched;   ///< record columns not matched to the rig
+};
+
+/// Throws std::runtime_error naming the first rig channel the record lacks.
+ChannelMap match_channels(const MeasuredRecord& r, const board::BoardConfig& b);
+
 /// Throws std::runtime_error if the record lacks a channel the rig needs, or has no
 /// steady window.
 SteadyData extract_steady(const MeasuredRecord& r, const board::BoardConfig& b, const SteadyOptions& o = {});

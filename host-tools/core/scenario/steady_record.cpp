@@ -46,13 +46,23 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
     throw std::runtime_error("generator: did not reach speed for " + stem);
   rig.run_for(o.settle_s + o.steady_s);
   if (sup.state() == fw::State::fault) throw std::runtime_error("generator: fault while steady for " + stem);
+  size_t first = 0, trigger = 0;
+  if (o.drop_s > 0) {
+    trigger = sink.samples.size();
+    const auto keep = static_cast<size_t>(o.steady_s * b.rate_hz);
+    first = trigger > keep ? trigger - keep : 0;
+    model::PlantFaults cut;
+    cut.current_factor = {0.0, 0.0, 0.0, 0.0};
+    rig.plant().set_faults(cut);
+    rig.run_for(o.drop_s);
+  }
   rig.set_sink(nullptr);
 
   host::residual::MeasuredRecord r;
   r.rig = o.board;
   r.sample_rate_hz = b.rate_hz;
-  r.trigger_index = 0;
-  r.notes = "generated steady-state run";
+  r.trigger_index = static_cast<long>(trigger - first);
+  r.notes = o.drop_s > 0 ? "generated drop event (all amplifier channels cut at the trigger)" : "generated steady-state run";
   auto add = [&](const std::string& col, const std::string& q, const std::string& unit, double axial, double angle) {
     host::residual::RecordChannel c;
     c.column = col;
@@ -60,7 +70,7 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
     c.unit = unit;
     c.axial_m = axial;
     c.angle_deg = angle;
-    c.values.reserve(sink.samples.size());
+    c.values.reserve(sink.samples.size() - first);
     r.channels.push_back(c);
   };
   add("t_s", "time", "s", 0, 0);
@@ -71,8 +81,9 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
     add(in[j], "current", "A", b.plant.amb[static_cast<size_t>(j / 2)].axial_m,
         b.plant.amb[static_cast<size_t>(j / 2)].actuator_angle_deg[static_cast<size_t>(j % 2)]);
   add("n", "speed", "Hz", 0, 0);
-  const int64_t t0 = sink.samples.empty() ? 0 : sink.samples.front().t_ns;
-  for (const auto& s : sink.samples) {
+  const int64_t t0 = sink.samples.size() > first ? sink.samples[first].t_ns : 0;
+  for (size_t i = first; i < sink.samples.size(); ++i) {
+    const auto& s = sink.samples[i];
     r.channels[0].values.push_back(static_cast<double>(s.t_ns - t0) * 1e-9);
     for (size_t k = 0; k < 4; ++k) r.channels[1 + k].values.push_back(s.displacement_m[k]);
     for (size_t j = 0; j < 4; ++j) r.channels[5 + j].values.push_back(s.coil_current_a[j]);

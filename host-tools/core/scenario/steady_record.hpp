@@ -18,9 +18,15 @@ struct SteadyRecordOptions {
   double settle_s = 0.3;        ///< after reaching speed, s
   double spin_accel_hz_per_s = 100.0;
   std::uint64_t seed = 7;       ///< sensor-noise seed
+  /// > 0: a drop event instead of a steady run. After the steady time all amplifier channels
+  /// are cut (the plant loses its AMB forces, seed 000's drop) and this much is recorded
+  /// after the cut; the record keeps only the last `steady_s` of levitation before the cut
+  /// (what a capture's pre-trigger history holds: no rest segment, no spin-up) and its
+  /// trigger_index is the cut sample. declared_faults stays empty. s
+  double drop_s = 0.0;
 };
 
-/// Writes DIR/STEM.json + DIR/STEM.csv; returns the sidecar path. Throws on a failed run.
+/// Steady run or drop event (see drop_s). Writes DIR/STEM.json + DIR/STEM.csv; returns the sidecar path. Throws on a failed run.
 std::string generate_steady_record(const std::string& dir, const std::string& stem,
                                    const model::effects::EffectSet& effects, const SteadyRecordOptions& o = {});
 

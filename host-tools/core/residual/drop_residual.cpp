@@ -1,0 +1,434 @@
+#include "host-tools/core/residual/drop_residual.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <fftw3.h>
+#include <stdexcept>
+
+#include "host-tools/core/fit/drop_fit.hpp"
+#include "host-tools/core/residual/steady_data.hpp"
+#include "model/drop/sensor_orbit.hpp"
+
+namespace amb::host::residual {
+namespace {
+
+using Readings = std::vector<std::array<double, 4>>;
+
+std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, f, a, b, c, d);
+  return buf;
+}
+
+std::array<double, 2> rig_centre(const model::PlantParams& rig, int k) {
+  const auto& a = rig.aux[static_cast<size_t>(k)];
+  return {a.centre_offset_x_m, a.centre_offset_y_m};
+}
+
+std::vector<std::array<double, 2>> aux_points(const Readings& s, const model::drop::SensorOrbit& view, int k) {
+  std::vector<std::array<double, 2>> p;
+  p.reserve(s.size());
+  for (const auto& r : s) p.push_back(view.at_aux_plane(r, k));
+  return p;
+}
+
+// One-sided Welch PSD (Hann, 50 % overlap) averaged on 1/3-octave bands from f_lo to 0.4 fs.
+std::vector<double> band_psd(const std::vector<double>& x, double fs, size_t seg, double f_lo) {
+  std::vector<double> out;
+  if (x.size() < seg || seg < 16) return out;
+  std::vector<double> win(seg), buf(seg), psd(seg / 2 + 1, 0.0);
+  double wss = 0.0;
+  for (size_t i = 0; i < seg; ++i) {
+    win[i] = 0.5 - 0.5 * std::cos(2.0 * M_PI * static_cast<double>(i) / static_cast<double>(seg));
+    wss += win[i] * win[i];
+  }
+  std::vector<fftw_complex> spec(seg / 2 + 1);
+  fftw_plan plan = fftw_plan_dft_r2c_1d(static_cast<int>(seg), buf.data(), spec.data(), FFTW_ESTIMATE);
+  int count = 0;
+  for (size_t start = 0; start + seg <= x.size(); start += seg / 2) {
+    double mean = 0.0;
+    for (size_t i = 0; i < seg; ++i) mean += x[start + i];
+    mean /= static_cast<double>(seg);
+    for (size_t i = 0; i < seg; ++i) buf[i] = (x[start + i] - mean) * win[i];
+    fftw_execute(plan);
+    for (size_t k = 0; k < psd.size(); ++k) psd[k] += 2.0 * (spec[k][0] * spec[k][0] + spec[k][1] * spec[k][1]) / (fs * wss);
+    ++count;
+  }
+  fftw_destroy_plan(plan);
+  const double df = fs / static_cast<double>(seg);
+  for (double f = f_lo; f * std::pow(2.0, 1.0 / 6.0) < 0.4 * fs; f *= std::pow(2.0, 1.0 / 3.0)) {
+    const auto a = static_cast<size_t>(std::ceil(f * std::pow(2.0, -1.0 / 6.0) / df));
+    const auto e = static_cast<size_t>(std::floor(f * std::pow(2.0, 1.0 / 6.0) / df));
+    double s = 0.0;
+    int n = 0;
+    for (size_t k = std::max<size_t>(a, 1); k <= e && k < psd.size(); ++k, ++n) s += psd[k];
+    if (n > 0) out.push_back(s / (n * count) + 1e-300);
+  }
+  return out;
+}
+
+double pearson(const std::vector<double>& a, const std::vector<double>& b) {
+  const size_t n = std::min(a.size(), b.size());
+  if (n < 3) return 0.0;
+  double ma = 0, mb = 0;
+  for (size_t i = 0; i < n; ++i) ma += a[i], mb += b[i];
+  ma /= static_cast<double>(n);
+  mb /= static_cast<double>(n);
+  double sab = 0, saa = 0, sbb = 0;
+  for (size_t i = 0; i < n; ++i) {
+    sab += (a[i] - ma) * (b[i] - mb);
+    saa += (a[i] - ma) * (a[i] - ma);
+    sbb += (b[i] - mb) * (b[i] - mb);
+  }
+  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
+}
+
+DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, const model::PlantParams& rig,
+                    const DropResidualOptions& o) {
+  DropErrors e;
+  e.cost = f.cost.total;
+  e.friction_coefficient = f.friction_coefficient;
+  const auto first = static_cast<size_t>(m.trigger_index);
+  const size_t n = std::min(m.sensor_m.size() - first, f.trace.samples.size());
+  Readings meas(m.sensor_m.begin() + static_cast<long>(first), m.sensor_m.begin() + static_cast<long>(first + n));
+  Readings sim;
+  sim.reserve(n);
+  for (size_t i = 0; i < n; ++i) sim.push_back(f.trace.samples[i].sensor_m);
+  const double c0 = rig.aux[0].clearance_m;
+  const model::drop::SensorOrbit view(rig);
+  // Orbit distance at the sensor planes over the first impacts.
+  const size_t w = std::min(n, static_cast<size_t>(std::lround(o.orbit_error_window_s * m.sample_rate_hz)));
+  double s2 = 0.0;
+  for (size_t i = 0; i < w; ++i)
+    for (int p = 0; p < 2; ++p) {
+      const auto a = view.at_sensor_plane(meas[i], p), b = view.at_sensor_plane(sim[i], p);
+      s2 += (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
+    }
+  e.error.rms = w > 0 ? std::sqrt(s2 / (2.0 * static_cast<double>(w))) / c0 : 0.0;
+  // Spectra of the four sensors after the trigger.
+  const auto seg = static_cast<size_t>(std::lround(0.05 * m.sample_rate_hz));
+  double db2 = 0.0, pear = 0.0;
+  int bands = 0, chans = 0;
+  for (int c = 0; c < 4; ++c) {
+    std::vector<double> xm(n), xs(n);
+    for (size_t i = 0; i < n; ++i) xm[i] = meas[i][static_cast<size_t>(c)], xs[i] = sim[i][static_cast<size_t>(c)];
+    const auto pm = band_psd(xm, m.sample_rate_hz, seg, 20.0), ps = band_psd(xs, m.sample_rate_hz, seg, 20.0);
+    if (pm.empty() || pm.size() != ps.size()) continue;
+    std::vector<double> lm, ls;
+    for (size_t k = 0; k < pm.size(); ++k) {
+      const double d = 10.0 * std::log10(pm[k] / ps[k]);
+      db2 += d * d;
+      ++bands;
+      lm.push_back(std::log10(pm[k]));
+      ls.push_back(std::log10(ps[k]));
+    }
+    pear += pearson(lm, ls);
+    ++chans;
+  }
+  e.error.spectral = bands > 0 ? std::sqrt(db2 / bands) : 0.0;
+  e.error.pearson = chans > 0 ? pear / chans : 0.0;
+  // Contact geometry: measured contact points about the model's centres, corrected by the
+  // estimator's bias seen on the simulation.
+  e.measured_circle = estimate_contact_circles(meas, rig, m.sample_rate_hz, o);
+  e.simulated_circle = estimate_contact_circles(sim, rig, m.sample_rate_hz, o);
+  std::array<std::array<double, 2>, 2> ref{};
+  for (int k = 0; k < 2; ++k) {
+    e.model_centre_m[static_cast<size_t>(k)] = rig_centre(rig, k);
+    ref[static_cast<size_t>(k)] = e.simulated_circle[static_cast<size_t>(k)].valid
+                                      ? e.simulated_circle[static_cast<size_t>(k)].centre_m
+                                      : e.model_centre_m[static_cast<size_t>(k)];
+  }
+  const auto mis = contact_misfit(meas, rig, ref, o);
+  double st2 = 0.0;
+  for (int k = 0; k < 2; ++k) {
+    const auto& [rms, cnt] = mis[static_cast<size_t>(k)];
+    const double r = rms / rig.aux[static_cast<size_t>(k)].clearance_m;
+    st2 += r * r;
+    e.misfit_ssr_m2 += rms * rms * cnt;
+    e.misfit_points += cnt;
+  }
+  e.error.statics = std::sqrt(st2 / 2.0);
+  return e;
+}
+
+ErrorFigures combine(const ErrorFigures& a, const ErrorFigures& b) {
+  auto q = [](double x, double y) { return std::sqrt(0.5 * (x * x + y * y)); };
+  return {q(a.rms, b.rms), q(a.spectral, b.spectral), 0.5 * (a.pearson + b.pearson), q(a.statics, b.statics)};
+}
+
+}  // namespace
+
+std::array<ContactCircle, 2> estimate_contact_circles(const Readings& sensor_m, const model::PlantParams& rig,
+                                                      double fs_hz, const DropResidualOptions& o) {
+  std::array<ContactCircle, 2> out{};
+  const model::drop::SensorOrbit view(rig);
+  const double per_point = std::min(1.0, 1.0 / (fs_hz * o.decorrelation_s));  // independent points per sample
+  for (int k = 0; k < 2; ++k) {
+    const double R = rig.aux[static_cast<size_t>(k)].clearance_m;
+    const auto pts = aux_points(sensor_m, view, k);
+    Eigen::Vector2d c(rig_centre(rig, k)[0], rig_centre(rig, k)[1]);
+    ContactCircle& cc = out[static_cast<size_t>(k)];
+    Eigen::Matrix2d jtj = Eigen::Matrix2d::Zero();
+    double ss = 0.0;
+    int used = 0;
+    for (int it = 0; it < 30; ++it) {
+      jtj.setZero();
+      Eigen::Vector2d jtr = Eigen::Vector2d::Zero();
+      ss = 0.0;
+      used = 0;
+      for (const auto& p : pts) {
+        const Eigen::Vector2d d(p[0] - c[0], p[1] - c[1]);
+        const double rho = d.norm();
+        if (rho < o.contact_band * R || rho <= 0) continue;
+        const Eigen::Vector2d j = -d / rho;  // d(rho - R)/dc
+        const double r = rho - R;
+        jtj += j * j.transpose();
+        jtr += j * r;
+        ss += r * r;
+        ++used;
+      }
+      if (static_cast<double>(used) * per_point < 20.0 || std::abs(jtj.determinant()) < 1e-12 * used * used) break;
+      const Eigen::Vector2d dc = -jtj.ldlt().solve(jtr);
+      c += dc;
+      if (dc.norm() < 1e-10) {
+        cc.valid = true;
+        break;
+      }
+    }
+    if (!cc.valid || used < 3) {
+      cc.valid = false;
+      continue;
+    }
+    cc.centre_m = {c[0], c[1]};
+    cc.points = used;
+    cc.misfit_rms_m = std::sqrt(ss / used);
+    // Covariance of the centre with decorrelated points: s^2 (J^T J)^-1 / per_point.
+    const Eigen::Matrix2d cov = (ss / used) * jtj.inverse() / per_point;
+    cc.sigma_m = std::sqrt(std::max(cov(0, 0), cov(1, 1)));
+  }
+  return out;
+}
+
+std::array<std::pair<double, int>, 2> contact_misfit(const Readings& sensor_m, const model::PlantParams& rig,
+                                                     const std::array<std::array<double, 2>, 2>& centre_m,
+                                                     const DropResidualOptions& o) {
+  std::array<std::pair<double, int>, 2> out{};
+  const model::drop::SensorOrbit view(rig);
+  for (int k = 0; k < 2; ++k) {
+    const double R = rig.aux[static_cast<size_t>(k)].clearance_m;
+    double ss = 0.0;
+    int n = 0;
+    for (const auto& p : aux_points(sensor_m, view, k)) {
+      const double rho = std::hypot(p[0] - centre_m[static_cast<size_t>(k)][0], p[1] - centre_m[static_cast<size_t>(k)][1]);
+      if (rho < o.contact_band * R) continue;
+      ss += (rho - R) * (rho - R);
+      ++n;
+    }
+    out[static_cast<size_t>(k)] = {n > 0 ? std::sqrt(ss / n) : 0.0, n};
+  }
+  return out;
+}
+
+bool is_drop_event(const MeasuredRecord& r, const board::BoardConfig& b, std::string* why) {
+  auto no = [&](const std::string& s) {
+    if (why != nullptr) *why = s;
+    return false;
+  };
+  const size_t n = r.samples();
+  const double fs = r.sample_rate_hz;
+  if (r.trigger_index <= 0 || static_cast<double>(n - static_cast<size_t>(std::min<long>(r.trigger_index, static_cast<long>(n)))) < 0.05 * fs)
+    return no("no trigger with at least 50 ms after it");
+  const ChannelMap map = match_channels(r, b);
+  const auto trig = static_cast<size_t>(r.trigger_index);
+  double lim = 1e9;
+  for (const auto& a : b.plant.amb) lim = std::min(lim, a.coil_current_limit_a);
+  // Currents after the trigger (10 ms on, the amplifiers' decay): near zero at most samples.
+  size_t quiet = 0, total = 0;
+  for (size_t i = trig + static_cast<size_t>(0.01 * fs); i < n; ++i, ++total) {
+    double m = 0.0;
+    for (int j = 4; j < 8; ++j) m = std::max(m, std::abs(r.channels[static_cast<size_t>(map.index[static_cast<size_t>(j)])].values[i]));
+    if (m < 0.02 * lim) ++quiet;
+  }
+  if (total == 0 || static_cast<double>(quiet) < 0.9 * static_cast<double>(total))
+    return no("the coil currents do not stay near zero after the trigger (not an amplifier cut-off)");
+  Readings s(n - trig);
+  for (size_t i = trig; i < n; ++i)
+    for (int k = 0; k < 4; ++k) s[i - trig][static_cast<size_t>(k)] = r.channels[static_cast<size_t>(map.index[static_cast<size_t>(k)])].values[i];
+  const model::drop::SensorOrbit view(b.plant);
+  double reach = 0.0;
+  for (int k = 0; k < 2; ++k)
+    for (const auto& p : aux_points(s, view, k))
+      reach = std::max(reach, std::hypot(p[0] - rig_centre(b.plant, k)[0], p[1] - rig_centre(b.plant, k)[1]) /
+                                  b.plant.aux[static_cast<size_t>(k)].clearance_m);
+  if (reach < 0.8) return no("the orbit does not reach the auxiliary bearings after the trigger");
+  return true;
+}
+
+MeasuredRecord slice_record(const MeasuredRecord& r, size_t begin, size_t end) {
+  MeasuredRecord s = r;
+  end = std::min(end, r.samples());
+  begin = std::min(begin, end);
+  for (auto& c : s.channels)
+    c.values.assign(c.values.begin() + static_cast<long>(begin), c.values.begin() + static_cast<long>(end));
+  const long t = r.trigger_index - static_cast<long>(begin);
+  s.trigger_index = t >= 0 && t < static_cast<long>(end - begin) ? t : 0;
+  return s;
+}
+
+fit::DropMeasurement drop_measurement_of(const MeasuredRecord& r, const board::BoardConfig& b, const DropResidualOptions& o) {
+  const ChannelMap map = match_channels(r, b);
+  fit::DropMeasurement m;
+  m.source = r.path;
+  m.rig = r.rig;
+  m.sample_rate_hz = r.sample_rate_hz;
+  const auto trig = static_cast<size_t>(std::max<long>(r.trigger_index, 0));
+  const size_t first = trig - std::min(trig, static_cast<size_t>(0.02 * r.sample_rate_hz));
+  const size_t end = std::min(r.samples(), trig + static_cast<size_t>(std::lround(o.window_s * r.sample_rate_hz)));
+  m.trigger_index = static_cast<int>(trig - first);
+  for (size_t i = first; i < end; ++i) {
+    std::array<double, 4> s{};
+    for (int k = 0; k < 4; ++k) s[static_cast<size_t>(k)] = r.channels[static_cast<size_t>(map.index[static_cast<size_t>(k)])].values[i];
+    m.sensor_m.push_back(s);
+    if (map.speed >= 0) m.speed_rad_s.push_back(2.0 * M_PI * r.channels[static_cast<size_t>(map.speed)].values[i]);
+  }
+  m.speed_at_trigger_hz = map.speed >= 0 ? r.channels[static_cast<size_t>(map.speed)].values[trig]
+                                         : (r.speed_rpm > 0 ? r.speed_rpm / 60.0 : 0.0);
+  m.amplifiers_off = true;
+  return m;
+}
+
+DropResidualOutcome run_drop_residual(const MeasuredRecord& r, const board::BoardConfig& b, const DropResidualOptions& o) {
+  std::string why;
+  if (!is_drop_event(r, b, &why)) throw std::runtime_error("record " + r.path + " is not a drop event: " + why);
+  DropResidualOutcome out;
+  const double fs = r.sample_rate_hz;
+  const auto trig = static_cast<size_t>(r.trigger_index);
+
+  // Levitated part: the steady loop on the pre-trigger history.
+  const double lev_s = static_cast<double>(trig) / fs;
+  if (lev_s >= o.min_levitated_s) {
+    MeasuredRecord pre = slice_record(r, 0, trig);
+    pre.trigger_index = 0;
+    SteadyOptions so;
+    so.window_s = std::min(so.window_s, lev_s - 0.05);
+    try {
+      const SteadyData d = extract_steady(pre, b, so);
+      out.levitated = run_residual_loop(d, b, o.loop);
+      out.levitated_analysed = true;
+    } catch (const std::runtime_error& e) {
+      out.levitated_note = std::string("levitated part not analysed: ") + e.what();
+    }
+  } else {
+    out.levitated_note = fmt("levitated part not analysed: %.2f s of pre-trigger history < %.2f s", lev_s, o.min_levitated_s);
+  }
+
+  // Drop part: fit the drop model, then look at the contact geometry.
+  const fit::DropMeasurement m = drop_measurement_of(r, b, o);
+  if (const auto err = m.check(); !err.empty()) throw std::runtime_error("record " + r.path + ": drop part: " + err);
+  fit::DropFitOptions fo;
+  fo.max_window_s = o.window_s;
+  const fit::DropFitResult base = fit::fit_drop(m, b, fo);
+  out.drop_before = evaluate(m, base, b.plant, o);
+  out.drop_after = out.drop_before;
+  out.drop_notes.push_back(fmt("drop model fitted: friction coefficient %.3f, Phase C cost %.4g", base.friction_coefficient,
+                               base.cost.total));
+  CandidateScore cand;
+  cand.name = "aux_bearing_offset";
+  std::array<std::array<double, 2>, 2> delta{};
+  bool significant = false, testable = true;
+  for (int k = 0; k < 2; ++k) {
+    const auto& mc = out.drop_before.measured_circle[static_cast<size_t>(k)];
+    const auto& sc = out.drop_before.simulated_circle[static_cast<size_t>(k)];
+    const double R = b.plant.aux[static_cast<size_t>(k)].clearance_m;
+    if (!mc.valid || !sc.valid) {
+      testable = false;
+      out.drop_notes.push_back(fmt("aux bearing %.0f: too few contact points for the circle fit", k));
+      continue;
+    }
+    delta[static_cast<size_t>(k)] = {mc.centre_m[0] - sc.centre_m[0], mc.centre_m[1] - sc.centre_m[1]};
+    const double dn = std::hypot(delta[static_cast<size_t>(k)][0], delta[static_cast<size_t>(k)][1]);
+    const double sig = std::hypot(mc.sigma_m, sc.sigma_m);
+    const bool sig_k = dn > std::max(4.0 * sig, o.min_offset_fraction * R);
+    significant = significant || sig_k;
+    out.drop_notes.push_back(fmt("aux bearing %.0f: contact circle centre %+.1f / %+.1f um from the model's (sigma %.1f um)", k,
+                                 delta[static_cast<size_t>(k)][0] * 1e6, delta[static_cast<size_t>(k)][1] * 1e6, sig * 1e6) +
+                             (sig_k ? " -- significant" : ""));
+  }
+  cand.testable = testable;
+  if (testable) {
+    // Candidate score without refit: the misfit with the centres moved by delta (bias kept).
+    std::array<std::array<double, 2>, 2> moved{};
+    for (int k = 0; k < 2; ++k)
+      for (int a = 0; a < 2; ++a)
+        moved[static_cast<size_t>(k)][static_cast<size_t>(a)] =
+            out.drop_before.simulated_circle[static_cast<size_t>(k)].centre_m[static_cast<size_t>(a)] +
+            delta[static_cast<size_t>(k)][static_cast<size_t>(a)];
+    const size_t first = static_cast<size_t>(m.trigger_index);
+    const Readings meas(m.sensor_m.begin() + static_cast<long>(first), m.sensor_m.end());
+    const auto mis = contact_misfit(meas, b.plant, moved, o);
+    double ssr = 0.0;
+    int pts = 0;
+    for (const auto& [rms, cnt] : mis) ssr += rms * rms * cnt, pts += cnt;
+    const double per_point = std::min(1.0, 1.0 / (fs * o.decorrelation_s));
+    const double n_eff = std::max(1.0, pts * per_point);
+    cand.delta_bic = ssr > 0 && out.drop_before.misfit_ssr_m2 > 0
+                         ? n_eff * std::log(out.drop_before.misfit_ssr_m2 / ssr) - 4.0 * std::log(n_eff)
+                         : 0.0;
+    cand.evidence = fmt("contact circles off the model's centres by %.1f and %.1f um (%.0f decorrelated contact points)",
+                        std::hypot(delta[0][0], delta[0][1]) * 1e6, std::hypot(delta[1][0], delta[1][1]) * 1e6, n_eff);
+    cand.evidence += significant ? "" : "; within the estimator's uncertainty";
+  } else {
+    cand.evidence = "not testable: the rotor touched an aux bearing too briefly for a circle fit";
+  }
+  out.drop_ranking.push_back(cand);
+
+  if (testable && significant && cand.delta_bic > o.loop.min_delta_bic) {
+    board::BoardConfig b2 = b;
+    for (int k = 0; k < 2; ++k) {
+      b2.plant.aux[static_cast<size_t>(k)].centre_offset_x_m += delta[static_cast<size_t>(k)][0];
+      b2.plant.aux[static_cast<size_t>(k)].centre_offset_y_m += delta[static_cast<size_t>(k)][1];
+    }
+    const fit::DropFitResult refit = fit::fit_drop(m, b2, fo);
+    const DropErrors after = evaluate(m, refit, b2.plant, o);
+    const double per_point = std::min(1.0, 1.0 / (fs * o.decorrelation_s));
+    const double n_eff = std::max(1.0, out.drop_before.misfit_points * per_point);
+    const double dbic = after.misfit_ssr_m2 > 0
+                            ? n_eff * std::log(out.drop_before.misfit_ssr_m2 / after.misfit_ssr_m2) - 4.0 * std::log(n_eff)
+                            : 0.0;
+    const bool material = after.error.statics <= (1.0 - o.loop.min_relative_improvement) * out.drop_before.error.statics;
+    out.drop_notes.push_back(fmt("refit with the offset: friction %.3f, contact misfit %.4g -> %.4g of the clearance, dBIC %.1f",
+                                 refit.friction_coefficient, out.drop_before.error.statics, after.error.statics, dbic));
+    if (dbic > o.loop.min_delta_bic && material) {
+      out.drop_after = after;
+      EffectAdded e;
+      e.name = "aux_bearing_offset";
+      e.parameters = {{"x0_m", delta[0][0]}, {"y0_m", delta[0][1]}, {"x1_m", delta[1][0]}, {"y1_m", delta[1][1]},
+                      {"friction_coefficient", refit.friction_coefficient}};
+      e.evidence = cand.evidence;
+      e.delta_bic = dbic;
+      out.effects_added.push_back(e);
+    } else {
+      out.drop_notes.push_back("aux_bearing_offset not kept: it does not earn its parameters");
+    }
+  }
+
+  std::vector<EffectAdded> all = out.levitated_analysed ? out.levitated.effects_added : std::vector<EffectAdded>{};
+  all.insert(all.end(), out.effects_added.begin(), out.effects_added.end());
+  out.effects_added = all;
+  if (out.levitated_analysed) {
+    out.before = combine(out.levitated.before.error, out.drop_before.error);
+    out.after = combine(out.levitated.after.error, out.drop_after.error);
+  } else {
+    out.before = out.drop_before.error;
+    out.after = out.drop_after.error;
+  }
+  out.verdict.clear();
+  for (const auto& e : out.effects_added) out.verdict += (out.verdict.empty() ? "" : "+") + e.name;
+  if (out.verdict.empty()) out.verdict = "none";
+  return out;
+}
+
+}  // namespace amb::host::residual

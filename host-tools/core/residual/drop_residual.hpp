@@ -1,0 +1,101 @@
+#pragma once
+// The residual loop on a drop event (a capture: levitated pre-trigger history, then the
+// amplifiers are cut and the rotor falls onto its auxiliary bearings).
+//  * Levitated part (before the trigger): the steady-state loop of residual_loop.hpp on that
+//    history (the effects that act while the AMBs work: pedestal, runout, amplifier lag,
+//    rotor modes, saturation). No rest segment, so aux_bearing_offset is not testable there.
+//  * Drop part (after the trigger): the Phase C drop model fitted to it (friction coefficient
+//    and the free-fall initial state, host-tools/core/fit/), then the geometry of the
+//    contacts: while the rotor rolls or bounces on an aux bearing its centre lies on the
+//    clearance circle about that bearing's centre, so a least-squares circle of the known
+//    radius through the measured contact points locates the bearing centre. The same estimator
+//    on the fitted simulation gives its bias (sensor view, extrapolation to the aux planes,
+//    contact compliance). A centre that differs from the model's by more than the estimator's
+//    uncertainty is `aux_bearing_offset`: added to the drop model, the model refitted, kept
+//    only if it earns its four parameters (BIC on the contact-circle misfit, and the misfit
+//    falls by at least 10 %).
+// Nothing here reads declared faults or knows which effect a record carries.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "firmware/board/board.hpp"
+#include "host-tools/core/fit/drop_measurement.hpp"
+#include "host-tools/core/residual/measured_record.hpp"
+#include "host-tools/core/residual/residual_loop.hpp"
+
+namespace amb::host::residual {
+
+struct DropResidualOptions {
+  double window_s = 0.4;            ///< drop window compared after the trigger, s
+  double min_levitated_s = 1.0;     ///< shortest pre-trigger history the steady loop is run on, s
+  double orbit_error_window_s = 0.03; ///< time-domain orbit error over the first this-many s after the trigger, s
+  double contact_band = 0.9;        ///< a sample is a contact point when its radius about the centre >= this x clearance
+  double decorrelation_s = 1e-3;    ///< contact points closer than this in time count as one (uncertainty, BIC), s
+  double min_offset_fraction = 0.02; ///< smallest centre offset reported as evidence, fraction of the clearance
+  LoopOptions loop;                 ///< the steady loop on the levitated part
+};
+
+/// Centre of one aux bearing's clearance circle from the contact points of an orbit.
+struct ContactCircle {
+  bool valid = false;               ///< enough contact points (>= 20 decorrelated)
+  std::array<double, 2> centre_m{}; ///< (x, y) in the sensor frame, m
+  double sigma_m = 0.0;             ///< standard error of each centre coordinate, m
+  double misfit_rms_m = 0.0;        ///< rms of (|p - centre| - clearance) over the contact points, m
+  int points = 0;                   ///< contact points used
+};
+
+/// Fit circles of radius `clearance_m` (per bearing, from `rig`) to the aux-plane orbit of
+/// the sensor readings [A1, A2, B1, B2] (m) sampled at `fs_hz`, starting from the rig's centres.
+std::array<ContactCircle, 2> estimate_contact_circles(const std::vector<std::array<double, 4>>& sensor_m,
+                                                      const model::PlantParams& rig, double fs_hz,
+                                                      const DropResidualOptions& o = {});
+
+/// rms of (|p - centre| - clearance) over the samples whose radius about `centre` is at
+/// least contact_band x clearance, per bearing (m), and the number of such samples.
+std::array<std::pair<double, int>, 2> contact_misfit(const std::vector<std::array<double, 4>>& sensor_m,
+                                                     const model::PlantParams& rig,
+                                                     const std::array<std::array<double, 2>, 2>& centre_m,
+                                                     const DropResidualOptions& o = {});
+
+/// Is the record a drop event: a trigger inside it, the coil currents near zero after it and
+/// the orbit reaching the aux bearings. `why` receives the reason when not.
+bool is_drop_event(const MeasuredRecord& r, const board::BoardConfig& b, std::string* why = nullptr);
+
+/// Samples [begin, end) of a record (trigger index shifted; 0 if outside).
+MeasuredRecord slice_record(const MeasuredRecord& r, size_t begin, size_t end);
+
+/// The drop part as the Phase C fit's measurement (20 ms before the trigger, `window_s` after).
+fit::DropMeasurement drop_measurement_of(const MeasuredRecord& r, const board::BoardConfig& b,
+                                         const DropResidualOptions& o = {});
+
+/// Error figures of the drop part, measurement against a fitted simulation.
+struct DropErrors {
+  ErrorFigures error;   ///< rms: orbit distance at the sensor planes over orbit_error_window_s / clearance;
+                        ///< spectral, pearson: Welch PSDs of the four sensors after the trigger (1/3 octaves);
+                        ///< statics: contact-circle misfit about the model's centres (bias-corrected) / clearance
+  double cost = 0.0;    ///< Phase C cost at the fit
+  double friction_coefficient = 0.0;
+  std::array<ContactCircle, 2> measured_circle{}, simulated_circle{};
+  std::array<std::array<double, 2>, 2> model_centre_m{};  ///< the model's aux-bearing centres, m
+  double misfit_ssr_m2 = 0.0;   ///< sum of squared contact misfits about the bias-corrected model centres, m^2
+  int misfit_points = 0;
+};
+
+struct DropResidualOutcome {
+  bool levitated_analysed = false;
+  std::string levitated_note;                 ///< why not, when not
+  ResidualOutcome levitated;                  ///< the steady loop on the pre-trigger history
+  DropErrors drop_before, drop_after;
+  std::vector<std::string> drop_notes;        ///< findings of the drop part
+  std::vector<CandidateScore> drop_ranking;
+  std::vector<EffectAdded> effects_added;     ///< levitated part first, then the drop part
+  ErrorFigures before, after;                 ///< both parts: rms, spectral, statics = quadratic mean; pearson = mean
+  std::string verdict;                        ///< "none", else added names joined with "+"
+};
+
+/// Throws std::runtime_error naming the problem when the record is not a usable drop event.
+DropResidualOutcome run_drop_residual(const MeasuredRecord& r, const board::BoardConfig& b,
+                                      const DropResidualOptions& o = {});
+
+}  // namespace amb::host::residual
