@@ -22,6 +22,7 @@ struct Args {
   double rpm = 0.0;
   std::string bearing;
   bool json = false;
+  bool remove_discrete = false;
 };
 
 nlohmann::json opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
@@ -51,7 +52,9 @@ int run(const Args& a) {
   }
   hb::BearingCheckResult r;
   try {
-    r = hb::check_bearing(x, a.fs_hz, a.rpm / 60.0, *geometry);
+    hb::BearingCheckOptions o;
+    o.remove_discrete = a.remove_discrete;
+    r = hb::check_bearing(x, a.fs_hz, a.rpm / 60.0, *geometry, o);
   } catch (const std::invalid_argument& e) {
     return bad_input(e.what());
   }
@@ -69,6 +72,12 @@ int run(const Args& a) {
     j["bearing"] = std::string(geometry->name);
     j["band_hz"] = {r.band.low_hz, r.band.high_hz};
     j["band_kurtosis"] = r.band.kurtosis;
+    j["discrete_removed"] = {{"enabled", a.remove_discrete},
+                             {"bins", r.discrete.bins},
+                             {"energy_fraction", r.discrete.energy_fraction}};
+    nlohmann::json lines = nlohmann::json::array();
+    for (const auto& l : r.strongest_lines) lines.push_back({{"hz", l.hz}, {"ratio", l.ratio}});
+    j["strongest_lines"] = lines;
     j["ratio"] = {{"bpfo", r.bpfo.harmonics[0].ratio},
                   {"bpfi", r.bpfi.harmonics[0].ratio},
                   {"bsf", r.bsf.harmonics[0].ratio},
@@ -82,6 +91,9 @@ int run(const Args& a) {
   std::printf("bearing %s at %.1f rpm (shaft %.3f Hz); resonance band %.0f-%.0f Hz (spectral kurtosis %.2f)\n",
               std::string(geometry->name).c_str(), a.rpm, p.shaft_hz, r.band.low_hz, r.band.high_hz,
               r.band.kurtosis);
+  if (a.remove_discrete)
+    std::printf("discrete components removed: %zu bins, %.1f %% of the energy (|X| > %.2f x local median)\n",
+                r.discrete.bins, 100.0 * r.discrete.energy_fraction, r.discrete.threshold);
   std::printf("%-6s %12s %12s %10s %10s %s\n", "line", "predicted_Hz", "found_Hz", "ratio", "threshold", "harmonics");
   auto row = [](const char* name, const hb::FamilyResult& f, std::optional<double> found) {
     int n = 0;
@@ -96,6 +108,13 @@ int run(const Args& a) {
   row("bsf", r.bsf, r.bsf.harmonics[0].found_hz);
   row("2bsf", r.bsf2, r.bsf2.harmonics[0].found_hz);
   row("ftf", r.ftf, r.ftf.harmonics[0].found_hz);
+  if (!r.strongest_lines.empty()) {
+    std::printf("strongest envelope lines (Hz ratio x f_r x FTF):");
+    for (const auto& l : r.strongest_lines)
+      std::printf("%s %.2f %.1f %.3f %.3f", &l == &r.strongest_lines.front() ? "" : ";", l.hz, l.ratio,
+                  l.hz / p.shaft_hz, l.hz / p.ftf_hz);
+    std::printf("\n");
+  }
   std::printf("verdict: %s (%s)\n", r.verdict.c_str(), r.reason.c_str());
   return 0;
 }
@@ -110,6 +129,8 @@ const amb::host::Registration reg{
       sub.add_option("--rpm", args->rpm, "nominal shaft speed, rpm")->required();
       sub.add_option("--bearing", args->bearing, "bearing name, e.g. 'SKF 6205' or 6205")->required();
       sub.add_flag("--json", args->json, "print the figures as JSON");
+      sub.add_flag("--remove-discrete", args->remove_discrete,
+                   "edit discrete spectral lines (shaft harmonics, tones) out before band selection");
       run_fn = [args] { return run(*args); };
     }};
 

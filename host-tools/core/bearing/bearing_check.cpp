@@ -8,7 +8,8 @@ namespace amb::host::bearing {
 
 bool BearingCheckOptions::valid() const {
   return speed_uncertainty >= 0 && slip_allowance >= 0 && false_alarm_probability > 0 && min_band_kurtosis > -2 &&
-         false_alarm_probability < 1 && harmonics >= 2 && floor_halfwidth_hz >= 0 && band.valid();
+         false_alarm_probability < 1 && harmonics >= 2 && floor_halfwidth_hz >= 0 && discrete_halfwidth_hz > 0 &&
+         strongest_lines >= 0 && band.valid();
 }
 
 LineResult find_line(const EnvelopeSpectrum& s, double predicted_hz, double rel_tolerance,
@@ -45,6 +46,33 @@ LineResult find_line(const EnvelopeSpectrum& s, double predicted_hz, double rel_
 }
 
 namespace {
+
+// Local maxima of s in [f_lo, f_hi] over the median of +-floor_hz (line +-2 bins excluded).
+std::vector<EnvelopeLine> strongest_lines(const EnvelopeSpectrum& s, double f_lo, double f_hi, double floor_hz,
+                                          const BearingCheckOptions& o) {
+  std::vector<EnvelopeLine> out;
+  const auto n = static_cast<long>(s.amplitude.size());
+  if (s.df_hz <= 0 || n < 16 || o.strongest_lines == 0) return out;
+  const long k0 = std::max(2L, std::lround(f_lo / s.df_hz));
+  const long k1 = std::min(n - 2, std::lround(f_hi / s.df_hz));
+  const long fw = std::max(8L, std::lround(floor_hz / s.df_hz));
+  if (k1 <= k0) return out;
+  const double k = std::sqrt(std::log2(static_cast<double>(k1 - k0 + 1) / o.false_alarm_probability));
+  std::vector<double> floor_bins;
+  for (long c = k0; c <= k1; ++c) {
+    const double a = s.amplitude[static_cast<size_t>(c)];
+    if (a < s.amplitude[static_cast<size_t>(c - 1)] || a < s.amplitude[static_cast<size_t>(c + 1)]) continue;
+    floor_bins.clear();
+    for (long j = std::max(1L, c - fw); j <= std::min(n - 1, c + fw); ++j)
+      if (std::abs(j - c) > 2) floor_bins.push_back(s.amplitude[static_cast<size_t>(j)]);
+    auto mid = floor_bins.begin() + static_cast<long>(floor_bins.size() / 2);
+    std::nth_element(floor_bins.begin(), mid, floor_bins.end());
+    if (*mid > 0 && a / *mid > k) out.push_back({static_cast<double>(c) * s.df_hz, a / *mid});
+  }
+  std::sort(out.begin(), out.end(), [](const EnvelopeLine& a, const EnvelopeLine& b) { return a.ratio > b.ratio; });
+  if (out.size() > static_cast<size_t>(o.strongest_lines)) out.resize(static_cast<size_t>(o.strongest_lines));
+  return out;
+}
 
 double line_score(const LineResult& l) { return l.counts() ? std::log2(l.ratio / l.threshold) : 0.0; }
 
@@ -96,6 +124,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
   const auto& p = r.predicted;
 
   BandAnalyser analyser(x, fs_hz);
+  if (o.remove_discrete) r.discrete = analyser.remove_discrete_components(o.discrete_halfwidth_hz, o.false_alarm_probability);
   BandSelectionOptions bo = o.band;
   // The squared envelope of a band B wide holds modulation up to B, with SNR falling towards B:
   // ask for 2 harmonics of BPFI plus their shaft sidebands with margin, i.e. B >= 4 BPFI
@@ -105,6 +134,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
   const EnvelopeSpectrum s = analyser.envelope_spectrum(r.band);
 
   const double tol = o.speed_uncertainty + o.slip_allowance;
+  r.strongest_lines = strongest_lines(s, 1.0, 2.0 * (p.bpfi_hz + p.shaft_hz), 5.0, o);
   r.bpfo = search_family(s, p.bpfo_hz, tol, o);
   r.bpfi = search_family(s, p.bpfi_hz, tol, o);
   r.ftf = search_family(s, p.ftf_hz, tol, o);

@@ -44,8 +44,18 @@ struct BearingCheckOptions {
                                           ///< different families coincide (6205: 3 BPFO ~ 2 BPFI, 3 BSF ~ 2 BPFO)
   double min_band_kurtosis = 1.0;         ///< a fault verdict needs an impulsive band (see below)
   double floor_halfwidth_hz = 0.0;        ///< floor window half width, Hz; 0: 10x the search half width, >= 5 Hz
+  bool remove_discrete = false;           ///< edit discrete spectral lines out before band selection (off:
+                                          ///< CWRU race faults are themselves near-discrete; docs/bearing.md)
+  double discrete_halfwidth_hz = 5.0;     ///< median window half width of the discrete-line test, Hz
+  int strongest_lines = 12;               ///< how many of the strongest envelope lines to report (0: none)
   BandSelectionOptions band;              ///< band grid; min_bandwidth_hz is raised to max(4, harmonics+2)*BPFI
   bool valid() const;
+};
+
+/// A line of the envelope spectrum that stands out of its local floor (for the analyst).
+struct EnvelopeLine {
+  double hz = 0.0;     ///< frequency, Hz
+  double ratio = 0.0;  ///< amplitude / median of the bins within +-floor window (line excluded)
 };
 
 /// One searched line.
@@ -80,6 +90,11 @@ struct BearingCheckResult {
   LineResult bpfi_upper_sideband;  ///< BPFI + shaft frequency
   std::optional<double> found_bsf_hz;  ///< BSF line, or half the 2*BSF line, if one stands out
   Band band;                           ///< resonance band used
+  DiscreteRemoval discrete;            ///< what the discrete-line removal did (zero if off)
+  /// Strongest local maxima of the envelope spectrum between 1 Hz and 2 BPFI + 2 f_r whose
+  /// ratio exceeds k = sqrt(log2(n_bins / p_fa)) (false-alarm-corrected for all bins searched),
+  /// strongest first, at most options.strongest_lines.
+  std::vector<EnvelopeLine> strongest_lines;
   std::string verdict;                 ///< outer_race, inner_race, ball, healthy, unclear
   std::string reason;                  ///< one sentence saying why
 };

@@ -118,6 +118,46 @@ Band BandAnalyser::select_band(const BandSelectionOptions& o) const {
   return best;
 }
 
+DiscreteRemoval BandAnalyser::remove_discrete_components(double halfwidth_hz, double false_alarm_probability) {
+  if (!(halfwidth_hz > 0) || !(false_alarm_probability > 0 && false_alarm_probability < 1))
+    throw std::invalid_argument("invalid discrete-removal options");
+  DiscreteRemoval d;
+  const size_t m = spec_re_.size();
+  const double df = fs_hz_ / static_cast<double>(n_);
+  const auto w = static_cast<long>(std::max(4.0, std::round(halfwidth_hz / df)));
+  d.threshold = std::sqrt(std::log2(static_cast<double>(m) / false_alarm_probability));
+  std::vector<double> mag(m), med(m);
+  double total = 0.0;
+  for (size_t k = 0; k < m; ++k) {
+    mag[k] = std::hypot(spec_re_[k], spec_im_[k]);
+    if (k > 0) total += mag[k] * mag[k];
+  }
+  // Running median, evaluated every `step` bins (the floor varies slowly over a window).
+  const long step = std::max(1L, w / 8);
+  std::vector<double> win;
+  win.reserve(static_cast<size_t>(2 * w + 1));
+  for (long c = 1; c < static_cast<long>(m); c += step) {
+    win.clear();
+    for (long j = std::max(1L, c - w); j <= std::min(static_cast<long>(m) - 1, c + w); ++j)
+      win.push_back(mag[static_cast<size_t>(j)]);
+    auto mid = win.begin() + static_cast<long>(win.size() / 2);
+    std::nth_element(win.begin(), mid, win.end());
+    for (long j = c; j < std::min(static_cast<long>(m), c + step); ++j) med[static_cast<size_t>(j)] = *mid;
+  }
+  double removed = 0.0;
+  for (size_t k = 1; k < m; ++k) {
+    if (mag[k] > d.threshold * med[k] && mag[k] > 0) {
+      const double g = med[k] / mag[k];
+      removed += mag[k] * mag[k] - med[k] * med[k];
+      spec_re_[k] *= g;
+      spec_im_[k] *= g;
+      ++d.bins;
+    }
+  }
+  d.energy_fraction = total > 0 ? removed / total : 0.0;
+  return d;
+}
+
 EnvelopeSpectrum BandAnalyser::envelope_spectrum(const Band& band) const {
   EnvelopeSpectrum s;
   s.band = band;

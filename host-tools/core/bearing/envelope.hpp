@@ -32,6 +32,13 @@ struct EnvelopeSpectrum {
   double at(double f_hz) const;
 };
 
+/// What remove_discrete_components() did.
+struct DiscreteRemoval {
+  size_t bins = 0;               ///< spectrum bins edited
+  double energy_fraction = 0.0;  ///< share of the record's energy removed, 0..1
+  double threshold = 0.0;        ///< k: a bin is discrete if |X| > k x local median
+};
+
 /// Precomputed spectrum of a record; bands are analysed from it without recomputing the FFT.
 class BandAnalyser {
  public:
@@ -43,6 +50,13 @@ class BandAnalyser {
   double band_kurtosis(double low_hz, double high_hz) const;
   /// The band with the highest spectral kurtosis on the grid (kurtogram-lite).
   Band select_band(const BandSelectionOptions& o) const;
+  /// Remove discrete (deterministic) components from the stored spectrum before band selection:
+  /// a bin whose magnitude exceeds k times the median magnitude of the bins within
+  /// +-halfwidth_hz is set to that median (phase kept). Under Gaussian noise |X| is Rayleigh,
+  /// P(|X| > k median) = 2^(-k^2); k = sqrt(log2(n_bins / p_fa)) allows p_fa false edits per record.
+  /// Caveat (docs/bearing.md): a fault whose impacts are strictly periodic (no slip) is itself
+  /// discrete and is attenuated too.
+  DiscreteRemoval remove_discrete_components(double halfwidth_hz, double false_alarm_probability);
   /// Envelope spectrum for `band` (squared envelope, mean removed, Hann window).
   EnvelopeSpectrum envelope_spectrum(const Band& band) const;
   double fs_hz() const { return fs_hz_; }
