@@ -47,6 +47,12 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
                      {"error_before", {{"rms", s.residual_before[0]}, {"spectral", s.residual_before[1]}, {"pearson", s.residual_before[2]}}},
                      {"error_after", {{"rms", s.residual_after[0]}, {"spectral", s.residual_after[1]}, {"pearson", s.residual_after[2]}}},
                      {"error", s.residual_error}};
+    auto f4 = [](const std::array<double, 4>& e) {
+      return nlohmann::json{{"rms", e[0]}, {"spectral", e[1]}, {"pearson", e[2]}, {"statics", e[3]}};
+    };
+    j["drop_residual"] = {{"ran", s.drop_residual_ran}, {"record", s.drop_residual_record},
+                          {"verdict", s.drop_residual_verdict}, {"error_before", f4(s.drop_residual_before)},
+                          {"error_after", f4(s.drop_residual_after)}, {"error", s.drop_residual_error}};
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("Drop scenario on %s (simulated rig, sim HAL backend)\n", s.board.c_str());
@@ -91,6 +97,15 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
                   s.residual_after[0], s.residual_after[1], s.residual_after[2]);
     else if (!s.residual_error.empty())
       std::printf("  residual loop      : not run: %s\n", s.residual_error.c_str());
+    if (s.drop_residual_ran)
+      std::printf("  residual, drop     : undeclared effect in a drop event -> added: %s\n"
+                  "                       error before rms %.4f / spectral %.2f dB / pearson %.3f / contact misfit %.4f\n"
+                  "                       error after  rms %.4f / spectral %.2f dB / pearson %.3f / contact misfit %.4f\n",
+                  s.drop_residual_verdict.c_str(), s.drop_residual_before[0], s.drop_residual_before[1],
+                  s.drop_residual_before[2], s.drop_residual_before[3], s.drop_residual_after[0], s.drop_residual_after[1],
+                  s.drop_residual_after[2], s.drop_residual_after[3]);
+    else if (!s.drop_residual_error.empty())
+      std::printf("  residual, drop     : not run: %s\n", s.drop_residual_error.c_str());
     std::printf("  run                : %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.simulated_s, s.wall_s,
                 s.simulated_s / s.wall_s);
   }

@@ -169,29 +169,34 @@ std::array<ContactCircle, 2> estimate_contact_circles(const Readings& sensor_m, 
   for (int k = 0; k < 2; ++k) {
     const double R = rig.aux[static_cast<size_t>(k)].clearance_m;
     const auto pts = aux_points(sensor_m, view, k);
-    Eigen::Vector2d c(rig_centre(rig, k)[0], rig_centre(rig, k)[1]);
+    // Unknowns: centre (x, y) and the effective contact radius (clearance plus the mean
+    // contact deflection and the sensor view's bias), a nuisance parameter.
+    Eigen::Vector3d c(rig_centre(rig, k)[0], rig_centre(rig, k)[1], R);
     ContactCircle& cc = out[static_cast<size_t>(k)];
-    Eigen::Matrix2d jtj = Eigen::Matrix2d::Zero();
+    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
     double ss = 0.0;
     int used = 0;
-    for (int it = 0; it < 30; ++it) {
+    for (int it = 0; it < 40; ++it) {
       jtj.setZero();
-      Eigen::Vector2d jtr = Eigen::Vector2d::Zero();
+      Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
       ss = 0.0;
       used = 0;
       for (const auto& p : pts) {
         const Eigen::Vector2d d(p[0] - c[0], p[1] - c[1]);
         const double rho = d.norm();
         if (rho < o.contact_band * R || rho <= 0) continue;
-        const Eigen::Vector2d j = -d / rho;  // d(rho - R)/dc
-        const double r = rho - R;
+        const Eigen::Vector3d j(-d[0] / rho, -d[1] / rho, -1.0);  // d(rho - R_eff)/d(cx, cy, R_eff)
+        const double r = rho - c[2];
         jtj += j * j.transpose();
         jtr += j * r;
         ss += r * r;
         ++used;
       }
-      if (static_cast<double>(used) * per_point < 20.0 || std::abs(jtj.determinant()) < 1e-12 * used * used) break;
-      const Eigen::Vector2d dc = -jtj.ldlt().solve(jtr);
+      if (static_cast<double>(used) * per_point < 20.0) break;
+      // A short arc leaves the radius and the centre along the arc's normal confounded.
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(jtj);
+      if (es.eigenvalues()[0] < 1e-3 * es.eigenvalues()[2]) break;
+      const Eigen::Vector3d dc = -jtj.ldlt().solve(jtr);
       c += dc;
       if (dc.norm() < 1e-10) {
         cc.valid = true;
@@ -203,10 +208,11 @@ std::array<ContactCircle, 2> estimate_contact_circles(const Readings& sensor_m, 
       continue;
     }
     cc.centre_m = {c[0], c[1]};
+    cc.radius_m = c[2];
     cc.points = used;
     cc.misfit_rms_m = std::sqrt(ss / used);
-    // Covariance of the centre with decorrelated points: s^2 (J^T J)^-1 / per_point.
-    const Eigen::Matrix2d cov = (ss / used) * jtj.inverse() / per_point;
+    // Covariance with decorrelated points: s^2 (J^T J)^-1 / per_point.
+    const Eigen::Matrix3d cov = (ss / used) * jtj.inverse() / per_point;
     cc.sigma_m = std::sqrt(std::max(cov(0, 0), cov(1, 1)));
   }
   return out;
@@ -219,14 +225,17 @@ std::array<std::pair<double, int>, 2> contact_misfit(const Readings& sensor_m, c
   const model::drop::SensorOrbit view(rig);
   for (int k = 0; k < 2; ++k) {
     const double R = rig.aux[static_cast<size_t>(k)].clearance_m;
-    double ss = 0.0;
-    int n = 0;
+    // Radial scatter about `centre` (the effective radius is the mean radius: a nuisance).
+    std::vector<double> rho;
     for (const auto& p : aux_points(sensor_m, view, k)) {
-      const double rho = std::hypot(p[0] - centre_m[static_cast<size_t>(k)][0], p[1] - centre_m[static_cast<size_t>(k)][1]);
-      if (rho < o.contact_band * R) continue;
-      ss += (rho - R) * (rho - R);
-      ++n;
+      const double r = std::hypot(p[0] - centre_m[static_cast<size_t>(k)][0], p[1] - centre_m[static_cast<size_t>(k)][1]);
+      if (r >= o.contact_band * R) rho.push_back(r);
     }
+    const int n = static_cast<int>(rho.size());
+    double mean = 0.0, ss = 0.0;
+    for (double r : rho) mean += r;
+    mean /= std::max(n, 1);
+    for (double r : rho) ss += (r - mean) * (r - mean);
     out[static_cast<size_t>(k)] = {n > 0 ? std::sqrt(ss / n) : 0.0, n};
   }
   return out;

@@ -29,7 +29,7 @@ namespace amb::host::residual {
 struct DropResidualOptions {
   double window_s = 0.4;            ///< drop window compared after the trigger, s
   double min_levitated_s = 1.0;     ///< shortest pre-trigger history the steady loop is run on, s
-  double orbit_error_window_s = 0.03; ///< time-domain orbit error over the first this-many s after the trigger, s
+  double orbit_error_window_s = 0.015; ///< time-domain orbit error over the first this-many s after the trigger (the Phase C cost's orbit window: free fall and first impacts; later bouncing is chaotic), s
   double contact_band = 0.9;        ///< a sample is a contact point when its radius about the centre >= this x clearance
   double decorrelation_s = 1e-3;    ///< contact points closer than this in time count as one (uncertainty, BIC), s
   double min_offset_fraction = 0.02; ///< smallest centre offset reported as evidence, fraction of the clearance
@@ -40,19 +40,22 @@ struct DropResidualOptions {
 struct ContactCircle {
   bool valid = false;               ///< enough contact points (>= 20 decorrelated)
   std::array<double, 2> centre_m{}; ///< (x, y) in the sensor frame, m
+  double radius_m = 0.0;            ///< effective contact radius (clearance + mean deflection), m
   double sigma_m = 0.0;             ///< standard error of each centre coordinate, m
-  double misfit_rms_m = 0.0;        ///< rms of (|p - centre| - clearance) over the contact points, m
+  double misfit_rms_m = 0.0;        ///< rms of (|p - centre| - radius) over the contact points, m
   int points = 0;                   ///< contact points used
 };
 
-/// Fit circles of radius `clearance_m` (per bearing, from `rig`) to the aux-plane orbit of
-/// the sensor readings [A1, A2, B1, B2] (m) sampled at `fs_hz`, starting from the rig's centres.
+/// Fit a circle (centre and effective radius) per bearing to the aux-plane orbit points of
+/// the sensor readings [A1, A2, B1, B2] (m, sampled at `fs_hz`) whose radius is at least
+/// contact_band x clearance; starts from the rig's centres and clearances. Invalid when the
+/// contact arc is too short to separate the centre from the radius.
 std::array<ContactCircle, 2> estimate_contact_circles(const std::vector<std::array<double, 4>>& sensor_m,
                                                       const model::PlantParams& rig, double fs_hz,
                                                       const DropResidualOptions& o = {});
 
-/// rms of (|p - centre| - clearance) over the samples whose radius about `centre` is at
-/// least contact_band x clearance, per bearing (m), and the number of such samples.
+/// Radial scatter (standard deviation of |p - centre|) over the samples whose radius about
+/// `centre` is at least contact_band x clearance, per bearing (m), and the number of them.
 std::array<std::pair<double, int>, 2> contact_misfit(const std::vector<std::array<double, 4>>& sensor_m,
                                                      const model::PlantParams& rig,
                                                      const std::array<std::array<double, 2>, 2>& centre_m,

@@ -18,6 +18,7 @@
 #include "host-tools/core/fit/measured_event_io.hpp"
 #include "host-tools/core/replay/event_replay.hpp"
 #include "host-tools/core/report/report_builder.hpp"
+#include "host-tools/core/residual/drop_residual.hpp"
 #include "host-tools/core/residual/measured_record.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
@@ -230,6 +231,28 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       residual_outcome = std::make_unique<residual::ResidualOutcome>(out);
     } catch (const std::exception& e) {
       sum.residual_error = e.what();
+    }
+    // A drop event whose rig's aux-bearing centres are off the board's values (chosen here);
+    // the loop sees a drop event, fits the drop model and reads the contact geometry.
+    try {
+      say("drop event with an undeclared effect; residual loop on it");
+      model::effects::EffectSet hidden;
+      model::effects::AuxBearingOffset a;
+      a.x_m = {50e-6, -40e-6};
+      a.y_m = {-60e-6, 30e-6};
+      hidden.aux_offset = a;
+      SteadyRecordOptions so_drop;
+      so_drop.board = o.board;
+      so_drop.drop_s = 0.4;
+      sum.drop_residual_record = generate_steady_record(o.out_dir, "drop_run", hidden, so_drop);
+      const auto rec = residual::read_measured_record(sum.drop_residual_record);
+      const auto out = residual::run_drop_residual(rec, board::load_board(rec.rig));
+      sum.drop_residual_ran = true;
+      sum.drop_residual_verdict = out.verdict;
+      sum.drop_residual_before = {out.before.rms, out.before.spectral, out.before.pearson, out.before.statics};
+      sum.drop_residual_after = {out.after.rms, out.after.spectral, out.after.pearson, out.after.statics};
+    } catch (const std::exception& e) {
+      sum.drop_residual_error = e.what();
     }
   }
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

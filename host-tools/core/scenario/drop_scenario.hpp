@@ -85,6 +85,13 @@ struct DropScenarioSummary {
   std::string residual_verdict;           ///< "none" or the effects added
   std::array<double, 3> residual_before{}, residual_after{};  ///< rms, spectral (dB), pearson
   std::string residual_error;
+  // The same on a generated drop event (levitated history + drop) whose rig has an
+  // aux-bearing centre offset nobody declared; errors: rms, spectral (dB), pearson, statics.
+  bool drop_residual_ran = false;
+  std::string drop_residual_record;
+  std::string drop_residual_verdict;
+  std::array<double, 4> drop_residual_before{}, drop_residual_after{};
+  std::string drop_residual_error;
   ScenarioTrace trace;
 };
 
