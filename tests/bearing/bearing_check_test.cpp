@@ -9,6 +9,7 @@
 #include "host-tools/core/bearing/bearing_check.hpp"
 #include "host-tools/core/io/mat_file.hpp"
 #include "model/bearing/catalogue.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace hb = amb::host::bearing;
 namespace mb = amb::model::bearing;
@@ -20,7 +21,7 @@ struct Case {
   double rpm;
   const char* expected;
 };
-std::string cwru(const char* f) { return std::string(AMB_SHARED_DIR) + "/data/measured/cwru/" + f + ".mat"; }
+std::string cwru(const char* f) { return std::string(amb::test::shared_dir()) + "/data/measured/cwru/" + f + ".mat"; }
 }  // namespace
 
 class CwruBearingCheck : public ::testing::TestWithParam<Case> {};

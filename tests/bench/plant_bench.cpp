@@ -11,13 +11,14 @@
 #include "firmware/control/axis_transform.hpp"
 #include "firmware/control/pid_axis.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace {
 
 constexpr double k_period_s = 1e-4;
 
 amb::board::BoardConfig board_for(const char* name) {
-  return amb::board::load_board(std::string(AMB_SOURCE_DIR) + "/boards/" + name + ".toml");
+  return amb::board::load_board(std::string(amb::test::source_dir()) + "/boards/" + name + ".toml");
 }
 
 void report(benchmark::State& state, const amb::model::RotorAmbPlant& plant) {

@@ -5,13 +5,14 @@
 #include <sstream>
 
 #include "firmware/board/board.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace {
 using amb::board::BoardError;
 using amb::board::parse_board;
 
 std::string bath_text() {
-  std::ifstream in(std::string(AMB_SOURCE_DIR) + "/boards/bath-amb-rig.toml");
+  std::ifstream in(std::string(amb::test::source_dir()) + "/boards/bath-amb-rig.toml");
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();

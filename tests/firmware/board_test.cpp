@@ -7,6 +7,7 @@
 
 #include "boards/embedded_boards.hpp"
 #include "firmware/board/board.hpp"
+#include "tests/support/test_paths.hpp"
 
 using amb::board::BoardError;
 using amb::board::load_board;
@@ -21,7 +22,7 @@ std::string read_file(const std::string& path) {
   return ss.str();
 }
 
-std::string bath_text() { return read_file(std::string(AMB_SOURCE_DIR) + "/boards/bath-amb-rig.toml"); }
+std::string bath_text() { return read_file(std::string(amb::test::source_dir()) + "/boards/bath-amb-rig.toml"); }
 
 // Replace the first line that starts with `key =` after `section` with `key = value`.
 std::string set_key(std::string text, const std::string& section, const std::string& key,
@@ -65,7 +66,7 @@ TEST(Board, DefaultBoardIsEmbedded) {
 
 TEST(Board, FileAndEmbeddedCopyAgree) {
   const auto a = load_board("bath-amb-rig");
-  const auto b = load_board(std::string(AMB_SOURCE_DIR) + "/boards/bath-amb-rig.toml");
+  const auto b = load_board(std::string(amb::test::source_dir()) + "/boards/bath-amb-rig.toml");
   EXPECT_EQ(a.controller.kp_n_per_m, b.controller.kp_n_per_m);
   EXPECT_EQ(a.plant.rotor.elements.size(), b.plant.rotor.elements.size());
 }

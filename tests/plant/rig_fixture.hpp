@@ -5,11 +5,12 @@
 
 #include "firmware/board/board.hpp"
 #include "model/plant/plant_params.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace amb::test {
 
 inline board::BoardConfig board_from_repo(const std::string& name) {
-  return board::load_board(std::string(AMB_SOURCE_DIR) + "/boards/" + name + ".toml");
+  return board::load_board(std::string(amb::test::source_dir()) + "/boards/" + name + ".toml");
 }
 
 /// A uniform solid steel beam of `n` equal elements, no disks.

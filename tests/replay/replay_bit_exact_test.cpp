@@ -16,6 +16,7 @@
 #include "host-tools/core/replay/event_board.hpp"
 #include "host-tools/core/replay/event_replay.hpp"
 #include "tests/replay/sil_capture_run.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace {
 using namespace amb::host::replay;
@@ -38,14 +39,11 @@ void print(const char* what, const ReplayResult& r) {
               r.diagnosis.bit_exact ? " (bit-exact)" : (" (first difference: " + r.diagnosis.first_difference + ")").c_str());
 }
 
-#ifndef AMB_ARTEFACT_DIR
-#define AMB_ARTEFACT_DIR "artefacts"
-#endif
 
 /// Keep the stored event files as artefacts (for amb-host replay / report by hand).
 void keep(const std::vector<uint8_t>& bytes, const char* name) {
-  std::filesystem::create_directories(AMB_ARTEFACT_DIR);
-  std::ofstream(std::string(AMB_ARTEFACT_DIR) + "/" + name, std::ios::binary)
+  std::filesystem::create_directories(amb::test::artefact_dir());
+  std::ofstream(std::string(amb::test::artefact_dir()) + "/" + name, std::ios::binary)
       .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 }
 

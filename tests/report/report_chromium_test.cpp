@@ -14,10 +14,8 @@
 
 #include "host-tools/core/report/report_html.hpp"
 #include "tests/report/report_fixture.hpp"
+#include "tests/support/test_paths.hpp"
 
-#ifndef AMB_ARTEFACT_DIR
-#define AMB_ARTEFACT_DIR "artefacts"
-#endif
 
 namespace {
 namespace fs = std::filesystem;
@@ -65,7 +63,7 @@ std::pair<uint32_t, uint32_t> png_size(const std::string& png) {
 TEST(ReportChromium, RendersEveryPlotWithoutPageErrors) {
   if (!fs::exists(k_chromium))
     GTEST_SKIP() << k_chromium << " is missing: install the Debian packages chromium and chromium-driver to run this test";
-  const fs::path dir = fs::absolute(AMB_ARTEFACT_DIR);
+  const fs::path dir = fs::absolute(amb::test::artefact_dir());
   fs::create_directories(dir);
   const auto& d = amb::test::full_report();
   const std::string page = amb::host::report::write_event_report(d, (dir / "report.html").string());

@@ -11,11 +11,12 @@
 #include "firmware/board/board.hpp"
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/residual/sweep_frf.hpp"
+#include "tests/support/test_paths.hpp"
 
 using namespace amb;
 
 TEST(ResidualTum, MeasuredSweepLoop) {
-  const std::string dir = std::string(AMB_SHARED_DIR) + "/data/measured/tum-mlps-amb-sweep";
+  const std::string dir = std::string(amb::test::shared_dir()) + "/data/measured/tum-mlps-amb-sweep";
   if (!std::filesystem::exists(dir + "/Sweep_Time_Anregung.mat")) GTEST_SKIP() << "no TUM data at " << dir;
   const auto in = host::read_mat_vector(dir + "/Sweep_Time_Anregung.mat", "Signal.y_values.values");
   const auto dt = host::read_mat_scalar(dir + "/Sweep_Time_Anregung.mat", "Signal.x_values.increment");
@@ -27,7 +28,7 @@ TEST(ResidualTum, MeasuredSweepLoop) {
     out[c] = acc.column(c);
     for (double& v : out[c]) v *= 9.80665;  // g -> m/s^2
   }
-  const auto b = board::load_board(std::string(AMB_SOURCE_DIR) + "/boards/tum-mlps-rig.toml");
+  const auto b = board::load_board(std::string(amb::test::source_dir()) + "/boards/tum-mlps-rig.toml");
   const auto o = host::residual::run_sweep_residual(in, out, 1.0 / dt, b);
   std::printf("[ RESULT ] TUM MLPS sweep: %d segments, verdict %s\n", o.frf.segments, o.verdict.c_str());
   std::printf("[ RESULT ] error before: rms %.3f (ln), spectral %.2f dB, pearson %.3f; cost %.4g, BIC %.4g\n",

@@ -18,9 +18,10 @@
 
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/tracking/track_speed.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace {
-const char* k_dir = AMB_SHARED_DIR "/data/measured/windturbine-hss";
+const std::string k_dir = std::string(amb::test::shared_dir()) + "/data/measured/windturbine-hss";
 constexpr double k_fs_hz = 97656.0;
 constexpr double k_pulses_per_rev = 2.0;
 
