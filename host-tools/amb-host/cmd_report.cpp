@@ -81,7 +81,8 @@ int run(const Options& o) {
     j["sections"] = {{"orbit", section_json(d.orbit)}, {"rubbing", section_json(d.rubbing)},
                      {"speed", section_json(d.speed)}, {"forces", section_json(d.forces)},
                      {"load", section_json(d.load)},   {"fit", section_json(d.fit)},
-                     {"residual", section_json(d.residual)}, {"wear", section_json(d.wear)},
+                     {"residual", section_json(d.residual)}, {"drop_residual", section_json(d.drop_residual)},
+                     {"wear", section_json(d.wear)},
                      {"replay", section_json(d.replay)}};
     if (d.replay.available()) j["replay_reproduced"] = d.replay.data->reproduced;
     std::printf("%s\n", j.dump(2).c_str());

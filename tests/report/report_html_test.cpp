@@ -19,10 +19,29 @@ TEST(ReportHtml, EmptyReportShowsWhyEverySectionIsMissing) {
   const std::string html = render_event_report(d);
   EXPECT_TRUE(plot_ids(d).empty());
   const auto na = unavailable_ids(d);
-  EXPECT_EQ(na.size(), 9u);
+  EXPECT_EQ(na.size(), 10u);  // every section but the facts
   for (const auto& id : na) EXPECT_NE(html.find("id=\"" + id + "\""), std::string::npos) << id;
   EXPECT_NE(html.find("not available:"), std::string::npos);
   EXPECT_NE(html.find("--wear FILE"), std::string::npos);
+}
+
+TEST(ReportHtml, DropResidualSectionShowsTheAddedElementAndTheCentres) {
+  ReportData d = new_report_data("drop residual");
+  amb::host::residual::DropResidualOutcome o;
+  o.verdict = "aux_bearing_offset";
+  o.levitated_note = "levitated part not analysed: 0.50 s of pre-trigger history < 1.00 s";
+  o.effects_added.push_back({"aux_bearing_offset", {{"x0_m", 5.5e-5}, {"y0_m", -4.3e-5}}, "contact circles off", 172.5});
+  o.drop_before.measured_circle[0].valid = true;
+  o.drop_before.measured_circle[0].centre_m = {55.4e-6, -43.2e-6};
+  o.drop_before.measured_circle[0].sigma_m = 2.3e-6;
+  add_drop_residual(d, o, "drop_run.json");
+  const auto na = unavailable_ids(d);
+  EXPECT_EQ(std::find(na.begin(), na.end(), "drop-residual-na"), na.end());
+  const std::string html = render_event_report(d);
+  EXPECT_NE(html.find("<section id=\"drop-residual\">"), std::string::npos);
+  EXPECT_NE(html.find("added aux_bearing_offset"), std::string::npos);
+  EXPECT_NE(html.find("+55.4 / -43.2 um"), std::string::npos);
+  EXPECT_NE(html.find("pre-trigger history"), std::string::npos);
 }
 
 TEST(ReportHtml, FullReportHasEveryPlotAndIsSelfContained) {

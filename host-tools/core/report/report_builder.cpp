@@ -34,8 +34,9 @@ ReportData new_report_data(const std::string& title) {
                      "(cumulative); neither was given: pass --wear FILE for the cumulative load");
   d.fit.unavailable("no Phase C fit for this event: `amb-host fit` fits measured-event files; its result is not "
                     "passed to the report");
-  d.residual.unavailable("the residual loop (amb-host residual) runs on a steady-state record, not on a drop event; no "
-                         "residual result was given");
+  d.residual.unavailable("no steady-state residual result was given (amb-host residual on a steady-state record)");
+  d.drop_residual.unavailable("no drop-event residual result was given (amb-host residual on a drop event's "
+                              "measured-event export)");
   d.wear.unavailable("no wear record given: pass --wear FILE (AMBW, e.g. downloaded with `amb-host fetch`)");
   return d;
 }
@@ -237,6 +238,44 @@ void add_residual(ReportData& d, const residual::SteadyData& data, const residua
   }
   d.residual.set(std::move(out), source + " (the loop reports the model before and after all added effects; "
                                           "intermediate steps are not kept by run_residual_loop)");
+}
+
+void add_drop_residual(ReportData& d, const residual::DropResidualOutcome& o, const std::string& source) {
+  DropResidualSummary r;
+  auto figs = [](const residual::ErrorFigures& e) {
+    return fmt("rms %.4f, ", e.rms) + fmt("spectral %.2f dB, ", e.spectral) + fmt("pearson %.3f, ", e.pearson) +
+           fmt("statics %.4f", e.statics);
+  };
+  r.rows.emplace_back("verdict", o.verdict);
+  for (const auto& e : o.effects_added) {
+    std::string p;
+    for (const auto& [k, v] : e.parameters) p += (p.empty() ? "" : ", ") + k + fmt(" = %.4g", v);
+    r.rows.emplace_back("added " + e.name, p);
+    r.rows.emplace_back("evidence (" + e.name + ")", e.evidence);
+  }
+  r.rows.emplace_back("event error before", figs(o.before));
+  r.rows.emplace_back("event error after", figs(o.after));
+  if (o.levitated_analysed) {
+    r.rows.emplace_back("levitated part before", figs(o.levitated.before.error));
+    r.rows.emplace_back("levitated part after", figs(o.levitated.after.error));
+  } else {
+    r.rows.emplace_back("levitated part", o.levitated_note);
+  }
+  r.rows.emplace_back("drop part before", figs(o.drop_before.error) + fmt(", friction %.3f", o.drop_before.friction_coefficient));
+  r.rows.emplace_back("drop part after", figs(o.drop_after.error) + fmt(", friction %.3f", o.drop_after.friction_coefficient));
+  for (const auto& n : o.drop_notes) r.rows.emplace_back("drop part", n);
+  for (size_t b = 0; b < 2; ++b) {
+    const auto& m = o.drop_before.measured_circle[b];
+    const auto& s = o.drop_before.simulated_circle[b];
+    const auto& c = o.drop_before.model_centre_m[b];
+    auto um = [](const std::array<double, 2>& v) { return fmt("%+.1f / ", v[0] * 1e6) + fmt("%+.1f um", v[1] * 1e6); };
+    r.bearing[b] = {{"model centre (board)", um(c)},
+                    {"contact circle, measured", m.valid ? um(m.centre_m) + fmt(" (sigma %.1f um)", m.sigma_m * 1e6) : "too few contact points"},
+                    {"contact circle, fitted model", s.valid ? um(s.centre_m) : "too few contact points"},
+                    {"effective radius, measured", m.valid ? fmt("%.1f um", m.radius_m * 1e6) : "-"},
+                    {"contact points", std::to_string(m.points)}};
+  }
+  d.drop_residual.set(std::move(r), source);
 }
 
 void add_scenario_trace(ReportData& d, const DropScenarioSummary& s) {

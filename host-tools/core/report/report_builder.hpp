@@ -18,6 +18,7 @@
 #include "host-tools/core/fit/drop_fit.hpp"
 #include "host-tools/core/replay/event_replay.hpp"
 #include "host-tools/core/report/report_data.hpp"
+#include "host-tools/core/residual/drop_residual.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/scenario/drop_scenario.hpp"
 #include "model/drop/drop_simulation.hpp"
@@ -49,6 +50,10 @@ void add_wear_record(ReportData& d, const fw::WearRecord& w, const std::string& 
 /// the added effects, per sensor channel, with the error figures.
 void add_residual(ReportData& d, const residual::SteadyData& data, const residual::ResidualOutcome& o,
                   const std::string& source);
+
+/// Residual loop on a drop event: verdict, added elements, errors of both parts before and
+/// after, the contact-circle centres per aux bearing.
+void add_drop_residual(ReportData& d, const residual::DropResidualOutcome& o, const std::string& source);
 
 /// The SIL drop scenario's trace (simulated truth): contact forces and speed after the cut.
 void add_scenario_trace(ReportData& d, const DropScenarioSummary& s);

@@ -93,6 +93,12 @@ struct ResidualSpectra {
   std::vector<std::pair<std::string, std::string>> figures;  ///< error figures before/after, verdict
 };
 
+/// Residual loop on a drop event: figures per part and the contact-circle centres.
+struct DropResidualSummary {
+  std::vector<std::pair<std::string, std::string>> rows;                    ///< verdict, errors before/after
+  std::array<std::vector<std::pair<std::string, std::string>>, 2> bearing;  ///< per aux bearing: centres, uncertainty
+};
+
 struct WearSummary {
   std::vector<std::pair<std::string, std::string>> rows;        ///< record-wide facts
   std::array<std::vector<std::pair<std::string, std::string>>, 2> bearing;  ///< per bearing facts
@@ -115,6 +121,7 @@ struct ReportData {
   Section<LoadMap> load;
   Section<FitConvergence> fit;
   Section<std::vector<ResidualSpectra>> residual;
+  Section<DropResidualSummary> drop_residual;
   Section<WearSummary> wear;
   Section<ReplayVerdict> replay;
   std::vector<std::string> notes;        ///< shown at the end

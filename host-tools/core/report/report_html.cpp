@@ -49,6 +49,7 @@ Plan plan(const ReportData& d) {
   if (d.residual.available())
     for (size_t i = 0; i < d.residual.data->size(); ++i) p.ids.push_back("residual-spectrum-" + std::to_string(i));
   na(d.residual.available(), "residual-na");
+  na(d.drop_residual.available(), "drop-residual-na");
   na(d.wear.available(), "wear-na");
   return p;
 }
@@ -251,6 +252,16 @@ std::string section_residual(const ReportData& d) {
   return s + source_line(d.residual.source) + "</section>\n";
 }
 
+std::string section_drop_residual(const ReportData& d) {
+  std::string s = "<section id=\"drop-residual\"><h2>Residual loop on a drop event</h2>\n";
+  if (!d.drop_residual.available()) return s + not_available("drop-residual-na", d.drop_residual.why_not) + "</section>\n";
+  const DropResidualSummary& r = *d.drop_residual.data;
+  s += table(r.rows) + "<div class=\"row\">\n";
+  for (size_t b = 0; b < 2; ++b)
+    if (!r.bearing[b].empty()) s += std::string("<div><h3>Aux bearing ") + (b ? "B" : "A") + "</h3>" + table(r.bearing[b]) + "</div>\n";
+  return s + "</div>\n" + source_line(d.drop_residual.source) + "</section>\n";
+}
+
 std::string section_wear(const ReportData& d) {
   std::string s = "<section id=\"wear\"><h2>Wear record</h2>\n";
   if (!d.wear.available()) return s + not_available("wear-na", d.wear.why_not) + "</section>\n";
@@ -296,6 +307,7 @@ std::string render_event_report(const ReportData& d) {
   s += section_load(d);
   s += section_fit(d);
   s += section_residual(d);
+  s += section_drop_residual(d);
   s += section_wear(d);
   if (!d.notes.empty()) {
     s += "<section id=\"notes\"><h2>Notes</h2>\n<ul>\n";

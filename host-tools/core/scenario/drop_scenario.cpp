@@ -207,6 +207,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   // 2x at plane B) that neither the firmware nor the host model is told about.
   std::unique_ptr<residual::SteadyData> steady_data;
   std::unique_ptr<residual::ResidualOutcome> residual_outcome;
+  std::unique_ptr<residual::DropResidualOutcome> drop_residual_outcome;
   if (o.residual) {
     try {
       say("steady run with an undeclared effect; residual loop on its record");
@@ -251,6 +252,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       sum.drop_residual_verdict = out.verdict;
       sum.drop_residual_before = {out.before.rms, out.before.spectral, out.before.pearson, out.before.statics};
       sum.drop_residual_after = {out.after.rms, out.after.spectral, out.after.pearson, out.after.statics};
+      drop_residual_outcome = std::make_unique<residual::DropResidualOutcome>(out);
     } catch (const std::exception& e) {
       sum.drop_residual_error = e.what();
     }
@@ -268,6 +270,10 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       if (fitted) report::add_fit(d, *fitted, sum.event_export_stem + ".json");
       if (sum.wear_written) report::add_wear_record(d, wear, sum.wear_path);
       if (residual_outcome) report::add_residual(d, *steady_data, *residual_outcome, sum.residual_record);
+      if (drop_residual_outcome)
+        report::add_drop_residual(d, *drop_residual_outcome,
+                                  sum.drop_residual_record + " (a generated drop event, not this one: its rig carries an "
+                                                             "aux-bearing offset the loop is not told about)");
       sum.report_path = report::write_event_report(d, (std::filesystem::path(o.out_dir) /
                                                        (std::filesystem::path(sum.event_path).stem().string() + ".html")).string());
     } catch (const std::exception& e) {
