@@ -42,7 +42,9 @@ class EffectPlant final : public Plant {
   EffectSet fx_;
   std::array<double, 4> lagged_demand_a_{};   // after the extra amplifier lag, A
   std::array<double, 4> correction_a_{};      // pedestal gap correction now, A
-  std::array<double, 2> ped_u_m_{}, ped_v_m_s_{};  // pedestal displacement and velocity (x, y)
+  std::array<double, 2> ped_u_m_{}, ped_v_m_s_{};  // pedestal displacement and velocity (x, y), from its loaded equilibrium
+  std::array<double, 2> ped_static_n_{};           // static part of the reaction on the pedestal (tracked), N
+  bool ped_static_valid_ = false;
 };
 
 }  // namespace amb::model::effects

@@ -334,7 +334,7 @@ ResidualStructure analyse_structure(const SteadyData& d, const board::BoardConfi
   }
   // Notes.
   for (size_t i = 0; i < std::min<size_t>(3, s.resonance_excess.size()); ++i)
-    s.notes.push_back(fmt("fixed-frequency excess at %.1f Hz: +%.1f dB (%s)", s.resonance_excess[i].first, s.resonance_excess[i].second) +
+    s.notes.push_back(fmt("fixed-frequency excess at %.1f Hz: +%.1f dB (", s.resonance_excess[i].first, s.resonance_excess[i].second) +
                       (std::abs(std::fmod(s.resonance_excess[i].first / d.spin_hz + 0.5, 1.0) - 0.5) < 0.05 ? "near a speed order)" : "not speed-locked)"));
   for (size_t i = 0; i < std::min<size_t>(2, s.resonance_deficit.size()); ++i)
     s.notes.push_back(fmt("model peak without data at %.1f Hz: %.1f dB", s.resonance_deficit[i].first, s.resonance_deficit[i].second));
