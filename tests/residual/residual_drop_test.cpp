@@ -110,7 +110,8 @@ TEST(ResidualDrop, AuxBearingOffsetIsNamed) {
   a.y_m = {-40e-6, 30e-6};
   e.aux_offset = a;
   const auto o = run_case("aux_bearing_offset", e);
-  expect_named(o, "aux_bearing_offset", false);
+  ASSERT_NO_FATAL_FAILURE(expect_named(o, "aux_bearing_offset", false));
+  ASSERT_EQ(o.effects_added.front().parameters.size(), 5u);
   const auto& p = o.effects_added.front().parameters;
   // The identified centres: within 15 um of the generator's (clearance 400 um).
   EXPECT_NEAR(p[0].second, 60e-6, 15e-6);

@@ -154,6 +154,13 @@ DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, 
   return e;
 }
 
+// BIC decrease of the aux-bearing offset (4 parameters) from the contact scatter before and
+// after, with `points` contact samples decorrelated over o.decorrelation_s.
+double offset_delta_bic(double ssr_before, double ssr_after, int points, double fs, const DropResidualOptions& o) {
+  const double n_eff = std::max(1.0, points * std::min(1.0, 1.0 / (fs * o.decorrelation_s)));
+  return ssr_before > 0 && ssr_after > 0 ? n_eff * std::log(ssr_before / ssr_after) - 4.0 * std::log(n_eff) : 0.0;
+}
+
 ErrorFigures combine(const ErrorFigures& a, const ErrorFigures& b) {
   auto q = [](double x, double y) { return std::sqrt(0.5 * (x * x + y * y)); };
   return {q(a.rms, b.rms), q(a.spectral, b.spectral), 0.5 * (a.pearson + b.pearson), q(a.statics, b.statics)};
@@ -368,24 +375,16 @@ DropResidualOutcome run_drop_residual(const MeasuredRecord& r, const board::Boar
   }
   cand.testable = testable;
   if (testable) {
-    // Candidate score without refit: the misfit with the centres moved by delta (bias kept).
-    std::array<std::array<double, 2>, 2> moved{};
-    for (int k = 0; k < 2; ++k)
-      for (int a = 0; a < 2; ++a)
-        moved[static_cast<size_t>(k)][static_cast<size_t>(a)] =
-            out.drop_before.simulated_circle[static_cast<size_t>(k)].centre_m[static_cast<size_t>(a)] +
-            delta[static_cast<size_t>(k)][static_cast<size_t>(a)];
+    // Candidate score without refit: the scatter about the measured circles' centres
+    // (= the bias-corrected model centres moved by delta).
     const size_t first = static_cast<size_t>(m.trigger_index);
     const Readings meas(m.sensor_m.begin() + static_cast<long>(first), m.sensor_m.end());
-    const auto mis = contact_misfit(meas, b.plant, moved, o);
+    const auto mis = contact_misfit(meas, b.plant,
+                                    {out.drop_before.measured_circle[0].centre_m, out.drop_before.measured_circle[1].centre_m}, o);
     double ssr = 0.0;
-    int pts = 0;
-    for (const auto& [rms, cnt] : mis) ssr += rms * rms * cnt, pts += cnt;
-    const double per_point = std::min(1.0, 1.0 / (fs * o.decorrelation_s));
-    const double n_eff = std::max(1.0, pts * per_point);
-    cand.delta_bic = ssr > 0 && out.drop_before.misfit_ssr_m2 > 0
-                         ? n_eff * std::log(out.drop_before.misfit_ssr_m2 / ssr) - 4.0 * std::log(n_eff)
-                         : 0.0;
+    for (const auto& [rms, cnt] : mis) ssr += rms * rms * cnt;
+    cand.delta_bic = offset_delta_bic(out.drop_before.misfit_ssr_m2, ssr, out.drop_before.misfit_points, fs, o);
+    const double n_eff = std::max(1.0, out.drop_before.misfit_points * std::min(1.0, 1.0 / (fs * o.decorrelation_s)));
     cand.evidence = fmt("contact circles off the model's centres by %.1f and %.1f um (%.0f decorrelated contact points)",
                         std::hypot(delta[0][0], delta[0][1]) * 1e6, std::hypot(delta[1][0], delta[1][1]) * 1e6, n_eff);
     cand.evidence += significant ? "" : "; within the estimator's uncertainty";
@@ -402,11 +401,7 @@ DropResidualOutcome run_drop_residual(const MeasuredRecord& r, const board::Boar
     }
     const fit::DropFitResult refit = fit::fit_drop(m, b2, fo);
     const DropErrors after = evaluate(m, refit, b2.plant, o);
-    const double per_point = std::min(1.0, 1.0 / (fs * o.decorrelation_s));
-    const double n_eff = std::max(1.0, out.drop_before.misfit_points * per_point);
-    const double dbic = after.misfit_ssr_m2 > 0
-                            ? n_eff * std::log(out.drop_before.misfit_ssr_m2 / after.misfit_ssr_m2) - 4.0 * std::log(n_eff)
-                            : 0.0;
+    const double dbic = offset_delta_bic(out.drop_before.misfit_ssr_m2, after.misfit_ssr_m2, out.drop_before.misfit_points, fs, o);
     const bool material = after.error.statics <= (1.0 - o.loop.min_relative_improvement) * out.drop_before.error.statics;
     out.drop_notes.push_back(fmt("refit with the offset: friction %.3f, contact misfit %.4g -> %.4g of the clearance, dBIC %.1f",
                                  refit.friction_coefficient, out.drop_before.error.statics, after.error.statics, dbic));
