@@ -25,6 +25,7 @@ HOST_PKGS=(
   nlohmann-json3-dev       # JSON (header-only)
   libfftw3-dev             # FFT
   libmatio-dev             # MATLAB v5 .mat reader for measured data
+  libnlopt-cxx-dev         # maintained optimisers (local bounded polish, model updating)
   can-utils mbpoll         # interop tools nobody here wrote
   g++-aarch64-linux-gnu    # cross toolchain for the Linux/ARM board
   qemu-user qemu-system-arm qemu-utils   # run aarch64 binaries / boot the ARM board
