@@ -1,0 +1,302 @@
+#include "model/journal/reynolds_fvm.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace amb::model::journal {
+namespace {
+constexpr double k_two_pi = 2.0 * M_PI;
+
+double wrap_2pi(double a) {
+  a = std::fmod(a, k_two_pi);
+  return a < 0.0 ? a + k_two_pi : a;
+}
+
+void gauss_legendre_01(int n, std::vector<double>& x, std::vector<double>& w) {
+  // Nodes and weights on [0, 1].
+  switch (n) {
+    case 1: x = {0.5}; w = {1.0}; break;
+    case 2: x = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)}; w = {0.5, 0.5}; break;
+    case 3: {
+      const double d = 0.5 * std::sqrt(0.6);
+      x = {0.5 - d, 0.5, 0.5 + d};
+      w = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+      break;
+    }
+    default: {
+      const double a = std::sqrt(3.0 / 7.0 - 2.0 / 7.0 * std::sqrt(1.2));
+      const double b = std::sqrt(3.0 / 7.0 + 2.0 / 7.0 * std::sqrt(1.2));
+      const double wa = (18.0 + std::sqrt(30.0)) / 36.0, wb = (18.0 - std::sqrt(30.0)) / 36.0;
+      x = {0.5 - 0.5 * b, 0.5 - 0.5 * a, 0.5 + 0.5 * a, 0.5 + 0.5 * b};
+      w = {0.5 * wb, 0.5 * wa, 0.5 * wa, 0.5 * wb};
+    }
+  }
+}
+}  // namespace
+
+const char* ReynoldsOptions::check() const {
+  if (cells_theta < 12) return "cells_theta must be >= 12";
+  if (cells_axial < 2) return "cells_axial must be >= 2";
+  if (max_active_set_iterations < 1) return "max_active_set_iterations must be >= 1";
+  if (gauss_points < 1 || gauss_points > 4) return "gauss_points must be 1..4";
+  return "";
+}
+
+ReynoldsSolver::ReynoldsSolver(const BearingGeometry& g, const WearParams& wear, const ReynoldsOptions& o)
+    : g_(g), o_(o) {
+  if (!(g.bore_radius_m > 0.0)) throw std::invalid_argument("journal bearing: bore_radius_m must be > 0");
+  if (!(g.length_m > 0.0)) throw std::invalid_argument("journal bearing: length_m must be > 0");
+  if (!(g.clearance_m > 0.0) || !(g.clearance_m < 0.1 * g.bore_radius_m))
+    throw std::invalid_argument("journal bearing: clearance_m must be > 0 and below 10 % of the radius");
+  if (!(g.viscosity_pa_s > 0.0)) throw std::invalid_argument("journal bearing: viscosity_pa_s must be > 0");
+  if (const std::string why = o.check(); !why.empty()) throw std::invalid_argument("journal bearing: " + why);
+  wear_ = WearShape(wear, g.bore_radius_m, g.clearance_m);
+
+  nt_ = o.cells_theta;
+  nz_ = o.cells_axial;
+  dtheta_ = k_two_pi / nt_;
+  dzeta_ = 1.0 / nz_;
+  gauss_legendre_01(o.gauss_points, gauss_x_, gauss_w_);
+  cos_int_.resize(static_cast<size_t>(nt_));
+  sin_int_.resize(static_cast<size_t>(nt_));
+  for (int i = 0; i < nt_; ++i) {
+    const double a = i * dtheta_, b = (i + 1) * dtheta_;
+    cos_int_[static_cast<size_t>(i)] = std::sin(b) - std::sin(a);
+    sin_int_[static_cast<size_t>(i)] = std::cos(a) - std::cos(b);
+  }
+  const int n = nt_ * nz_;
+  cond_theta_.resize(nt_);
+  couette_.resize(nt_);
+  h_cell_.resize(nt_);
+  rhs_ = Eigen::VectorXd::Zero(n);
+  p_ = Eigen::VectorXd::Zero(n);
+  w_ = Eigen::VectorXd::Zero(n);
+  active_.assign(static_cast<size_t>(n), 0);
+
+  // Five-point pattern, periodic in theta: row k = i * nz + j.
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<size_t>(5 * n));
+  for (int i = 0; i < nt_; ++i)
+    for (int j = 0; j < nz_; ++j) {
+      const int k = i * nz_ + j;
+      t.emplace_back(k, k, 1.0);
+      t.emplace_back(k, ((i + nt_ - 1) % nt_) * nz_ + j, 0.0);
+      t.emplace_back(k, ((i + 1) % nt_) * nz_ + j, 0.0);
+      if (j > 0) t.emplace_back(k, k - 1, 0.0);
+      if (j + 1 < nz_) t.emplace_back(k, k + 1, 0.0);
+    }
+  a_.resize(n, n);
+  a_.setFromTriplets(t.begin(), t.end());
+  a_.makeCompressed();
+}
+
+double ReynoldsSolver::theta_rad(int i) const { return (i + 0.5) * dtheta_; }
+
+double ReynoldsSolver::film_m(double theta, double x_m, double y_m) const {
+  return g_.clearance_m - x_m * std::cos(theta) - y_m * std::sin(theta) + wear_.extra_film_m(theta);
+}
+
+void ReynoldsSolver::assemble(const JournalState& s, double spin_rad_s) {
+  const double c = g_.clearance_m;
+  const double xb = s.x_m / c, yb = s.y_m / c;
+  auto h_of = [&](double th) { return 1.0 - xb * std::cos(th) - yb * std::sin(th) + wear_.extra_film_m(th) / c; };
+  const auto edges = wear_.edges_rad();
+  const bool worn = wear_.span_rad() > 0.0;
+
+  // Circumferential faces: exact 1D flux between centres i and i+1 (see header).
+  for (int i = 0; i < nt_; ++i) {
+    const double t0 = theta_rad(i);
+    double cuts[4] = {0.0, 0.0, 0.0, 0.0};
+    int nc = 0;
+    cuts[nc++] = 0.0;
+    if (worn) {
+      double e0 = wrap_2pi(edges[0] - t0), e1 = wrap_2pi(edges[1] - t0);
+      if (e0 > e1) std::swap(e0, e1);
+      if (e0 > 0.0 && e0 < dtheta_) cuts[nc++] = e0;
+      if (e1 > 0.0 && e1 < dtheta_) cuts[nc++] = e1;
+    }
+    cuts[nc++] = dtheta_;
+    double i2 = 0.0, i3 = 0.0;
+    for (int p = 0; p + 1 < nc; ++p) {
+      const double len = cuts[p + 1] - cuts[p];
+      for (size_t q = 0; q < gauss_x_.size(); ++q) {
+        const double h = h_of(t0 + cuts[p] + gauss_x_[q] * len);
+        if (!(h > 0.0)) throw std::invalid_argument("journal bearing: the journal touches the bore (film <= 0)");
+        const double ih2 = 1.0 / (h * h);
+        i2 += gauss_w_[q] * len * ih2;
+        i3 += gauss_w_[q] * len * ih2 / h;
+      }
+    }
+    cond_theta_(i) = dzeta_ / i3;
+    couette_(i) = i2 / i3;
+    h_cell_(i) = h_of(t0);
+    if (!(h_cell_(i) > 0.0)) throw std::invalid_argument("journal bearing: the journal touches the bore (film <= 0)");
+  }
+
+  // Right-hand side: Couette flux difference and squeeze term 2 (dH/dt) / Omega.
+  const double vx = s.vx_m_s / (c * spin_rad_s), vy = s.vy_m_s / (c * spin_rad_s);
+  for (int i = 0; i < nt_; ++i) {
+    const int im = (i + nt_ - 1) % nt_;
+    const double src = dzeta_ * (couette_(i) - couette_(im)) -
+                       2.0 * dzeta_ * (vx * cos_int_[static_cast<size_t>(i)] + vy * sin_int_[static_cast<size_t>(i)]);
+    for (int j = 0; j < nz_; ++j) rhs_(i * nz_ + j) = -src;
+  }
+}
+
+FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
+  if (!(spin_rad_s > 0.0)) throw std::invalid_argument("journal bearing: spin speed must be > 0 rad/s");
+  if (!std::isfinite(s.x_m) || !std::isfinite(s.y_m) || !std::isfinite(s.vx_m_s) || !std::isfinite(s.vy_m_s))
+    throw std::invalid_argument("journal bearing: journal state is not finite");
+  assemble(s, spin_rad_s);
+  const double rl2 = (g_.bore_radius_m / g_.length_m) * (g_.bore_radius_m / g_.length_m);
+  const int n = nt_ * nz_;
+
+  // Base (unconstrained) matrix entry for (row k, col m); also used for w = A p - b.
+  auto axial = [&](int i) { return rl2 * h_cell_(i) * h_cell_(i) * h_cell_(i) * dtheta_ / dzeta_; };
+  auto base_matvec = [&](const Eigen::VectorXd& p, Eigen::VectorXd& out) {
+    for (int i = 0; i < nt_; ++i) {
+      const int im = (i + nt_ - 1) % nt_, ip = (i + 1) % nt_;
+      const double az = axial(i);
+      for (int j = 0; j < nz_; ++j) {
+        const int k = i * nz_ + j;
+        double d = cond_theta_(i) + cond_theta_(im);
+        double v = -cond_theta_(im) * p(im * nz_ + j) - cond_theta_(i) * p(ip * nz_ + j);
+        d += (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : 2.0 * az);
+        if (j > 0) v -= az * p(k - 1);
+        if (j + 1 < nz_) v -= az * p(k + 1);
+        out(k) = d * p(k) + v;
+      }
+    }
+  };
+
+  const bool lcp = o_.cavitation == Cavitation::reynolds;
+  if (!lcp) std::fill(active_.begin(), active_.end(), 0);
+  FilmForces f;
+  int it = 0;
+  for (;;) {
+    ++it;
+    // Fill the matrix: rows/columns of active cells become identity (p = 0 there).
+    for (int col = 0; col < n; ++col) {
+      for (Eigen::SparseMatrix<double>::InnerIterator e(a_, col); e; ++e) {
+        const int row = static_cast<int>(e.row());
+        const bool act = active_[static_cast<size_t>(row)] || active_[static_cast<size_t>(col)];
+        const int i = row / nz_, j = row % nz_;
+        if (row == col) {
+          if (active_[static_cast<size_t>(row)]) {
+            e.valueRef() = 1.0;
+          } else {
+            const double az = axial(i);
+            e.valueRef() = cond_theta_(i) + cond_theta_((i + nt_ - 1) % nt_) + (j > 0 ? az : 2.0 * az) +
+                           (j + 1 < nz_ ? az : 2.0 * az);
+          }
+          continue;
+        }
+        if (act) {
+          e.valueRef() = 0.0;
+          continue;
+        }
+        const int ic = col / nz_;
+        if (ic == i) {
+          e.valueRef() = -axial(i);
+        } else if (ic == (i + 1) % nt_) {
+          e.valueRef() = -cond_theta_(i);
+        } else {
+          e.valueRef() = -cond_theta_(ic);
+        }
+      }
+    }
+    Eigen::VectorXd b = rhs_;
+    for (int k = 0; k < n; ++k)
+      if (active_[static_cast<size_t>(k)]) b(k) = 0.0;
+    if (!pattern_analysed_) {
+      ldlt_.analyzePattern(a_);
+      pattern_analysed_ = true;
+    }
+    ldlt_.factorize(a_);
+    if (ldlt_.info() != Eigen::Success) throw std::runtime_error("journal bearing: factorisation failed");
+    p_ = ldlt_.solve(b);
+    if (!lcp) break;
+    // Primal-dual active set update with the multiplier w = A p - b.
+    base_matvec(p_, w_);
+    w_ -= rhs_;
+    bool changed = false;
+    for (int k = 0; k < n; ++k) {
+      const bool now = active_[static_cast<size_t>(k)] ? (w_(k) > 0.0) : (p_(k) < 0.0);
+      if (now != static_cast<bool>(active_[static_cast<size_t>(k)])) {
+        active_[static_cast<size_t>(k)] = now ? 1 : 0;
+        changed = true;
+      }
+    }
+    if (!changed) break;
+    if (it >= o_.max_active_set_iterations) {
+      f.converged = false;
+      break;
+    }
+  }
+  f.active_set_iterations = it;
+  if (o_.cavitation != Cavitation::none)
+    for (int k = 0; k < n; ++k) p_(k) = std::max(0.0, p_(k));
+
+  // Forces: F = -int p (cos, sin) R dtheta dx with p = P p_bar, P = 6 mu Omega R^2 / C^2.
+  pressure_scale_pa_ = 6.0 * g_.viscosity_pa_s * spin_rad_s * g_.bore_radius_m * g_.bore_radius_m /
+                       (g_.clearance_m * g_.clearance_m);
+  double sx = 0.0, sy = 0.0, pmax = 0.0;
+  for (int i = 0; i < nt_; ++i) {
+    double col = 0.0;
+    for (int j = 0; j < nz_; ++j) {
+      col += p_(i * nz_ + j);
+      pmax = std::max(pmax, p_(i * nz_ + j));
+    }
+    sx += col * cos_int_[static_cast<size_t>(i)];
+    sy += col * sin_int_[static_cast<size_t>(i)];
+  }
+  const double scale = -pressure_scale_pa_ * g_.bore_radius_m * g_.length_m * dzeta_;
+  f.fx_n = scale * sx;
+  f.fy_n = scale * sy;
+  f.max_pressure_pa = pressure_scale_pa_ * pmax;
+  f.min_film_m = g_.clearance_m * h_cell_.minCoeff();
+  return f;
+}
+
+Eigen::MatrixXd ReynoldsSolver::pressure_pa() const {
+  Eigen::MatrixXd m(nt_, nz_);
+  for (int i = 0; i < nt_; ++i)
+    for (int j = 0; j < nz_; ++j) m(i, j) = pressure_scale_pa_ * p_(i * nz_ + j);
+  return m;
+}
+
+DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const JournalState& s, double spin_rad_s,
+                                              double relative_step) {
+  DynamicCoefficients d;
+  const FilmForces f0 = solver.solve(s, spin_rad_s);
+  d.fx0_n = f0.fx_n;
+  d.fy0_n = f0.fy_n;
+  const double dq = relative_step * solver.geometry().clearance_m;
+  const double dv = dq * spin_rad_s;
+  for (int j = 0; j < 4; ++j) {
+    JournalState sp = s, sm = s;
+    double step = 0.0;
+    switch (j) {
+      case 0: sp.x_m += dq; sm.x_m -= dq; step = dq; break;
+      case 1: sp.y_m += dq; sm.y_m -= dq; step = dq; break;
+      case 2: sp.vx_m_s += dv; sm.vx_m_s -= dv; step = dv; break;
+      default: sp.vy_m_s += dv; sm.vy_m_s -= dv; step = dv; break;
+    }
+    const FilmForces fp = solver.solve(sp, spin_rad_s);
+    const FilmForces fm = solver.solve(sm, spin_rad_s);
+    const double gx = -(fp.fx_n - fm.fx_n) / (2.0 * step), gy = -(fp.fy_n - fm.fy_n) / (2.0 * step);
+    if (j < 2) {
+      d.stiffness_n_per_m(0, j) = gx;
+      d.stiffness_n_per_m(1, j) = gy;
+    } else {
+      d.damping_n_s_per_m(0, j - 2) = gx;
+      d.damping_n_s_per_m(1, j - 2) = gy;
+    }
+  }
+  solver.solve(s, spin_rad_s);  // leave the solver at the linearisation point
+  return d;
+}
+
+}  // namespace amb::model::journal
