@@ -16,7 +16,8 @@
 #include "firmware/wear/wear_record.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
-#include "host-tools/core/fit/measured_event_io.hpp"
+#include "host-tools/core/events/load_event.hpp"
+#include "host-tools/core/events/measured_event.hpp"
 #include "host-tools/core/wear/load_map.hpp"
 #include "host-tools/core/wear/wear_update.hpp"
 
@@ -48,9 +49,10 @@ int run(const Args& a) {
   amb::board::BoardConfig board;
   hf::DropMeasurement m;
   try {
-    const std::string rig = a.board.empty() ? hf::measured_event_rig(a.event) : a.board;
-    board = amb::board::load_board(rig);
-    m = hf::read_measured_event(a.event, board.plant);
+    const amb::host::LoadedEvent ev = amb::host::load_event(a.event);
+    board = a.board.empty() ? amb::host::resolve_rig(ev.rig, std::filesystem::path(ev.source).parent_path().string(), ev.source)
+                            : amb::board::load_board(a.board);
+    m = hf::drop_measurement_from_event(ev);
   } catch (const std::exception& e) {
     return bad_input(e.what());
   }

@@ -12,9 +12,10 @@
 #include <nlohmann/json.hpp>
 
 #include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/events/load_event.hpp"
+#include "host-tools/core/events/measured_event.hpp"
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
-#include "host-tools/core/residual/measured_record.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
 #include "host-tools/core/residual/sweep_frf.hpp"
@@ -81,7 +82,7 @@ nlohmann::json drop_errors(const hr::DropErrors& e) {
           {"contact_circles", c}};
 }
 
-int run_drop(const Args& a, const hr::MeasuredRecord& rec, const amb::board::BoardConfig& b) {
+int run_drop(const Args& a, const amb::host::LoadedEvent& rec, const amb::board::BoardConfig& b) {
   std::fprintf(stderr, "drop event: levitated part through the steady loop, drop part through the drop model fit\n");
   const auto o = hr::run_drop_residual(rec, b);
   std::vector<std::string> notes;
@@ -117,8 +118,10 @@ int run_drop(const Args& a, const hr::MeasuredRecord& rec, const amb::board::Boa
 }
 
 int run_steady(const Args& a) {
-  const auto rec = hr::read_measured_record(a.event);
-  const auto b = amb::board::load_board(a.board.empty() ? rec.rig : a.board);
+  const amb::host::LoadedEvent rec = amb::host::load_event(a.event);
+  for (const auto& w : rec.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  const auto b = a.board.empty() ? amb::host::resolve_rig(rec.rig, std::filesystem::path(rec.source).parent_path().string(), rec.source)
+                                 : amb::board::load_board(a.board);
   if (hr::is_drop_event(rec, b)) return run_drop(a, rec, b);
   const auto d = hr::extract_steady(rec, b);
   const auto o = hr::run_residual_loop(d, b);

@@ -13,7 +13,7 @@
 
 #include "firmware/board/board.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
-#include "host-tools/core/residual/measured_record.hpp"
+#include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/scenario/steady_record.hpp"
 
 using namespace amb;
@@ -23,8 +23,8 @@ namespace hr = amb::host::residual;
 namespace {
 
 hr::DropResidualOutcome analyse(const std::string& sidecar) {
-  const auto rec = hr::read_measured_record(sidecar);
-  const auto b = board::load_board(rec.rig);
+  const auto rec = host::load_event(sidecar);
+  const auto b = board::load_board(rec.board);
   std::string why;
   EXPECT_TRUE(hr::is_drop_event(rec, b, &why)) << why;
   return hr::run_drop_residual(rec, b);
@@ -162,8 +162,8 @@ TEST(ResidualDrop, MagneticSaturationIsNamed) {
 
 TEST(ResidualDrop, SteadyRunIsNotADropEvent) {
   const std::string path = host::generate_steady_record(temp_dir(), "not_a_drop", {});
-  const auto rec = hr::read_measured_record(path);
-  const auto b = board::load_board(rec.rig);
+  const auto rec = host::load_event(path);
+  const auto b = board::load_board(rec.board);
   std::string why;
   EXPECT_FALSE(hr::is_drop_event(rec, b, &why));
   EXPECT_NE(why.find("trigger"), std::string::npos) << why;

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "firmware/board/board.hpp"
-#include "host-tools/core/residual/measured_record.hpp"
+#include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
 #include "host-tools/core/scenario/steady_record.hpp"
@@ -23,8 +23,8 @@ namespace {
 
 // The code under test: a file path in, the loop's outcome out.
 host::residual::ResidualOutcome analyse(const std::string& sidecar) {
-  const auto rec = host::residual::read_measured_record(sidecar);
-  const auto b = board::load_board(rec.rig);
+  const auto rec = host::load_event(sidecar);
+  const auto b = board::load_board(rec.board);
   const auto d = host::residual::extract_steady(rec, b);
   return host::residual::run_residual_loop(d, b);
 }

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "host-tools/core/events/loaded_event.hpp"
 #include "model/plant/plant_params.hpp"
 
 namespace amb::host::fit {
@@ -23,5 +24,17 @@ struct DropMeasurement {
   /// Empty when usable, else what is wrong.
   std::string check() const;
 };
+
+/// The drop as the fit sees it, from an event read by host-tools/core/events (load_event):
+/// the four displacement channels matched to the rig's sensors, the speed channel (or
+/// speed_rpm), the trigger. declared_faults: "amb_cutoff_all" (or none) is the amplifier
+/// cut-off of seed 000; any other name is refused rather than ignored. Throws
+/// EventLoadError naming the file and what is missing.
+DropMeasurement drop_measurement_from_event(const LoadedEvent& e);
+
+/// Write a DropMeasurement as a measured event (STEM.json + STEM.csv, displacements in um,
+/// speed in rpm, sensor geometry from `rig`); generators and tests.
+void write_drop_measurement(const std::string& stem, const DropMeasurement& m, const model::PlantParams& rig,
+                            const std::string& notes);
 
 }  // namespace amb::host::fit

@@ -248,16 +248,16 @@ std::array<std::pair<double, int>, 2> contact_misfit(const Readings& sensor_m, c
   return out;
 }
 
-bool is_drop_event(const MeasuredRecord& r, const board::BoardConfig& b, std::string* why) {
+bool is_drop_event(const LoadedEvent& r, const board::BoardConfig& b, std::string* why) {
   auto no = [&](const std::string& s) {
     if (why != nullptr) *why = s;
     return false;
   };
   const size_t n = r.samples();
   const double fs = r.sample_rate_hz;
-  if (r.trigger_index <= 0 || static_cast<double>(n - static_cast<size_t>(std::min<long>(r.trigger_index, static_cast<long>(n)))) < 0.05 * fs)
+  if (r.trigger_index == 0 || r.trigger_index >= n || static_cast<double>(n - r.trigger_index) < 0.05 * fs)
     return no("no trigger with at least 50 ms after it");
-  const ChannelMap map = match_channels(r, b);
+  const ChannelMap map = match_channels(r);
   const auto trig = static_cast<size_t>(r.trigger_index);
   double lim = 1e9;
   for (const auto& a : b.plant.amb) lim = std::min(lim, a.coil_current_limit_a);
@@ -265,14 +265,14 @@ bool is_drop_event(const MeasuredRecord& r, const board::BoardConfig& b, std::st
   size_t quiet = 0, total = 0;
   for (size_t i = trig + static_cast<size_t>(0.01 * fs); i < n; ++i, ++total) {
     double m = 0.0;
-    for (int j = 4; j < 8; ++j) m = std::max(m, std::abs(r.channels[static_cast<size_t>(map.index[static_cast<size_t>(j)])].values[i]));
+    for (int j = 4; j < 8; ++j) m = std::max(m, std::abs(map[j][i]));
     if (m < 0.02 * lim) ++quiet;
   }
   if (total == 0 || static_cast<double>(quiet) < 0.9 * static_cast<double>(total))
     return no("the coil currents do not stay near zero after the trigger (not an amplifier cut-off)");
   Readings s(n - trig);
   for (size_t i = trig; i < n; ++i)
-    for (int k = 0; k < 4; ++k) s[i - trig][static_cast<size_t>(k)] = r.channels[static_cast<size_t>(map.index[static_cast<size_t>(k)])].values[i];
+    for (int k = 0; k < 4; ++k) s[i - trig][static_cast<size_t>(k)] = map[k][i];
   const model::drop::SensorOrbit view(b.plant);
   double reach = 0.0;
   for (int k = 0; k < 2; ++k)
@@ -283,42 +283,31 @@ bool is_drop_event(const MeasuredRecord& r, const board::BoardConfig& b, std::st
   return true;
 }
 
-MeasuredRecord slice_record(const MeasuredRecord& r, size_t begin, size_t end) {
-  MeasuredRecord s = r;
-  end = std::min(end, r.samples());
-  begin = std::min(begin, end);
-  for (auto& c : s.channels)
-    c.values.assign(c.values.begin() + static_cast<long>(begin), c.values.begin() + static_cast<long>(end));
-  const long t = r.trigger_index - static_cast<long>(begin);
-  s.trigger_index = t >= 0 && t < static_cast<long>(end - begin) ? t : 0;
-  return s;
-}
-
-fit::DropMeasurement drop_measurement_of(const MeasuredRecord& r, const board::BoardConfig& b, const DropResidualOptions& o) {
-  const ChannelMap map = match_channels(r, b);
+fit::DropMeasurement drop_measurement_of(const LoadedEvent& r, const board::BoardConfig& b, const DropResidualOptions& o) {
+  (void)b;
+  const ChannelMap map = match_channels(r);
   fit::DropMeasurement m;
-  m.source = r.path;
+  m.source = r.source;
   m.rig = r.rig;
   m.sample_rate_hz = r.sample_rate_hz;
-  const auto trig = static_cast<size_t>(std::max<long>(r.trigger_index, 0));
+  const size_t trig = r.trigger_index;
   const size_t first = trig - std::min(trig, static_cast<size_t>(0.02 * r.sample_rate_hz));
   const size_t end = std::min(r.samples(), trig + static_cast<size_t>(std::lround(o.window_s * r.sample_rate_hz)));
   m.trigger_index = static_cast<int>(trig - first);
   for (size_t i = first; i < end; ++i) {
     std::array<double, 4> s{};
-    for (int k = 0; k < 4; ++k) s[static_cast<size_t>(k)] = r.channels[static_cast<size_t>(map.index[static_cast<size_t>(k)])].values[i];
+    for (int k = 0; k < 4; ++k) s[static_cast<size_t>(k)] = map[k][i];
     m.sensor_m.push_back(s);
-    if (map.speed >= 0) m.speed_rad_s.push_back(2.0 * M_PI * r.channels[static_cast<size_t>(map.speed)].values[i]);
+    if (map.speed_hz != nullptr) m.speed_rad_s.push_back(2.0 * M_PI * (*map.speed_hz)[i]);
   }
-  m.speed_at_trigger_hz = map.speed >= 0 ? r.channels[static_cast<size_t>(map.speed)].values[trig]
-                                         : (r.speed_rpm > 0 ? r.speed_rpm / 60.0 : 0.0);
+  m.speed_at_trigger_hz = map.speed_hz != nullptr ? (*map.speed_hz)[trig] : r.speed_at_trigger_hz.value_or(0.0);
   m.amplifiers_off = true;
   return m;
 }
 
-DropResidualOutcome run_drop_residual(const MeasuredRecord& r, const board::BoardConfig& b, const DropResidualOptions& o) {
+DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardConfig& b, const DropResidualOptions& o) {
   std::string why;
-  if (!is_drop_event(r, b, &why)) throw std::runtime_error("record " + r.path + " is not a drop event: " + why);
+  if (!is_drop_event(r, b, &why)) throw std::runtime_error("event " + r.source + " is not a drop event: " + why);
   DropResidualOutcome out;
   const double fs = r.sample_rate_hz;
   const auto trig = static_cast<size_t>(r.trigger_index);
@@ -326,7 +315,7 @@ DropResidualOutcome run_drop_residual(const MeasuredRecord& r, const board::Boar
   // Levitated part: the steady loop on the pre-trigger history.
   const double lev_s = static_cast<double>(trig) / fs;
   if (lev_s >= o.min_levitated_s) {
-    MeasuredRecord pre = slice_record(r, 0, trig);
+    LoadedEvent pre = slice_event(r, 0, trig);
     pre.trigger_index = 0;
     SteadyOptions so;
     so.window_s = std::min(so.window_s, lev_s - 0.05);
@@ -343,7 +332,7 @@ DropResidualOutcome run_drop_residual(const MeasuredRecord& r, const board::Boar
 
   // Drop part: fit the drop model, then look at the contact geometry.
   const fit::DropMeasurement m = drop_measurement_of(r, b, o);
-  if (const auto err = m.check(); !err.empty()) throw std::runtime_error("record " + r.path + ": drop part: " + err);
+  if (const auto err = m.check(); !err.empty()) throw std::runtime_error("event " + r.source + ": drop part: " + err);
   fit::DropFitOptions fo;
   fo.max_window_s = o.window_s;
   const fit::DropFitResult base = fit::fit_drop(m, b, fo);

@@ -21,7 +21,7 @@
 
 #include "firmware/board/board.hpp"
 #include "host-tools/core/fit/drop_measurement.hpp"
-#include "host-tools/core/residual/measured_record.hpp"
+#include "host-tools/core/events/loaded_event.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 
 namespace amb::host::residual {
@@ -63,13 +63,10 @@ std::array<std::pair<double, int>, 2> contact_misfit(const std::vector<std::arra
 
 /// Is the record a drop event: a trigger inside it, the coil currents near zero after it and
 /// the orbit reaching the aux bearings. `why` receives the reason when not.
-bool is_drop_event(const MeasuredRecord& r, const board::BoardConfig& b, std::string* why = nullptr);
-
-/// Samples [begin, end) of a record (trigger index shifted; 0 if outside).
-MeasuredRecord slice_record(const MeasuredRecord& r, size_t begin, size_t end);
+bool is_drop_event(const LoadedEvent& r, const board::BoardConfig& b, std::string* why = nullptr);
 
 /// The drop part as the Phase C fit's measurement (20 ms before the trigger, `window_s` after).
-fit::DropMeasurement drop_measurement_of(const MeasuredRecord& r, const board::BoardConfig& b,
+fit::DropMeasurement drop_measurement_of(const LoadedEvent& r, const board::BoardConfig& b,
                                          const DropResidualOptions& o = {});
 
 /// Error figures of the drop part, measurement against a fitted simulation.
@@ -98,7 +95,7 @@ struct DropResidualOutcome {
 };
 
 /// Throws std::runtime_error naming the problem when the record is not a usable drop event.
-DropResidualOutcome run_drop_residual(const MeasuredRecord& r, const board::BoardConfig& b,
+DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardConfig& b,
                                       const DropResidualOptions& o = {});
 
 }  // namespace amb::host::residual

@@ -13,21 +13,6 @@ namespace {
 
 constexpr double k_two_pi = 2.0 * M_PI;
 
-double angle_diff_deg(double a, double b) {
-  double d = std::fmod(std::abs(a - b), 360.0);
-  return std::min(d, 360.0 - d);
-}
-
-int find_channel(const MeasuredRecord& r, const std::string& quantity, double axial_m, double angle_deg,
-                 double tol_m, double tol_deg) {
-  for (size_t i = 0; i < r.channels.size(); ++i) {
-    const auto& c = r.channels[i];
-    if (c.quantity == quantity && std::abs(c.axial_m - axial_m) <= tol_m && angle_diff_deg(c.angle_deg, angle_deg) <= tol_deg)
-      return static_cast<int>(i);
-  }
-  return -1;
-}
-
 // Power of the displacement channels at f (sum of |DFT|^2).
 double line_power(const std::array<std::vector<double>, k_channels>& w, double fs, double f) {
   double p = 0.0;
@@ -47,40 +32,45 @@ double line_power(const std::array<std::vector<double>, k_channels>& w, double f
 
 }  // namespace
 
-ChannelMap match_channels(const MeasuredRecord& r, const board::BoardConfig& b) {
+ChannelMap match_channels(const LoadedEvent& r) {
   ChannelMap m;
-  const double tol_m = b.capture.match_axial_tolerance_m, tol_deg = b.capture.match_angle_tolerance_deg;
-  auto& idx = m.index;
-  for (int k = 0; k < 4; ++k) {
-    const auto& s = b.plant.sensor[static_cast<size_t>(k)];
-    idx[static_cast<size_t>(k)] = find_channel(r, "displacement", s.axial_m, s.angle_deg, tol_m, tol_deg);
-    if (idx[static_cast<size_t>(k)] < 0)
-      throw std::runtime_error("record " + r.path + ": no displacement channel at the rig's sensor " + std::to_string(k) +
-                               " (axial " + std::to_string(s.axial_m) + " m, angle " + std::to_string(s.angle_deg) + " deg)");
-    const auto& amb = b.plant.amb[static_cast<size_t>(k / 2)];
-    idx[static_cast<size_t>(4 + k)] =
-        find_channel(r, "current", amb.axial_m, amb.actuator_angle_deg[static_cast<size_t>(k % 2)], tol_m, tol_deg);
-    if (idx[static_cast<size_t>(4 + k)] < 0)
-      throw std::runtime_error("record " + r.path + ": no current channel at the rig's actuator axis " + std::to_string(k));
-  }
-  for (size_t i = 0; i < r.channels.size(); ++i) {
-    const auto& c = r.channels[i];
-    if (c.quantity == "speed") m.speed = static_cast<int>(i);
-    else if (c.quantity != "time" && std::find(idx.begin(), idx.end(), static_cast<int>(i)) == idx.end())
-      m.unmatched.push_back(c.column);
-  }
+  for (const auto* group : {&r.displacement, &r.current})
+    for (const auto& c : *group) {
+      const int k = c.rig_index + (group == &r.current ? 4 : 0);
+      if (c.rig_index >= 0 && c.rig_index < 4 && m.channel[static_cast<size_t>(k)] == nullptr) m.channel[static_cast<size_t>(k)] = &c.values;
+      else m.unmatched.push_back(c.name);
+    }
+  for (const auto& c : r.other) m.unmatched.push_back(c.name);
+  for (int k = 0; k < k_channels; ++k)
+    if (m.channel[static_cast<size_t>(k)] == nullptr)
+      throw std::runtime_error("event " + r.source + ": no " + (k < 4 ? "displacement channel at the rig's sensor " : "current channel at the rig's actuator axis ") +
+                               std::to_string(k % 4));
+  if (!r.speed_hz.empty()) m.speed_hz = &r.speed_hz;
   return m;
 }
 
-SteadyData extract_steady(const MeasuredRecord& r, const board::BoardConfig& b, const SteadyOptions& o) {
+LoadedEvent slice_event(const LoadedEvent& r, size_t begin, size_t end) {
+  LoadedEvent s = r;
+  end = std::min(end, r.samples());
+  begin = std::min(begin, end);
+  auto cut = [&](std::vector<double>& v) {
+    if (v.size() == r.samples()) v.assign(v.begin() + static_cast<long>(begin), v.begin() + static_cast<long>(end));
+  };
+  for (auto* g : {&s.displacement, &s.current, &s.current_demand, &s.other})
+    for (auto& c : *g) cut(c.values);
+  cut(s.speed_hz);
+  cut(s.t_s);
+  s.trigger_index = r.trigger_index >= begin && r.trigger_index < end ? r.trigger_index - begin : 0;
+  return s;
+}
+
+SteadyData extract_steady(const LoadedEvent& r, const board::BoardConfig& b, const SteadyOptions& o) {
   SteadyData d;
   d.fs_hz = r.sample_rate_hz;
-  const ChannelMap map = match_channels(r, b);
-  const auto& idx = map.index;
-  const int speed = map.speed;
+  const ChannelMap map = match_channels(r);
   d.unmatched = map.unmatched;
   const size_t n = r.samples();
-  const auto col = [&](int c) -> const std::vector<double>& { return r.channels[static_cast<size_t>(idx[static_cast<size_t>(c)])].values; };
+  const auto col = [&](int c) -> const std::vector<double>& { return map[c]; };
 
   // Rest segment: leading samples with every coil current ~0 (amplifiers off).
   double lim = 1e9;
@@ -112,13 +102,13 @@ SteadyData extract_steady(const MeasuredRecord& r, const board::BoardConfig& b, 
   d.window_start = n - d.window_len;
   d.window_s = static_cast<double>(d.window_len) / d.fs_hz;
   if (d.window_len < static_cast<size_t>(4 * o.segment_s * d.fs_hz))
-    throw std::runtime_error("record " + r.path + ": too short for a steady window");
+    throw std::runtime_error("event " + r.source + ": too short for a steady window");
   for (int c = 0; c < k_channels; ++c)
     d.window[static_cast<size_t>(c)].assign(col(c).begin() + static_cast<long>(d.window_start), col(c).end());
-  double nominal = r.speed_rpm > 0 ? r.speed_rpm / 60.0 : 0.0;
-  if (speed >= 0) {
+  double nominal = r.speed_at_trigger_hz.value_or(0.0);
+  if (map.speed_hz != nullptr) {
     double s = 0.0;
-    for (size_t i = d.window_start; i < n; ++i) s += r.channels[static_cast<size_t>(speed)].values[i];
+    for (size_t i = d.window_start; i < n; ++i) s += (*map.speed_hz)[i];
     nominal = s / static_cast<double>(d.window_len);
   }
   // Refine the speed on the displacement lines (the speed channel may be an estimate).

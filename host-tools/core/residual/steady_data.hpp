@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "firmware/board/board.hpp"
-#include "host-tools/core/residual/measured_record.hpp"
+#include "host-tools/core/events/loaded_event.hpp"
 
 namespace amb::host::residual {
 
@@ -50,19 +50,24 @@ struct SteadyOptions {
   int bands_per_octave = 8;
 };
 
-/// Where the rig's channels are in a record (matched by quantity, axial position and angle
-/// within the board's capture tolerances).
+/// Where the rig's channels are in an event (host-tools/core/events matched them to the rig by
+/// quantity, axial position and angle within the board's capture tolerances; a channel that
+/// points the opposite way is already negated).
 struct ChannelMap {
-  std::array<int, k_channels> index{};  ///< record channel of [sensors A1, A2, B1, B2, currents per actuator axis]
-  int speed = -1;                       ///< record channel of the speed, -1: none
-  std::vector<std::string> unmatched;   ///< record columns not matched to the rig
+  std::array<const std::vector<double>*, k_channels> channel{};  ///< [sensors A1, A2, B1, B2 (m), currents per actuator axis (A)]
+  const std::vector<double>* speed_hz = nullptr;                 ///< speed per sample, Hz; null: none
+  std::vector<std::string> unmatched;   ///< event columns not matched to the rig
+  const std::vector<double>& operator[](int c) const { return *channel[static_cast<size_t>(c)]; }
 };
 
-/// Throws std::runtime_error naming the first rig channel the record lacks.
-ChannelMap match_channels(const MeasuredRecord& r, const board::BoardConfig& b);
+/// Throws std::runtime_error naming the first rig channel the event lacks.
+ChannelMap match_channels(const LoadedEvent& r);
 
-/// Throws std::runtime_error if the record lacks a channel the rig needs, or has no
+/// Throws std::runtime_error if the event lacks a channel the rig needs, or has no
 /// steady window.
-SteadyData extract_steady(const MeasuredRecord& r, const board::BoardConfig& b, const SteadyOptions& o = {});
+SteadyData extract_steady(const LoadedEvent& r, const board::BoardConfig& b, const SteadyOptions& o = {});
+
+/// Samples [begin, end) of an event (trigger index shifted; 0 if outside).
+LoadedEvent slice_event(const LoadedEvent& r, size_t begin, size_t end);
 
 }  // namespace amb::host::residual

@@ -15,11 +15,9 @@
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/events/measured_event.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
-#include "host-tools/core/fit/measured_event_io.hpp"
 #include "host-tools/core/replay/event_replay.hpp"
 #include "host-tools/core/report/report_builder.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
-#include "host-tools/core/residual/measured_record.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
 #include "host-tools/core/scenario/steady_record.hpp"
@@ -161,7 +159,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
     try {
       say("Phase C: fitting the drop model to the event (implicit filtering)");
       const std::string json = sum.event_export_stem + ".json";
-      const fit::DropMeasurement m = fit::read_measured_event(json, board.plant);
+      const fit::DropMeasurement m = fit::drop_measurement_from_event(load_event(json));
       fit::DropFitOptions fo;
       const fit::DropFitResult r = fit::fit_drop(m, board, fo);
       sum.fitted = true;
@@ -220,8 +218,8 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       so_steady.board = o.board;
       sum.residual_record = generate_steady_record(o.out_dir, "steady_run", hidden, so_steady);
       // The code under test: the record in, the loop's outcome out.
-      const auto rec = residual::read_measured_record(sum.residual_record);
-      const board::BoardConfig rb = board::load_board(rec.rig);
+      const auto rec = load_event(sum.residual_record);
+      const board::BoardConfig rb = board::load_board(rec.board);
       const auto steady = residual::extract_steady(rec, rb);
       const auto out = residual::run_residual_loop(steady, rb);
       sum.residual_ran = true;
@@ -246,8 +244,8 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       so_drop.board = o.board;
       so_drop.drop_s = 0.4;
       sum.drop_residual_record = generate_steady_record(o.out_dir, "drop_run", hidden, so_drop);
-      const auto rec = residual::read_measured_record(sum.drop_residual_record);
-      const auto out = residual::run_drop_residual(rec, board::load_board(rec.rig));
+      const auto rec = load_event(sum.drop_residual_record);
+      const auto out = residual::run_drop_residual(rec, board::load_board(rec.board));
       sum.drop_residual_ran = true;
       sum.drop_residual_verdict = out.verdict;
       sum.drop_residual_before = {out.before.rms, out.before.spectral, out.before.pearson, out.before.statics};

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "firmware/sil/sil_rig.hpp"
-#include "host-tools/core/residual/measured_record.hpp"
+#include "host-tools/core/events/measured_event.hpp"
 #include "model/effects/effect_plant.hpp"
 
 namespace amb::host {
@@ -58,40 +58,32 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
   }
   rig.set_sink(nullptr);
 
-  host::residual::MeasuredRecord r;
+  MeasuredEventOut r;
   r.rig = o.board;
   r.sample_rate_hz = b.rate_hz;
-  r.trigger_index = static_cast<long>(trigger - first);
+  r.trigger_index = trigger - first;
   r.notes = o.drop_s > 0 ? "generated drop event (all amplifier channels cut at the trigger)" : "generated steady-state run";
-  auto add = [&](const std::string& col, const std::string& q, const std::string& unit, double axial, double angle) {
-    host::residual::RecordChannel c;
-    c.column = col;
-    c.quantity = q;
-    c.unit = unit;
-    c.axial_m = axial;
-    c.angle_deg = angle;
-    c.values.reserve(sink.samples.size() - first);
-    r.channels.push_back(c);
-  };
-  add("t_s", "time", "s", 0, 0);
-  const char* dn[4] = {"xa1", "xa2", "xb1", "xb2"};
-  const char* in[4] = {"ia1", "ia2", "ib1", "ib2"};
-  for (int k = 0; k < 4; ++k) add(dn[k], "displacement", "m", b.plant.sensor[static_cast<size_t>(k)].axial_m, b.plant.sensor[static_cast<size_t>(k)].angle_deg);
-  for (int j = 0; j < 4; ++j)
-    add(in[j], "current", "A", b.plant.amb[static_cast<size_t>(j / 2)].axial_m,
-        b.plant.amb[static_cast<size_t>(j / 2)].actuator_angle_deg[static_cast<size_t>(j % 2)]);
-  add("n", "speed", "Hz", 0, 0);
+  const size_t rows = sink.samples.size() > first ? sink.samples.size() - first : 0;
+  std::vector<std::vector<double>> v(10, std::vector<double>(rows));
   const int64_t t0 = sink.samples.size() > first ? sink.samples[first].t_ns : 0;
   for (size_t i = first; i < sink.samples.size(); ++i) {
     const auto& s = sink.samples[i];
-    r.channels[0].values.push_back(static_cast<double>(s.t_ns - t0) * 1e-9);
-    for (size_t k = 0; k < 4; ++k) r.channels[1 + k].values.push_back(s.displacement_m[k]);
-    for (size_t j = 0; j < 4; ++j) r.channels[5 + j].values.push_back(s.coil_current_a[j]);
-    r.channels[9].values.push_back(s.speed_hz);
+    v[0][i - first] = static_cast<double>(s.t_ns - t0) * 1e-9;
+    for (size_t k = 0; k < 4; ++k) v[1 + k][i - first] = s.displacement_m[k];
+    for (size_t j = 0; j < 4; ++j) v[5 + j][i - first] = s.coil_current_a[j];
+    v[9][i - first] = s.speed_hz;
   }
+  r.columns.push_back({"t_s", "time", "s", false, 0.0, 0.0, &v[0], true});
+  const char* dn[4] = {"xa1", "xa2", "xb1", "xb2"};
+  const char* in[4] = {"ia1", "ia2", "ib1", "ib2"};
+  for (size_t k = 0; k < 4; ++k)
+    r.columns.push_back({dn[k], "displacement", "m", true, b.plant.sensor[k].axial_m, b.plant.sensor[k].angle_deg, &v[1 + k], true});
+  for (size_t j = 0; j < 4; ++j)
+    r.columns.push_back({in[j], "current", "A", true, b.plant.amb[j / 2].axial_m, b.plant.amb[j / 2].actuator_angle_deg[j % 2], &v[5 + j], true});
+  r.columns.push_back({"n", "speed", "Hz", false, 0.0, 0.0, &v[9], true});
   std::filesystem::create_directories(dir);
   const std::string path = (std::filesystem::path(dir) / (stem + ".json")).string();
-  host::residual::write_measured_record(r, path);
+  write_measured_event((std::filesystem::path(dir) / stem).string(), r);
   return path;
 }
 
