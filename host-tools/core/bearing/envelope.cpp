@@ -96,25 +96,46 @@ double BandAnalyser::band_kurtosis(double low_hz, double high_hz) const {
   return m2 > 0 ? m4 / (m2 * m2) - 2.0 : 0.0;
 }
 
-Band BandAnalyser::select_band(const BandSelectionOptions& o) const {
+double BandAnalyser::kurtosis_standard_error(double bandwidth_hz) const {
+  // |z|^2 of complex Gaussian noise is exponential; its estimated E x^2 / (E x)^2 has variance
+  // 4 / N over N independent samples (delta method), N = bandwidth x duration.
+  const double n_ind = bandwidth_hz * static_cast<double>(n_) / fs_hz_;
+  return n_ind > 0 ? 2.0 / std::sqrt(n_ind) : 1.0;
+}
+
+std::vector<Band> BandAnalyser::band_grid(const BandSelectionOptions& o) const {
   if (!o.valid()) throw std::invalid_argument("invalid band selection options");
   const double nyq = 0.5 * fs_hz_;
-  Band best;
-  best.low_hz = 0.0;
-  best.high_hz = nyq;
-  best.kurtosis = -1e300;
+  const double top = (1.0 - o.top_guard_fraction) * nyq;
+  std::vector<Band> out;
   // Grid: bandwidth nyq / 2^(l/2) rounded to the dyadic (l even) and 1/3-dyadic-like (l odd,
   // bandwidth nyq / (3 * 2^((l-1)/2)) ) levels of Antoni's fast kurtogram; centres every half
-  // bandwidth (50 % overlap) so a resonance is never split across two bands.
+  // bandwidth (50 % overlap) so a resonance is never split across two bands. Level 0 (the whole
+  // spectrum) and bands crossing the guard are clipped at `top`.
   for (int l = 0; l <= 2 * o.max_levels; ++l) {
     const double bw = (l % 2 == 0) ? nyq / std::pow(2.0, l / 2) : nyq / (1.5 * std::pow(2.0, (l - 1) / 2));
     if (bw < o.min_bandwidth_hz) break;
     for (double lo = 0.0; lo + bw <= nyq * (1.0 + 1e-9); lo += 0.5 * bw) {
       if (lo < o.min_low_edge_hz) continue;
-      const double k = band_kurtosis(lo, lo + bw);
-      if (k > best.kurtosis) best = Band{lo, lo + bw, k, l};
+      const double hi = std::min(lo + bw, top);
+      if (hi - lo < 0.75 * bw || hi - lo < o.min_bandwidth_hz) continue;  // mostly inside the guard
+      const double k = band_kurtosis(lo, hi);
+      if (o.tonal_sigmas > 0 && k < -o.tonal_sigmas * kurtosis_standard_error(hi - lo)) continue;
+      out.push_back(Band{lo, hi, k, l});
     }
   }
+  return out;
+}
+
+Band BandAnalyser::select_band(const BandSelectionOptions& o) const {
+  const auto grid = band_grid(o);
+  Band best;
+  best.low_hz = 0.0;
+  best.high_hz = (1.0 - o.top_guard_fraction) * 0.5 * fs_hz_;
+  best.kurtosis = -1e300;
+  for (const auto& b : grid)
+    if (b.kurtosis > best.kurtosis) best = b;
+  if (grid.empty()) best.kurtosis = band_kurtosis(best.low_hz, best.high_hz);
   return best;
 }
 

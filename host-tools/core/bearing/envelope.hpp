@@ -20,7 +20,18 @@ struct BandSelectionOptions {
   double min_bandwidth_hz = 500.0;  ///< narrowest band considered, Hz (must pass the sidebands of the highest line of interest)
   double min_low_edge_hz = 0.0;     ///< bands starting below this are skipped, Hz
   int max_levels = 8;               ///< depth of the band grid (each level narrows by sqrt(2)...2)
-  bool valid() const { return min_bandwidth_hz > 0 && min_low_edge_hz >= 0 && max_levels >= 1; }
+  /// Bands reaching into the top `top_guard_fraction` of [0, Nyquist] are skipped: that is where
+  /// anti-alias filters roll off and converters put their artefacts (a 48 kHz record's
+  /// 22.5-24 kHz band with spectral kurtosis 4900 and no defect lines, issue 15). [0, 0.5)
+  double top_guard_fraction = 0.15;
+  /// Tonal guard: a band whose spectral kurtosis is below -tonal_sigmas x its standard error
+  /// under Gaussian noise (2 / sqrt(bandwidth x duration)) is dominated by a few discrete tones;
+  /// its envelope holds their beats, not modulation. Skipped. <= 0 disables the guard.
+  double tonal_sigmas = 3.0;
+  bool valid() const {
+    return min_bandwidth_hz > 0 && min_low_edge_hz >= 0 && max_levels >= 1 && top_guard_fraction >= 0 &&
+           top_guard_fraction < 0.5;
+  }
 };
 
 /// Envelope spectrum of a signal in one band.
@@ -48,8 +59,12 @@ class BandAnalyser {
   BandAnalyser(const std::vector<double>& x, double fs_hz);
   /// Spectral kurtosis of the band [low_hz, high_hz).
   double band_kurtosis(double low_hz, double high_hz) const;
-  /// The band with the highest spectral kurtosis on the grid (kurtogram-lite).
+  /// The band with the highest spectral kurtosis on the grid (kurtogram-lite), guards applied.
   Band select_band(const BandSelectionOptions& o) const;
+  /// Every band of the grid that passes the guards (top of the spectrum, tonal), with its SK.
+  std::vector<Band> band_grid(const BandSelectionOptions& o) const;
+  /// Standard error of band_kurtosis() under Gaussian noise for a band `bandwidth_hz` wide.
+  double kurtosis_standard_error(double bandwidth_hz) const;
   /// Remove discrete (deterministic) components from the stored spectrum before band selection:
   /// a bin whose magnitude exceeds k times the median magnitude of the bins within
   /// +-halfwidth_hz is set to that median (phase kept). Under Gaussian noise |X| is Rayleigh,
