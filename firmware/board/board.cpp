@@ -126,6 +126,15 @@ void parse_rig(TableReader r, model::PlantParams& p) {
     b.ring_friction_torque_n_m = a.number_or("ring_friction_torque_n_m", 0.0, 0.0, 1e3);
     b.centre_offset_x_m = a.number_or("centre_offset_x_m", 0.0, -1e-2, 1e-2);
     b.centre_offset_y_m = a.number_or("centre_offset_y_m", 0.0, -1e-2, 1e-2);
+    {
+      // Drop-model contact law (model/drop): "rigid" (default, Moreau-Jean with restitution),
+      // "hertz" (K d^1.5, K from contact_stiffness_n_per_m at 10 um) or "linear" (k d).
+      const std::string law = a.string_or("contact_law", "rigid");
+      if (law == "rigid") b.contact_law = model::AuxContactLaw::rigid;
+      else if (law == "hertz") b.contact_law = model::AuxContactLaw::hertz;
+      else if (law == "linear") b.contact_law = model::AuxContactLaw::linear;
+      else a.fail("contact_law", "must be \"rigid\", \"hertz\" or \"linear\", got \"" + law + "\"");
+    }
     a.finish();
   }
   {

@@ -108,9 +108,31 @@ DropModel::DropModel(const PlantParams& plant, const PidParams& pid, double cont
   fext_y_ = ModeVec::Zero(m_);
   unb_s_step_ = unb_s_;
   unb_c_step_ = unb_c_;
-  a_inv_ = LatMat::Identity(2 * m_, 2 * m_);
-  z_ = LatBasis::Zero(2 * m_, 4);
-  s_aux_.setZero();
+  for (auto& mm : mats_) {
+    mm.a_inv = LatMat::Identity(2 * m_, 2 * m_);
+    mm.z = LatBasis::Zero(2 * m_, 4);
+    mm.s_aux.setZero();
+  }
+  // Contact law: the board's (both bearings must agree) or the options' override.
+  switch (o_.contact_law) {
+    case ContactLawChoice::board:
+      if (p_.aux[0].contact_law != p_.aux[1].contact_law) fail("the two aux bearings must use the same contact_law");
+      contact_law_ = p_.aux[0].contact_law;
+      break;
+    case ContactLawChoice::rigid: contact_law_ = AuxContactLaw::rigid; break;
+    case ContactLawChoice::hertz: contact_law_ = AuxContactLaw::hertz; break;
+    case ContactLawChoice::linear: contact_law_ = AuxContactLaw::linear; break;
+  }
+  if (compliant()) {
+    law_exp_ = contact_law_ == AuxContactLaw::hertz ? 1.5 : 1.0;
+    for (size_t b = 0; b < 2; ++b) {
+      if (!(p_.aux[b].contact_stiffness_n_per_m > 0.0)) fail("aux bearing " + std::to_string(b) + ": contact_stiffness_n_per_m must be > 0 for a compliant contact law");
+      if (!(p_.aux[b].contact_damping_n_s_per_m >= 0.0)) fail("aux bearing " + std::to_string(b) + ": contact_damping_n_s_per_m must be >= 0");
+    }
+    for (size_t b = 0; b < 2; ++b) {
+      law_k_[b] = p_.aux[b].contact_stiffness_n_per_m * std::pow(o_.hertz_reference_penetration_m, 1.0 - law_exp_);
+    }
+  }
   reset(true, 0.0);
 }
 
@@ -128,6 +150,37 @@ void DropModel::set_aux_centre_offset(int bearing, double x_m, double y_m) {
   if (bearing < 0 || bearing > 1) fail("bearing index must be 0 or 1");
   p_.aux[static_cast<size_t>(bearing)].centre_offset_x_m = x_m;
   p_.aux[static_cast<size_t>(bearing)].centre_offset_y_m = y_m;
+}
+
+void DropModel::set_contact_stiffness(double n_per_m) {
+  if (!(n_per_m > 0.0)) fail("contact stiffness must be > 0");
+  for (size_t b = 0; b < 2; ++b) {
+    p_.aux[b].contact_stiffness_n_per_m = n_per_m;
+    law_k_[b] = n_per_m * std::pow(o_.hertz_reference_penetration_m, 1.0 - law_exp_);
+  }
+}
+
+void DropModel::set_contact_damping(double n_s_per_m) {
+  if (!(n_s_per_m >= 0.0)) fail("contact damping must be >= 0");
+  for (auto& a : p_.aux) a.contact_damping_n_s_per_m = n_s_per_m;
+}
+
+void DropModel::set_slip_regularisation(double m_s) {
+  if (!(m_s >= 0.0)) fail("slip regularisation must be >= 0");
+  o_.slip_regularisation_m_s = m_s;
+}
+
+void DropModel::set_ring_drag(double n_m) {
+  if (!(n_m >= 0.0)) fail("ring drag must be >= 0");
+  for (auto& a : p_.aux) a.ring_friction_torque_n_m = n_m;
+}
+
+double DropModel::contact_force_n(size_t b, double d_m) const {
+  return d_m > 0.0 ? law_k_[b] * (law_exp_ == 1.0 ? d_m : d_m * std::sqrt(d_m)) : 0.0;
+}
+
+double DropModel::contact_energy_at(size_t b, double d_m) const {
+  return d_m > 0.0 ? contact_force_n(b, d_m) * d_m / (law_exp_ + 1.0) : 0.0;
 }
 
 void DropModel::set_faults(const PlantFaults& faults) { s_.faults = faults; }
@@ -181,7 +234,7 @@ void DropModel::reset(bool levitated, double spin_hz) {
   }
   s_ = s;
   counters_ = DropCounters{};
-  a_h_ = -1.0;
+  for (auto& mm : mats_) mm.h = -1.0;
 }
 
 void DropModel::controller_update(double period_s) {
@@ -230,12 +283,6 @@ void DropModel::step(double dt_s, const PlantInputs& in) {
   if (!(dt_s > 0.0)) return;
   const int n = std::max(1, static_cast<int>(std::ceil(dt_s / o_.step_s - 1e-9)));
   const double h = dt_s / n;
-  if (h != lag_h_) {
-    lag_h_ = h;
-    const bool lag = !o_.internal_controller || o_.internal_amplifier_lag;
-    for (size_t b = 0; b < 2; ++b) amp_alpha_[b] = lag ? lag_alpha(p_.amb[b].amplifier_bandwidth_hz, h) : 1.0;
-    for (size_t k = 0; k < 4; ++k) sensor_alpha_[k] = lag_alpha(p_.sensor[k].bandwidth_hz, h);
-  }
   // Slow fault forces held over the call (as rotor_amb_plant.cpp).
   const PlantFaults& f = s_.faults;
   fext_x_.setZero();
@@ -258,7 +305,7 @@ void DropModel::step(double dt_s, const PlantInputs& in) {
     s_.sensor_out_m[k] = s_.sensor_filtered_m[k] + (o_.sensor_noise ? p_.sensor[k].noise_rms_m * s_.rng.normal() : 0.0);
 }
 
-void DropModel::refactor(double h, double spin_rad_s) {
+void DropModel::refactor(double h, double spin_rad_s, StepMatrices& mm) {
   // A = I + h/2 (C + Omega G) + h^2/4 K, G = [[0, P], [-P, 0]] on (x modes, y modes).
   LatMat a = LatMat::Zero(2 * m_, 2 * m_);
   for (int i = 0; i < m_; ++i) {
@@ -268,21 +315,52 @@ void DropModel::refactor(double h, double spin_rad_s) {
   }
   a.block(0, m_, m_, m_) = 0.5 * h * spin_rad_s * polar_;
   a.block(m_, 0, m_, m_) = -0.5 * h * spin_rad_s * polar_;
-  a_inv_ = a.partialPivLu().inverse();
+  mm.a_inv = a.partialPivLu().inverse();
   LatBasis b = LatBasis::Zero(2 * m_, 4);
   for (int k = 0; k < 2; ++k) {
     b.block(0, 2 * k, m_, 1) = b_aux_[static_cast<size_t>(k)];
     b.block(m_, 2 * k + 1, m_, 1) = b_aux_[static_cast<size_t>(k)];
   }
-  z_.noalias() = a_inv_ * b;
-  s_aux_.noalias() = b.transpose() * z_;
-  a_h_ = h;
-  a_spin_ = spin_rad_s;
+  mm.z.noalias() = mm.a_inv * b;
+  mm.s_aux.noalias() = b.transpose() * mm.z;
+  mm.h = h;
+  mm.spin = spin_rad_s;
   ++counters_.refactorisations;
 }
 
+bool DropModel::compliant_contact_near(double h) const {
+  // A compliant contact is closed now, or the rotor may reach the ring within the step
+  // (end-of-step radius by the current velocity, plus a margin of the velocity over the step).
+  for (size_t b = 0; b < 2; ++b) {
+    const auto& a = p_.aux[b];
+    const ModeVec& bb = b_aux_[b];
+    const double x = bb.dot(s_.q.head(m_)) - a.centre_offset_x_m, y = bb.dot(s_.q.tail(m_)) - a.centre_offset_y_m;
+    const double vx = bb.dot(s_.u.head(m_)), vy = bb.dot(s_.u.tail(m_));
+    const double reach = radius(x, y) + 2.0 * h * radius(vx, vy);
+    if (reach >= a.clearance_m) return true;
+  }
+  return false;
+}
+
 void DropModel::substep(double h, const PlantInputs& in) {
+  if (compliant() && o_.contact_step_s < h && compliant_contact_near(h)) {
+    const int n = static_cast<int>(std::ceil(h / o_.contact_step_s - 1e-9));
+    const double hc = h / n;
+    for (int i = 0; i < n; ++i) advance(hc, in, mats_[1]);
+    counters_.contact_substeps += static_cast<std::uint64_t>(n);
+    return;
+  }
+  advance(h, in, mats_[0]);
+}
+
+void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
   ++counters_.steps;
+  if (h != M.lag_h) {
+    M.lag_h = h;
+    const bool lag = !o_.internal_controller || o_.internal_amplifier_lag;
+    for (size_t b = 0; b < 2; ++b) M.amp_alpha[b] = lag ? lag_alpha(p_.amb[b].amplifier_bandwidth_hz, h) : 1.0;
+    for (size_t k = 0; k < 4; ++k) M.sensor_alpha[k] = lag_alpha(p_.sensor[k].bandwidth_hz, h);
+  }
   DropState& s = s_;
   const int m = m_;
 
@@ -311,7 +389,7 @@ void DropModel::substep(double h, const PlantInputs& in) {
                  std::sin(k_two_pi * s.faults.disturbance_frequency_hz * (s.t_s - s.faults.disturbance_start_s));
         const double lim = p_.amb[b].coil_current_limit_a;
         cmd = std::clamp(cmd, -lim, lim);
-        s.current_a[j] += amp_alpha_[b] * (cmd - s.current_a[j]);
+        s.current_a[j] += M.amp_alpha[b] * (cmd - s.current_a[j]);
         const double z = act_dir_[j][0] * xb + act_dir_[j][1] * yb;
         force = magnet::axis_force_n(law_[b], z, s.current_a[j]);
       } else {
@@ -337,8 +415,8 @@ void DropModel::substep(double h, const PlantInputs& in) {
                        -p_.drive_torque_limit_n_m, p_.drive_torque_limit_n_m);
 
   // 2. Free velocity of the midpoint rule (A^-1 rebuilt when the spin drifted by 0.1 %).
-  if (h != a_h_ || std::abs(s.spin_rad_s - a_spin_) > 1e-3 * std::max(1.0, std::abs(a_spin_))) refactor(h, s.spin_rad_s);
-  const double gs = 0.5 * h * a_spin_;
+  if (h != M.h || std::abs(s.spin_rad_s - M.spin) > 1e-3 * std::max(1.0, std::abs(M.spin))) refactor(h, s.spin_rad_s, M);
+  const double gs = 0.5 * h * M.spin;
   LatVec rhs(2 * m);
   {
     const auto ux = s.u.head(m), uy = s.u.tail(m), qx = s.q.head(m), qy = s.q.tail(m);
@@ -348,7 +426,7 @@ void DropModel::substep(double h, const PlantInputs& in) {
     rhs.tail(m) = diag.cwiseProduct(uy) + gs * pux - h * w2_.cwiseProduct(qy) + h * (fy + gravity_y_);
   }
   LatVec u_free(2 * m);
-  u_free.noalias() = a_inv_ * rhs;
+  u_free.noalias() = M.a_inv * rhs;
   const double spin_free = s.spin_rad_s + h * drive / spin_inertia_;
 
   // 3. Contacts: closed when the predicted end-of-step gap is <= 0; geometry at the midpoint.
@@ -359,12 +437,25 @@ void DropModel::substep(double h, const PlantInputs& in) {
   cp.restitution = o_.restitution;
   std::array<std::array<double, 2>, 2> nrm{}, tng{};
   bool need_solve = false;
+  const bool compliant_law = compliant();
+  CompliantContactProblem ccp;
   for (size_t b = 0; b < 2; ++b) {
     const auto& a = p_.aux[b];
     const ModeVec& bb = b_aux_[b];
     const double xe = bb.dot(s.q.head(m) + h * s.u.head(m)) - a.centre_offset_x_m;
     const double ye = bb.dot(s.q.tail(m) + h * s.u.tail(m)) - a.centre_offset_y_m;
     cp.active[b] = radius(xe, ye) >= a.clearance_m;
+    if (compliant_law) {
+      // Penetration now and at the predicted step end; the spring linearised about d_lin.
+      const double x0 = bb.dot(s.q.head(m)) - a.centre_offset_x_m, y0 = bb.dot(s.q.tail(m)) - a.centre_offset_y_m;
+      const double d0 = radius(x0, y0) - a.clearance_m, d_end = radius(xe, ye) - a.clearance_m;
+      cp.active[b] = d0 > 0.0 || d_end > 0.0;
+      const double d_lin = std::max({d0, 0.5 * (d0 + d_end), 0.0});
+      const double f_lin = contact_force_n(b, d_lin);
+      const double k_t = law_exp_ == 1.0 ? law_k_[b] : (d_lin > 0.0 ? law_exp_ * f_lin / d_lin : 0.0);
+      ccp.force0_n[b] = f_lin + k_t * (d0 - d_lin);
+      ccp.force_rate_n_s_m[b] = 0.5 * h * k_t + a.contact_damping_n_s_per_m + o_.hunt_crossley_s_per_m * f_lin;
+    }
     double xm = bb.dot(qm.head(m)) - a.centre_offset_x_m, ym = bb.dot(qm.tail(m)) - a.centre_offset_y_m;
     double r = radius(xm, ym);
     if (r < 1e-12) {
@@ -403,7 +494,7 @@ void DropModel::substep(double h, const PlantInputs& in) {
         double v = 0.0;
         for (int a = 0; a < 2; ++a)
           for (int c = 0; c < 2; ++c)
-            v += dir[static_cast<size_t>(i)][static_cast<size_t>(a)] * s_aux_(2 * (i / 2) + a, 2 * (j / 2) + c) *
+            v += dir[static_cast<size_t>(i)][static_cast<size_t>(a)] * M.s_aux(2 * (i / 2) + a, 2 * (j / 2) + c) *
                  dir[static_cast<size_t>(j)][static_cast<size_t>(c)];
         cp.delassus(i, j) = v;
       }
@@ -419,7 +510,21 @@ void DropModel::substep(double h, const PlantInputs& in) {
       cp.delassus(d, t) = -rr / jr;
       cp.delassus(d, d) = 1.0 / jr;
     }
-    if (cp.active[0] || cp.active[1]) {
+    if ((cp.active[0] || cp.active[1]) && compliant_law) {
+      ccp.delassus = cp.delassus;
+      ccp.free_velocity = cp.free_velocity;
+      ccp.pre_velocity = cp.pre_velocity;
+      ccp.active = cp.active;
+      ccp.friction_coefficient = cp.friction_coefficient;
+      ccp.drag_bound_n_m_s = cp.drag_bound_n_m_s;
+      ccp.step_s = h;
+      ccp.slip_regularisation_m_s = o_.slip_regularisation_m_s;
+      const ContactSolution sol = solve_compliant_contacts(ccp, solver_, s.warm_impulse);
+      impulse = sol.impulse;
+      post = sol.post_velocity;
+      counters_.solver_max_sweeps = std::max(counters_.solver_max_sweeps, sol.iterations);
+      if (!sol.converged) ++counters_.solver_unconverged;
+    } else if (cp.active[0] || cp.active[1]) {
       const ContactSolution sol = solve_contacts(cp, solver_, s.warm_impulse);
       impulse = sol.impulse;
       post = sol.post_velocity;
@@ -446,7 +551,7 @@ void DropModel::substep(double h, const PlantInputs& in) {
     for (size_t a = 0; a < 2; ++a)
       coef(static_cast<int>(2 * b + a)) = -nrm[b][a] * impulse(static_cast<int>(2 * b)) + tng[b][a] * impulse(static_cast<int>(2 * b + 1));
   LatVec u_new = u_free;
-  u_new.noalias() += z_ * coef;
+  u_new.noalias() += M.z * coef;
   double spin_new = spin_free;
   std::array<double, 2> ring_new{};
   for (size_t b = 0; b < 2; ++b) {
@@ -503,11 +608,23 @@ void DropModel::substep(double h, const PlantInputs& in) {
     counters_.max_penetration_m = std::max(counters_.max_penetration_m, pen);
   }
   if (any) ++counters_.contact_steps;
-  if (o_.position_projection) project_positions(cp.active);
+  if (compliant_law) {
+    // The normal impulses' work went partly into the contact springs: book only the rest
+    // (damping and the linearisation's residue) as impact dissipation.
+    for (size_t b = 0; b < 2; ++b) {
+      const auto p = aux_position_m(static_cast<int>(b));
+      const double d = radius(p[0] - p_.aux[b].centre_offset_x_m, p[1] - p_.aux[b].centre_offset_y_m) - p_.aux[b].clearance_m;
+      const double e_new = contact_energy_at(b, d);
+      L.impact_dissipated_j -= e_new - s.contact_energy_j[b];
+      s.contact_energy_j[b] = e_new;
+    }
+  } else if (o_.position_projection) {
+    project_positions(cp.active);
+  }
 
   for (size_t k = 0; k < 4; ++k) {
     const double meas = sensor_dir_[k][0] * b_sensor_[k].dot(s.q.head(m)) + sensor_dir_[k][1] * b_sensor_[k].dot(s.q.tail(m));
-    s.sensor_filtered_m[k] += sensor_alpha_[k] * (meas - s.sensor_filtered_m[k]);
+    s.sensor_filtered_m[k] += M.sensor_alpha[k] * (meas - s.sensor_filtered_m[k]);
   }
   if (observer_ != nullptr) observer_->on_step(rec);
 }
@@ -573,6 +690,7 @@ double DropModel::mechanical_energy_j() const {
   e += 0.5 * (w2_.dot(s_.q.head(m_).cwiseAbs2()) + w2_.dot(s_.q.tail(m_).cwiseAbs2()));
   e -= gravity_y_.dot(s_.q.tail(m_));
   for (size_t b = 0; b < 2; ++b) e += 0.5 * p_.aux[b].ring_inertia_kg_m2 * s_.ring_rad_s[b] * s_.ring_rad_s[b];
+  if (compliant()) e += s_.contact_energy_j[0] + s_.contact_energy_j[1];
   return e;
 }
 

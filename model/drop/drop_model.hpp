@@ -21,6 +21,16 @@
 // on the step-average velocity, so with the AMBs off total energy + dissipation is
 // constant to round-off (energy_ledger()). The method is order 1 in h across impacts.
 //
+// Compliant laws (board key contact_law = "hertz" | "linear", or DropOptions::contact_law):
+// the same midpoint step with the contact forces as impulses of compliant_contact.hpp (Hertz
+// or linear spring with linear / Hunt-Crossley damping, never pulling; exact or tanh-
+// regularised Coulomb friction against each ring's spin DOF; exact ring drag), the spring
+// linearised over the step (trapezoidal, A-stable), and the step cut to
+// DropOptions::contact_step_s while a contact is closed or about to close (explicit-free:
+// stable at any step; the sub-step is for accuracy). No position projection (penetration is
+// the law). The contact potential energy is part of mechanical_energy_j(); impact_dissipated_j
+// then books the normal damping work.
+//
 // Frames as rotor_amb_plant.hpp: y up, x right, z along the rotor, spin about +z; sensor
 // zero = AMB centres; aux-bearing centres at their offsets. Contact polar angles follow the
 // board convention: degrees from the upward vertical, positive towards +x (the bottom of a
@@ -38,6 +48,7 @@
 
 #include "model/amb/amb_force.hpp"
 #include "model/control/pid_params.hpp"
+#include "model/drop/compliant_contact.hpp"
 #include "model/drop/contact_solver.hpp"
 #include "model/drop/drop_options.hpp"
 #include "model/plant/gaussian_rng.hpp"
@@ -98,6 +109,7 @@ struct DropState {
   LocalVec warm_impulse = LocalVec::Zero(); ///< last step's contact impulses (warm start)
   StepContact last_contact;                 ///< last step's contact data
   EnergyLedger ledger;
+  std::array<double, 2> contact_energy_j{};  ///< compliant laws: elastic contact energy now, J
   PlantFaults faults;
   GaussianRng rng;
 };
@@ -109,7 +121,8 @@ struct DropCounters {
   std::uint64_t solver_unconverged = 0;  ///< steps whose PGS hit the sweep cap
   int solver_max_sweeps = 0;             ///< most sweeps one step needed
   std::uint64_t refactorisations = 0;    ///< rebuilds of A^-1 (spin changed)
-  double max_penetration_m = 0.0;        ///< worst gap violation at a step end (velocity-level drift), m
+  double max_penetration_m = 0.0;        ///< worst gap violation at a step end (velocity-level drift; compliant: deepest contact), m
+  std::uint64_t contact_substeps = 0;    ///< compliant laws: sub-steps of contact_step_s taken
 };
 
 /// Receives every Moreau-Jean step's contact data (e.g. for the load map). Called from step().
@@ -137,6 +150,14 @@ class DropModel final : public Plant {
   void set_friction_coefficient(double mu);                     ///< both bearings, 1
   void set_restitution(double e);                               ///< Newton e_n, 1
   void set_aux_centre_offset(int bearing, double x_m, double y_m); ///< bearing centre, m
+  // Compliant laws (both bearings; no effect under the rigid law):
+  void set_contact_stiffness(double n_per_m);   ///< contact_stiffness_n_per_m (Hertz: secant at d_ref), N/m
+  void set_contact_damping(double n_s_per_m);   ///< linear contact damping c, N s/m
+  void set_slip_regularisation(double m_s);     ///< 0: exact Coulomb, else tanh(v / eps), m/s
+  void set_ring_drag(double n_m);               ///< ring drag torque, both bearings, N m
+  /// The law in use (the board's or DropOptions::contact_law).
+  AuxContactLaw contact_law() const { return contact_law_; }
+  bool compliant() const { return contact_law_ != AuxContactLaw::rigid; }
   void set_observer(StepObserver* observer) { observer_ = observer; }
 
   const DropState& state() const { return s_; }
@@ -163,10 +184,23 @@ class DropModel final : public Plant {
   std::array<double, 2> aux_position_m(int bearing) const;
 
  private:
+  struct StepMatrices {
+    double h = -1.0, spin = 0.0;
+    LatMat a_inv;          // A^-1
+    LatBasis z;            // A^-1 [b_aux0 in x, b_aux0 in y, b_aux1 in x, b_aux1 in y]
+    Eigen::Matrix4d s_aux; // B^T A^-1 B
+    double lag_h = -1.0;   // step of the lag factors below
+    std::array<double, 2> amp_alpha{};
+    std::array<double, 4> sensor_alpha{};
+  };
   void substep(double h, const PlantInputs& in);
+  void advance(double h, const PlantInputs& in, StepMatrices& mats);
+  bool compliant_contact_near(double h) const;
+  double contact_force_n(size_t b, double d_m) const;
+  double contact_energy_at(size_t b, double d_m) const;
   void controller_update(double period_s);
   void project_positions(const std::array<bool, 2>& closed);
-  void refactor(double h, double spin_rad_s);
+  void refactor(double h, double spin_rad_s, StepMatrices& mats);
   double lateral_at(const ModeVec& b, const LatVec& v, int axis) const;
 
   PlantParams p_;
@@ -191,18 +225,15 @@ class DropModel final : public Plant {
   std::array<std::array<double, 4>, 2> sensor_inv_{}, actuator_inv_{};  // per bearing 2x2 inverses
   std::array<double, 2> ring_radius_m_{};
 
-  // Step matrices for the current (h, spin).
-  double a_h_ = -1.0, a_spin_ = 0.0;
-  LatMat a_inv_;          // A^-1
-  LatBasis z_;            // A^-1 [b_aux0 in x, b_aux0 in y, b_aux1 in x, b_aux1 in y]
-  Eigen::Matrix4d s_aux_; // B^T A^-1 B
+  // Step matrices for the current (h, spin): [0] the normal step, [1] the contact sub-step.
+  std::array<StepMatrices, 2> mats_;
+  AuxContactLaw contact_law_ = AuxContactLaw::rigid;
+  std::array<double, 2> law_k_{};       // compliant: f(d) = law_k_ d^law_exp_
+  double law_exp_ = 1.0;
 
   // Per step() call: forces held over the call (misalignment drift, unbalance growth) and
   // the exact first-order lag factors of amplifiers and sensors for the sub-step length.
   ModeVec fext_x_, fext_y_, unb_s_step_, unb_c_step_;
-  double lag_h_ = -1.0;
-  std::array<double, 2> amp_alpha_{};
-  std::array<double, 4> sensor_alpha_{};
 
   DropState s_;
   DropCounters counters_{};

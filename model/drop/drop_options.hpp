@@ -6,6 +6,10 @@
 
 namespace amb::model::drop {
 
+/// Contact law used by the drop model: the board's choice (AuxBearingParams::contact_law,
+/// board key `[[rig.aux_bearing]] contact_law`) or an override.
+enum class ContactLawChoice : int { board = 0, rigid = 1, hertz = 2, linear = 3 };
+
 struct DropOptions {
   /// Moreau-Jean time step h, s. Order-1 method (velocity jumps): the step-halving test in
   /// tests/drop shows the error; 2e-5 s keeps ~30 steps per period of the fastest whirl seen.
@@ -40,6 +44,22 @@ struct DropOptions {
   /// whirl). Minimal modal-mass-norm displacement along the contact normals; its potential-
   /// energy change is booked separately in the ledger (projection_energy_j).
   bool position_projection = true;
+  // ---- Compliant contact laws ("hertz", "linear"; see compliant_contact.hpp) ----
+  /// Which law: the board's (default) or an override for both bearings.
+  ContactLawChoice contact_law = ContactLawChoice::board;
+  /// Step used while a compliant contact is closed or about to close, s (the step_s step is
+  /// cut into ceil(step_s / contact_step_s) equal sub-steps; no cut when step_s is smaller). 5 us resolves a contact of
+  /// 1e8-3e8 N/m on the ~1 kg effective mass at a collar (period >= 0.4 ms) by >= 80 steps.
+  double contact_step_s = 5.0e-6;
+  /// Hertz law F = K d^1.5: K = contact_stiffness_n_per_m * d_ref^-0.5, i.e. the secant
+  /// stiffness F/d at d_ref equals the board's contact_stiffness_n_per_m. d_ref, m.
+  double hertz_reference_penetration_m = 1.0e-5;
+  /// Hunt-Crossley damping: F = f(d) (1 + alpha d') + c d', alpha in s/m (0: off, only the
+  /// board's linear contact_damping_n_s_per_m c). Never pulling.
+  double hunt_crossley_s_per_m = 0.0;
+  /// Coulomb friction at the collar: exact (set-valued, 0) or regularised tanh(v / eps)
+  /// with eps in m/s. Only for the compliant laws (the rigid law is always exact).
+  double slip_regularisation_m_s = 0.0;
   /// Sensor noise on/off and its seed (deterministic).
   bool sensor_noise = true;
   std::uint64_t noise_seed = 1;
@@ -51,6 +71,12 @@ struct DropOptions {
     if (!(solver_tolerance_m_s > 0.0)) return "solver_tolerance_m_s must be > 0";
     if (solver_max_iterations < 1) return "solver_max_iterations must be >= 1";
     if (modes_per_plane < 0) return "modes_per_plane must be >= 0";
+    if (!(contact_step_s > 0.0 && contact_step_s <= 1e-3)) return "contact_step_s must be in (0, 1e-3] s";
+    if (!(hertz_reference_penetration_m > 0.0 && hertz_reference_penetration_m < 1e-2))
+      return "hertz_reference_penetration_m must be in (0, 1e-2) m";
+    if (!(hunt_crossley_s_per_m >= 0.0 && hunt_crossley_s_per_m < 1e3)) return "hunt_crossley_s_per_m must be in [0, 1e3) s/m";
+    if (!(slip_regularisation_m_s >= 0.0 && slip_regularisation_m_s < 10.0))
+      return "slip_regularisation_m_s must be in [0, 10) m/s";
     return {};
   }
 };

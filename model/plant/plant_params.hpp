@@ -60,6 +60,13 @@ struct SensorParams {
 };
 
 /// An auxiliary (touchdown) bearing.
+/// Contact law of the drop model (model/drop) at an auxiliary bearing, chosen per board
+/// (`[[rig.aux_bearing]] contact_law`). The SIL plant (rotor_amb_plant) keeps its own penalty law.
+///  rigid:  unilateral rigid contact, Newton restitution (Moreau-Jean);
+///  hertz:  compliant, F = K d^1.5 + damping, never pulling (K from contact_stiffness_n_per_m);
+///  linear: compliant, F = k d + damping (Kelvin-Voigt penalty), never pulling.
+enum class AuxContactLaw : int { rigid = 0, hertz = 1, linear = 2 };
+
 struct AuxBearingParams {
   double axial_m = 0.0;             ///< bearing plane, m
   double clearance_m = 0.0;         ///< radial clearance to the rotor collar, m
@@ -71,6 +78,7 @@ struct AuxBearingParams {
   double ring_friction_torque_n_m = 0.0; ///< bearing drag torque on the inner ring, N m
   double centre_offset_x_m = 0.0;   ///< bearing centre relative to the sensor zero, m
   double centre_offset_y_m = 0.0;
+  AuxContactLaw contact_law = AuxContactLaw::rigid; ///< drop-model contact law (board key contact_law)
 };
 
 struct PlantParams {

@@ -1,0 +1,152 @@
+// Compliant contact laws of the drop model (model/drop/compliant_contact.hpp) against the
+// project's penalty plant (model/plant RotorAmbPlant, written independently of the drop
+// model: explicit sub-stepping, Kelvin-Voigt contact, sqrt-regularised friction): same rig,
+// same initial state (levitated centre, amplifiers off, spin), same contact law ("linear").
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "drop_test_util.hpp"
+#include "model/plant/rotor_amb_plant.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace md = amb::model::drop;
+
+namespace {
+
+struct Trace {
+  std::vector<double> x, y, fn, spin_hz;
+};
+
+template <class P>
+Trace free_drop(P& plant, double spin_hz, double duration_s, double dt_s = 1e-4) {
+  plant.reset(true, spin_hz);
+  amb::model::PlantInputs in;
+  in.amplifiers_enabled = false;
+  Trace r;
+  const int n = static_cast<int>(std::lround(duration_s / dt_s));
+  for (int i = 0; i < n; ++i) {
+    plant.step(dt_s, in);
+    const auto tr = plant.truth();
+    r.x.push_back(tr.aux_x_m[0]);
+    r.y.push_back(tr.aux_y_m[0]);
+    r.fn.push_back(tr.contact_force_n[0]);
+    r.spin_hz.push_back(plant.outputs().spin_speed_hz);
+  }
+  return r;
+}
+
+int first_contact(const Trace& t) {
+  for (size_t i = 0; i < t.fn.size(); ++i)
+    if (t.fn[i] > 0.0) return static_cast<int>(i);
+  return -1;
+}
+
+// Mean whirl rate of the contact point (rad/s, counter-clockwise positive) from sample i0 on.
+double whirl_rate(const Trace& t, size_t i0, double dt_s) {
+  double ang = 0.0, prev = std::atan2(t.y[i0], t.x[i0]);
+  for (size_t i = i0 + 1; i < t.x.size(); ++i) {
+    const double a = std::atan2(t.y[i], t.x[i]);
+    ang += std::remainder(a - prev, 2.0 * M_PI);
+    prev = a;
+  }
+  return ang / (dt_s * static_cast<double>(t.x.size() - 1 - i0));
+}
+
+md::DropOptions plant_like(const amb::model::PlantParams& p, md::ContactLawChoice law) {
+  md::DropOptions o;
+  o.internal_controller = false;
+  o.sensor_noise = false;
+  o.modes_per_plane = p.rotor.modes_kept;
+  o.contact_law = law;
+  return o;
+}
+
+}  // namespace
+
+TEST(CompliantContact, LinearLawAgreesWithPenaltyPlantThroughImpactsAndRub) {
+  // Board rotor and friction 0.15 at 2700 rpm: bouncing, then rubbing at the bottom.
+  const auto p = amb::test::bath_board().plant;
+  amb::model::RotorAmbPlant plant(p);
+  const double dt = 1e-4, dur = 0.4;
+  const Trace a = free_drop(plant, 45.0, dur, dt);
+  auto m = amb::test::make_drop_model(p, plant_like(p, md::ContactLawChoice::linear));
+  const Trace b = free_drop(*m, 45.0, dur, dt);
+  const int ia = first_contact(a), ib = first_contact(b);
+  ASSERT_GT(ia, 0);
+  EXPECT_NEAR(ib, ia, 1);  // first impact within one sample (0.1 ms)
+  // First impact's peak force within 5 %, and the second impact at the same sample +- 2.
+  const auto peak = [](const Trace& t, int i0) { return *std::max_element(t.fn.begin() + i0, t.fn.begin() + i0 + 30); };
+  EXPECT_NEAR(peak(b, ib), peak(a, ia), 0.05 * peak(a, ia));
+  // Spin-down over the window: within 1 % of the plant's.
+  const double da = a.spin_hz.front() - a.spin_hz.back(), db = b.spin_hz.front() - b.spin_hz.back();
+  EXPECT_GT(da, 1.0);
+  EXPECT_NEAR(db, da, 0.01 * da);
+  // The model never ends an impact with a deep penetration (< 5 % of the clearance).
+  EXPECT_LT(m->counters().max_penetration_m, 0.05 * p.aux[0].clearance_m);
+  EXPECT_EQ(m->counters().solver_unconverged, 0u);
+}
+
+TEST(CompliantContact, BackwardWhirlLikeThePenaltyPlant) {
+  // High friction against a heavy ring with unbalance: dry-friction backward whirl in the
+  // plant; the compliant model must whirl the same way at a comparable rate, the rigid model
+  // is shown for contrast (not asserted beyond running).
+  auto p = amb::test::bath_board().plant;
+  for (auto& a : p.aux) {
+    a.friction_coefficient = 0.4;
+    a.ring_inertia_kg_m2 = 2e-3;
+  }
+  for (auto& d : p.rotor.disks) d.unbalance_kg_m = 1e-4;
+  amb::model::RotorAmbPlant plant(p);
+  const double dt = 1e-4, dur = 0.3;
+  const Trace a = free_drop(plant, 45.0, dur, dt);
+  auto m = amb::test::make_drop_model(p, plant_like(p, md::ContactLawChoice::linear));
+  const Trace b = free_drop(*m, 45.0, dur, dt);
+  const double wa = whirl_rate(a, 1000, dt), wb = whirl_rate(b, 1000, dt);
+  RecordProperty("plant_whirl_rad_s", std::to_string(wa));
+  RecordProperty("model_whirl_rad_s", std::to_string(wb));
+  std::printf("whirl rate plant %.1f rad/s, compliant model %.1f rad/s; spin end %.2f / %.2f Hz\n", wa, wb,
+              a.spin_hz.back(), b.spin_hz.back());
+  ASSERT_LT(wa, -2.0 * M_PI * 20.0);  // the plant whirls backward (against the +z spin)
+  EXPECT_LT(wb, -2.0 * M_PI * 20.0);
+  EXPECT_NEAR(wb, wa, 0.15 * std::abs(wa));
+  EXPECT_NEAR(b.spin_hz.back(), a.spin_hz.back(), 0.03 * a.spin_hz.front());
+}
+
+TEST(CompliantContact, BoardSelectsTheLawAndRefusesUnknownOnes) {
+  std::ifstream f(std::string(amb::test::source_dir()) + "/boards/bath-amb-rig.toml");
+  ASSERT_TRUE(f.good());
+  std::stringstream ss;
+  ss << f.rdbuf();
+  std::string text = ss.str();
+  const auto with_law = [&](const std::string& law) {
+    std::string t = text;
+    size_t pos = 0;
+    while ((pos = t.find("[[rig.aux_bearing]]\n", pos)) != std::string::npos) {
+      pos += 20;
+      // Drop any contact_law line of the board, then state the one under test.
+      const size_t end = t.find("\n\n", pos);
+      const size_t old = t.find("contact_law", pos);
+      if (old != std::string::npos && old < end) t.erase(old, t.find('\n', old) + 1 - old);
+      t.insert(pos, "contact_law = \"" + law + "\"\n");
+    }
+    return t;
+  };
+  EXPECT_EQ(amb::board::parse_board(with_law("hertz"), "test").plant.aux[1].contact_law, amb::model::AuxContactLaw::hertz);
+  EXPECT_EQ(amb::board::parse_board(with_law("rigid"), "test").plant.aux[0].contact_law, amb::model::AuxContactLaw::rigid);
+  const auto b = amb::board::parse_board(with_law("linear"), "test");
+  EXPECT_EQ(b.plant.aux[0].contact_law, amb::model::AuxContactLaw::linear);
+  md::DropOptions o;
+  EXPECT_EQ(amb::test::make_drop_model(b.plant, o)->contact_law(), amb::model::AuxContactLaw::linear);
+  try {
+    amb::board::parse_board(with_law("soft"), "test");
+    FAIL() << "an unknown contact law was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("contact_law"), std::string::npos) << e.what();
+  }
+}
