@@ -16,7 +16,8 @@
 namespace {
 
 struct Args {
-  std::string mat, var, window = "hamming", orders;
+  std::string mat, var, window = "hamming", orders, profile;
+  bool fixed = false;  // a tracker flag was given: legacy per-run settings, no profile
   double fs_hz = 0.0;
   bool json = false;
   amb::host::TrackSpeedOptions opt{};
@@ -59,6 +60,10 @@ int run(Args& a) {
   }
   // Keep the chirp-rate step inside the acceleration limit when only the limit was lowered.
   a.opt.tracker.rate_step_hz_per_s = std::min(a.opt.tracker.rate_step_hz_per_s, a.opt.tracker.max_accel_hz_per_s);
+  if (!a.profile.empty() && a.fixed) {
+    std::fprintf(stderr, "amb-host track-speed: error: --profile replaces the per-run tracker flags; give one or the other\n");
+    return 1;
+  }
   if (!parse_orders(a.orders, a.opt.tracker, err)) {
     std::fprintf(stderr, "amb-host track-speed: error: %s\n", err.c_str());
     return 1;
@@ -76,7 +81,13 @@ int run(Args& a) {
   }
   amb::host::TrackSpeedResult r;
   try {
-    r = amb::host::track_speed(x, a.fs_hz, a.opt);
+    if (!a.fixed || !a.profile.empty()) {
+      const amb::host::MachineProfile prof =
+          a.profile.empty() ? amb::host::default_machine_profile() : amb::host::load_machine_profile(a.profile);
+      r = amb::host::track_speed_with_profile(x, a.fs_hz, prof);
+    } else {
+      r = amb::host::track_speed(x, a.fs_hz, a.opt);
+    }
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "amb-host track-speed: error: %s\n", e.what());
     return 1;
@@ -94,6 +105,8 @@ int run(Args& a) {
     std::printf("  median speed   %.3f Hz = %.1f rpm\n", med, 60.0 * med);
   else
     std::printf("  median speed   none (no valid update)\n");
+  if (r.profiled)
+    std::printf("  status         %s (%s)\n", r.status.c_str(), r.discovery.reason.c_str());
   std::printf("  lost           %.1f %% of updates (stated minimum %.2f Hz; %llu acquisitions, %llu losses)\n",
               100.0 * amb::host::lost_fraction(r), r.summary.stated_min_speed_hz,
               static_cast<unsigned long long>(r.summary.acquisitions), static_cast<unsigned long long>(r.summary.losses));
@@ -120,7 +133,15 @@ const amb::host::Registration reg{
       sub.add_option("--max-accel", t.max_accel_hz_per_s, "largest |d speed/dt| followed, Hz/s (default 150)");
       sub.add_option("--orders", a->orders, "comb orders, e.g. 1,2,3,4 (default) or 3.568,7.136 for ball-pass lines");
       sub.add_option("--decimate", a->opt.decimate, "decimation factor: 0 auto (default), 1 none");
-      run_fn = [a]() { return run(*a); };
+      sub.add_option("--profile", a->profile,
+                     "machine profile (TOML: speed range, acceleration limit, order comb or \"discover\"; "
+                     "docs/tracking.md). Without it and without tracker flags the built-in default profile is used");
+      run_fn = [a, &sub]() {
+        for (const char* f : {"--window", "--window-s", "--overlap", "--nfft", "--min-hz", "--max-hz", "--predict-hz",
+                              "--band-hz", "--max-accel", "--orders", "--decimate"})
+          if (sub.count(f) > 0) a->fixed = true;
+        return run(*a);
+      };
     }};
 
 }  // namespace

@@ -58,6 +58,7 @@ TrackSpeedResult track_speed(const std::vector<double>& x, double fs_hz, const T
   sig::SpeedTrackerOptions topt = options.tracker;
   topt.stft.sample_rate_hz = dec.output_rate_hz();
   r.tracker_rate_hz = topt.stft.sample_rate_hz;
+  r.window_s = topt.stft.window_s;
   const double needed_s = topt.stft.window_s;
   if (static_cast<double>(x.size()) / fs_hz < needed_s)
     throw std::invalid_argument("the record (" + std::to_string(static_cast<double>(x.size()) / fs_hz) +
@@ -80,6 +81,88 @@ TrackSpeedResult track_speed(const std::vector<double>& x, double fs_hz, const T
     if (dec.push(v, y) && tracker.push(y)) record(tracker.latest());
   }
   r.summary = tracker.summary();
+  return r;
+}
+
+TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double fs_hz, const MachineProfile& profile) {
+  if (!(fs_hz > 0.0 && std::isfinite(fs_hz))) throw std::invalid_argument("fs must be a positive sample rate in Hz");
+  if (x.empty()) throw std::invalid_argument("the signal is empty");
+  for (size_t i = 0; i < x.size(); ++i)
+    if (!std::isfinite(x[i]))
+      throw std::invalid_argument("the signal has a non-finite sample at index " + std::to_string(i));
+  const double rec_s = static_cast<double>(x.size()) / fs_hz;
+  // Discovery on a decimated copy: orders up to 8 of the highest speed, Nyquist margin 2.5.
+  const int max_order = 8;
+  const double o_top = profile.discover_orders ? max_order
+                                               : *std::max_element(profile.orders.begin(), profile.orders.end());
+  auto m = static_cast<size_t>(std::floor(fs_hz / (2.5 * o_top * profile.max_speed_hz)));
+  m = std::clamp<size_t>(m, 1, 4096);
+  sig::FirDecimator dec;
+  sig::FirDecimatorOptions dopt;
+  dopt.input_rate_hz = fs_hz;
+  dopt.factor = m;
+  if (std::string err = dec.configure(dopt); !err.empty()) throw std::invalid_argument("decimator: " + err);
+  std::vector<double> xd;
+  xd.reserve(x.size() / m + 1);
+  double y = 0.0;
+  for (double v : x)
+    if (dec.push(v, y)) xd.push_back(y);
+  const size_t skip = std::min(xd.size() / 4, static_cast<size_t>(std::ceil(dec.delay_s() * dec.output_rate_hz())));
+  const std::vector<double> xs(xd.begin() + static_cast<std::ptrdiff_t>(skip), xd.end());
+  OrderDiscoveryOptions dop;
+  dop.min_speed_hz = profile.min_speed_hz;
+  dop.max_speed_hz = profile.max_speed_hz;
+  dop.max_order = max_order;
+  if (!profile.from_file) dop.ambiguity_ratio = 0.0;  // no prior: any unrelated family is a doubt
+  // Segments as long as the tracker's longest window: a line that the tracker can see sharp.
+  dop.segment_s = std::max(0.5, std::min({0.5 * rec_s, std::sqrt(8.0 / profile.max_accel_hz_per_s), 4.0}));
+  dop.line_tolerance = std::min(0.01, profile.max_accel_hz_per_s * dop.segment_s / profile.max_speed_hz);
+  const double max_window_s = std::min({0.5 * rec_s, std::sqrt(8.0 / profile.max_accel_hz_per_s), 4.0});
+  OrderDiscovery disc = discover_orders(xs, dec.output_rate_hz(), dop, max_window_s);
+
+  TrackSpeedOptions opt;
+  sig::SpeedTrackerOptions& t = opt.tracker;
+  t.min_speed_hz = profile.min_speed_hz;
+  t.max_speed_hz = profile.max_speed_hz;
+  t.max_accel_hz_per_s = profile.max_accel_hz_per_s;
+  t.rate_step_hz_per_s = std::min(t.rate_step_hz_per_s, 0.5 * profile.max_accel_hz_per_s);
+  std::vector<double> orders = profile.discover_orders ? disc.orders : profile.orders;
+  if (orders.empty()) orders = {1.0};
+  t.n_orders = std::min(orders.size(), sig::k_max_orders);
+  for (size_t k = 0; k < t.n_orders; ++k) {
+    t.orders[k] = orders[k];
+    t.order_weights[k] = 1.0 - 0.1 * static_cast<double>(k);
+  }
+  t.stft.window_s = disc.found ? disc.window_s : 0.5;
+  if (rec_s < t.stft.window_s) t.stft.window_s = std::max(0.05, 0.5 * rec_s);
+  // Short records (fewer than ~20 windows): denser updates.
+  t.stft.overlap = rec_s < 20.0 * t.stft.window_s ? 0.95 : 0.9;
+  if (disc.found && !disc.ambiguous)
+    t.initial_speed_hz = std::clamp(disc.speed_hz, profile.min_speed_hz, profile.max_speed_hz);
+  // The tracker's own grid must be able to reach its largest order below Nyquist.
+  TrackSpeedResult r = track_speed(x, fs_hz, opt);
+  r.profiled = true;
+  r.discovery = disc;
+  r.window_s = t.stft.window_s;
+  auto drop = [&](size_t i) {
+    if (!r.lost[i]) ++r.rejected_updates;
+    r.lost[i] = true;
+    r.speed_hz[i] = std::nan("");
+  };
+  if (!disc.found || disc.ambiguous) {
+    r.status = disc.found ? "ambiguous" : "no_line";
+    for (size_t i = 0; i < r.t_s.size(); ++i) drop(i);
+    r.rejected_updates = 0;
+    return r;
+  }
+  r.status = "ok";
+  const double t_mid = 0.5 * rec_s;
+  for (size_t i = 0; i < r.t_s.size(); ++i) {
+    if (r.lost[i]) continue;
+    const double allowed = profile.max_accel_hz_per_s * std::abs(r.t_s[i] - t_mid) + 0.01 * disc.speed_hz +
+                           2.0 * disc.bin_hz;
+    if (std::abs(r.speed_hz[i] - disc.speed_hz) > allowed) drop(i);
+  }
   return r;
 }
 
@@ -124,7 +207,25 @@ nlohmann::json to_json(const TrackSpeedResult& r) {
       {"tracker_rate_hz", r.tracker_rate_hz},
       {"acquisitions", r.summary.acquisitions},
       {"losses", r.summary.losses},
+      {"status", r.status},
+      {"window_s", r.window_s},
   };
+  if (r.profiled) {
+    const auto& d = r.discovery;
+    j["summary"]["discovery"] = {
+        {"found", d.found},
+        {"ambiguous", d.ambiguous},
+        {"speed_hz", d.found ? nlohmann::json(d.speed_hz) : nlohmann::json(nullptr)},
+        {"orders", d.orders},
+        {"prominence_db", d.prominence_db},
+        {"threshold_db", d.threshold_db},
+        {"runner_up_hz", d.runner_up_hz > 0 ? nlohmann::json(d.runner_up_hz) : nlohmann::json(nullptr)},
+        {"score", d.score},
+        {"runner_up_score", d.runner_up_score},
+        {"reason", d.reason},
+    };
+    j["summary"]["rejected_updates"] = r.rejected_updates;
+  }
   return j;
 }
 

@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/core/tracking/machine_profile.hpp"
+#include "host-tools/core/tracking/order_discovery.hpp"
 #include "model/signal/speed_ridge_tracker.hpp"
 
 namespace amb::host {
@@ -38,7 +40,23 @@ struct TrackSpeedResult {
   model::signal::SpeedTrackerSummary summary{};
   size_t decimation = 1;           ///< decimation factor used
   double tracker_rate_hz = 0.0;    ///< sample rate seen by the tracker, Hz
+  /// Profile runs (track_speed_with_profile): "ok", "ambiguous" (two unrelated line families,
+  /// every update lost), "no_line" (nothing stands out, every update lost); "fixed" for
+  /// track_speed() with the caller's comb.
+  std::string status = "fixed";
+  bool profiled = false;           ///< true: track_speed_with_profile() produced this
+  OrderDiscovery discovery{};      ///< what order discovery found (profile runs)
+  double window_s = 0.0;           ///< STFT window used, s
+  size_t rejected_updates = 0;     ///< updates set lost by the consistency check (profile runs)
 };
+
+/// Track with a machine profile (machine_profile.hpp) instead of per-run flags: the comb is
+/// the profile's or discovered (order_discovery.hpp), the window is chosen from the line SNR
+/// (<= record/2, <= sqrt(8 / max_accel) s so a linear drift at the limit stays within a few
+/// bins), the first lock is searched around the discovered speed, and an update further from
+/// the discovered speed than the acceleration limit allows over its distance from the record
+/// centre (+1 %) is reported lost. An ambiguous or empty discovery gives every update lost.
+TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double fs_hz, const MachineProfile& profile);
 
 /// Decimation factor that TrackSpeedOptions::decimate == 0 selects for input rate `fs_hz`.
 size_t auto_decimation(const TrackSpeedOptions& options, double fs_hz);
