@@ -99,7 +99,7 @@ OrderDiscovery discover_orders(const std::vector<double>& x, double fs_hz, const
     if (b0 > b1) return 0;
     size_t b = b0;
     for (size_t i = b0; i <= b1; ++i)
-      if (prom[i] > prom[b]) b = i;
+      if (level[i] > level[b]) b = i;
     for (size_t i = b > guard ? b - guard : 1; i <= std::min(n - 1, b + guard); ++i)
       if (level[i] > level[b]) return 0;
     return b;
@@ -162,7 +162,11 @@ OrderDiscovery discover_orders(const std::vector<double>& x, double fs_hz, const
   // Window from the line SNR: a stationary line's prominence grows as 10 log10(T).
   const double p_max = *std::max_element(d.prominence_db.begin(), d.prominence_db.end());
   const double t = d.segment_s * std::pow(10.0, (o.target_prominence_db - p_max) / 10.0);
-  d.window_s = std::clamp(std::round(t * 10.0) / 10.0, 0.5, std::max(0.5, max_window_s));
+  // ... and long enough to resolve the 1x: the tracker's stated minimum speed is two Hamming
+  // main-lobe half-widths, 4 / T; ask for 3x that margin, T >= 12 / f.
+  const double t_resolve = 12.0 / d.speed_hz;
+  d.window_s = std::clamp(std::ceil(std::max(t, t_resolve) * 10.0) / 10.0, 0.5, std::max(0.5, max_window_s));
+  d.resolved = t_resolve <= d.window_s + 1e-9;
   char buf[320];
   if (d.ambiguous)
     std::snprintf(buf, sizeof buf,

@@ -40,7 +40,8 @@ struct OrderDiscovery {
   double threshold_db = 0.0;        ///< presence threshold, dB above the floor
   double segment_s = 0.0;           ///< Welch segment used, s
   double bin_hz = 0.0;              ///< spectrum bin spacing, Hz
-  double window_s = 0.5;            ///< window length recommended from the line SNR, s
+  double window_s = 0.5;            ///< window from the line SNR (target_prominence_db) and >= 12 / speed, s
+  bool resolved = true;             ///< false: the window cap is shorter than 12 / speed (1x too close to DC)
   std::string reason;               ///< one sentence
 };
 

@@ -84,7 +84,8 @@ TrackSpeedResult track_speed(const std::vector<double>& x, double fs_hz, const T
   return r;
 }
 
-TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double fs_hz, const MachineProfile& profile) {
+TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double fs_hz, const MachineProfile& profile,
+                                          const ProfileRunConstants& constants) {
   if (!(fs_hz > 0.0 && std::isfinite(fs_hz))) throw std::invalid_argument("fs must be a positive sample rate in Hz");
   if (x.empty()) throw std::invalid_argument("the signal is empty");
   for (size_t i = 0; i < x.size(); ++i)
@@ -113,11 +114,18 @@ TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double f
   dop.min_speed_hz = profile.min_speed_hz;
   dop.max_speed_hz = profile.max_speed_hz;
   dop.max_order = max_order;
+  dop.ambiguity_ratio = constants.ambiguity_ratio;
+  dop.target_prominence_db = constants.target_prominence_db;
+  dop.false_alarm = constants.false_alarm;
   if (!profile.from_file) dop.ambiguity_ratio = 0.0;  // no prior: any unrelated family is a doubt
   // Segments as long as the tracker's longest window: a line that the tracker can see sharp.
   dop.segment_s = std::max(0.5, std::min({0.5 * rec_s, std::sqrt(8.0 / profile.max_accel_hz_per_s), 4.0}));
   dop.line_tolerance = std::min(0.01, profile.max_accel_hz_per_s * dop.segment_s / profile.max_speed_hz);
-  const double max_window_s = std::min({0.5 * rec_s, std::sqrt(8.0 / profile.max_accel_hz_per_s), 4.0});
+  // Longest window: half the record, 4 s, and the drift limit sqrt(8 / max_accel) (a drift at the
+  // limit moves a line by at most 8 / T... i.e. a few resolution widths, which the tracker's warp
+  // follows) -- but never shorter than what resolves the lowest expected speed (12 / min_hz).
+  const double max_window_s = std::min(
+      {0.5 * rec_s, 4.0, std::max(std::sqrt(8.0 / profile.max_accel_hz_per_s), 12.0 / profile.max_speed_hz)});
   OrderDiscovery disc = discover_orders(xs, dec.output_rate_hz(), dop, max_window_s);
 
   TrackSpeedOptions opt;
@@ -149,8 +157,8 @@ TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double f
     r.lost[i] = true;
     r.speed_hz[i] = std::nan("");
   };
-  if (!disc.found || disc.ambiguous) {
-    r.status = disc.found ? "ambiguous" : "no_line";
+  if (!disc.found || disc.ambiguous || !disc.resolved) {
+    r.status = !disc.found ? "no_line" : disc.ambiguous ? "ambiguous" : "unresolved";
     for (size_t i = 0; i < r.t_s.size(); ++i) drop(i);
     r.rejected_updates = 0;
     return r;

@@ -41,7 +41,8 @@ struct TrackSpeedResult {
   size_t decimation = 1;           ///< decimation factor used
   double tracker_rate_hz = 0.0;    ///< sample rate seen by the tracker, Hz
   /// Profile runs (track_speed_with_profile): "ok", "ambiguous" (two unrelated line families,
-  /// every update lost), "no_line" (nothing stands out, every update lost); "fixed" for
+  /// every update lost), "no_line" (nothing stands out, every update lost), "unresolved" (the
+  /// record is too short for a window that resolves the speed, every update lost); "fixed" for
   /// track_speed() with the caller's comb.
   std::string status = "fixed";
   bool profiled = false;           ///< true: track_speed_with_profile() produced this
@@ -56,7 +57,15 @@ struct TrackSpeedResult {
 /// bins), the first lock is searched around the discovered speed, and an update further from
 /// the discovered speed than the acceleration limit allows over its distance from the record
 /// centre (+1 %) is reported lost. An ambiguous or empty discovery gives every update lost.
-TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double fs_hz, const MachineProfile& profile);
+/// Constants of the profile run (defaults documented in docs/tracking.md; exposed for the
+/// leave-one-out validation, not per-record tuning).
+struct ProfileRunConstants {
+  double ambiguity_ratio = 0.5;        ///< OrderDiscoveryOptions::ambiguity_ratio for a profile file
+  double target_prominence_db = 20.0;  ///< OrderDiscoveryOptions::target_prominence_db
+  double false_alarm = 1e-3;           ///< OrderDiscoveryOptions::false_alarm
+};
+TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double fs_hz, const MachineProfile& profile,
+                                          const ProfileRunConstants& constants = {});
 
 /// Decimation factor that TrackSpeedOptions::decimate == 0 selects for input rate `fs_hz`.
 size_t auto_decimation(const TrackSpeedOptions& options, double fs_hz);
