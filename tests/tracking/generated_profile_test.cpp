@@ -52,10 +52,10 @@ TEST(ProfileGenerated, WithinOnePercentOrLost) {
   std::printf("generated: %d of %d runs tracked (ok, > half the updates valid), %d of %d reported updates off by >= 1 %%\n",
               ok_runs, runs, bad_updates, valid_updates);
   EXPECT_GE(ok_runs, runs / 2);
-  // Measured (docs/tracking.md): 30 of ~6000 reported updates off by >= 1 % in 2 of 36 runs
-  // (150 Hz at 97.7 kHz with a profile: 27; 150 Hz at 5 kHz, noise 3, defaults: 3) -- the goal
-  // "never" is not met on generated data; this bound keeps it from getting worse.
-  EXPECT_LT(bad_updates, valid_updates / 100);
+  // Measured (docs/tracking.md): 3 of 4148 reported updates off by >= 1 % (150 Hz at 5 kHz,
+  // noise 3, defaults; worst 1.7 %) -- the goal "never" is not met on generated data; this bound
+  // keeps it from getting worse.
+  EXPECT_LE(bad_updates, valid_updates / 1000);
 }
 
 TEST(ProfileGenerated, TwoUnrelatedFamiliesWithoutProfileAreAmbiguous) {

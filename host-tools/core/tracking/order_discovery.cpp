@@ -61,6 +61,10 @@ OrderDiscovery discover_orders(const std::vector<double>& x, double fs_hz, const
   std::unique_ptr<fftw_plan_s, PlanDeleter> plan(fftw_plan_dft_r2c_1d(
       static_cast<int>(nfft), in.data(), reinterpret_cast<fftw_complex*>(out.data()), FFTW_ESTIMATE));
   int k_seg = 0;
+  // Per-segment spectra up to just above the highest 1x, for the coarse track.
+  const auto n_keep = std::min(out.size(), static_cast<size_t>(std::ceil(1.2 * o.max_speed_hz / (fs_hz / static_cast<double>(nfft)))) + 8);
+  std::vector<std::vector<double>> seg_power;
+  std::vector<double> seg_t;
   for (size_t start = 0; start + n_seg <= x.size(); start += n_seg / 2) {
     double mean = 0.0;
     for (size_t i = 0; i < n_seg; ++i) mean += x[start + i];
@@ -70,6 +74,9 @@ OrderDiscovery discover_orders(const std::vector<double>& x, double fs_hz, const
       in[i] = (x[start + i] - mean) * (0.5 - 0.5 * std::cos(2.0 * M_PI * static_cast<double>(i) / static_cast<double>(n_seg)));
     fftw_execute(plan.get());
     for (size_t k = 0; k < power.size(); ++k) power[k] += std::norm(out[k]);
+    seg_power.emplace_back(n_keep);
+    for (size_t k = 0; k < n_keep; ++k) seg_power.back()[k] = std::norm(out[k]);
+    seg_t.push_back((static_cast<double>(start) + 0.5 * static_cast<double>(n_seg)) / fs_hz);
     ++k_seg;
   }
   d.bin_hz = fs_hz / static_cast<double>(nfft);
@@ -159,6 +166,31 @@ OrderDiscovery discover_orders(const std::vector<double>& x, double fs_hz, const
       d.runner_up_hz = f;
     }
   d.ambiguous = d.runner_up_score > 0.0 && d.runner_up_score >= o.ambiguity_ratio * d.score;
+  // Coarse track: each segment's own 1x peak within the drift the acceleration limit allows over
+  // the record (at least 1 %), kept if it is the largest bin within 3 resolution widths and
+  // stands above the one-segment presence threshold over the segment's median in that range.
+  {
+    const double half = std::max(0.01 * d.speed_hz, o.max_accel_hz_per_s * rec_s) + 3.0 / d.segment_s;
+    const double thr1 = inverse_sf(o.false_alarm, 1) / inverse_sf(0.5, 1);
+    for (size_t sgi = 0; sgi < seg_power.size(); ++sgi) {
+      const auto& sp = seg_power[sgi];
+      const auto b0 = static_cast<size_t>(std::max(1.0, std::floor((d.speed_hz - half) / d.bin_hz)));
+      const auto b1 = std::min(sp.size() - 2, static_cast<size_t>(std::ceil((d.speed_hz + half) / d.bin_hz)));
+      if (b0 + 4 > b1) continue;
+      size_t b = b0;
+      for (size_t i = b0; i <= b1; ++i)
+        if (sp[i] > sp[b]) b = i;
+      std::vector<double> v(sp.begin() + static_cast<std::ptrdiff_t>(b0), sp.begin() + static_cast<std::ptrdiff_t>(b1 + 1));
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+      const double med = v[v.size() / 2];
+      if (!(med > 0) || sp[b] < thr1 * med || b == b0 || b == b1) continue;
+      const double la = std::log(sp[b - 1] + 1e-300), lc = std::log(sp[b]), le = std::log(sp[b + 1] + 1e-300);
+      const double den = la - 2.0 * lc + le;
+      const double shift = den < 0 ? std::clamp(0.5 * (la - le) / den, -0.5, 0.5) : 0.0;
+      d.coarse_t_s.push_back(seg_t[sgi]);
+      d.coarse_hz.push_back((static_cast<double>(b) + shift) * d.bin_hz);
+    }
+  }
   // Window from the line SNR: a stationary line's prominence grows as 10 log10(T).
   const double p_max = *std::max_element(d.prominence_db.begin(), d.prominence_db.end());
   const double t = d.segment_s * std::pow(10.0, (o.target_prominence_db - p_max) / 10.0);

@@ -26,6 +26,7 @@ struct OrderDiscoveryOptions {
   double ambiguity_ratio = 0.5;     ///< runner-up / best score above which the result is ambiguous
   double line_tolerance = 0.01;     ///< relative half width searched around k f (speed drift in the record)
   double target_prominence_db = 20.0;  ///< window choice: the strongest line should reach this
+  double max_accel_hz_per_s = 150.0;   ///< search range of the per-segment 1x (coarse track)
 };
 
 struct OrderDiscovery {
@@ -43,6 +44,9 @@ struct OrderDiscovery {
   double window_s = 0.5;            ///< window from the line SNR (target_prominence_db) and >= 12 / speed, s
   bool resolved = true;             ///< false: the window cap is shorter than 12 / speed (1x too close to DC)
   std::string reason;               ///< one sentence
+  /// Coarse track: per Welch segment, its centre time (s) and the 1x peak (Hz) near the
+  /// discovered speed, where that peak stands above the presence threshold of one segment.
+  std::vector<double> coarse_t_s, coarse_hz;
 };
 
 /// Discover speed and orders in x (any unit) sampled at fs_hz. `max_window_s` caps the

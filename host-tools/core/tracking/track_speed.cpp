@@ -114,6 +114,7 @@ TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double f
   dop.min_speed_hz = profile.min_speed_hz;
   dop.max_speed_hz = profile.max_speed_hz;
   dop.max_order = max_order;
+  dop.max_accel_hz_per_s = profile.max_accel_hz_per_s;
   dop.ambiguity_ratio = constants.ambiguity_ratio;
   dop.target_prominence_db = constants.target_prominence_db;
   dop.false_alarm = constants.false_alarm;
@@ -165,11 +166,33 @@ TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double f
   }
   r.status = "ok";
   const double t_mid = 0.5 * rec_s;
+  // Decimation and FIR delay shift the coarse track's times like the tracker's.
+  const double t_shift = static_cast<double>(skip) / dec.output_rate_hz() + (m > 1 ? 0.0 : 0.0);
+  const auto& ct = disc.coarse_t_s;
+  const auto& cf = disc.coarse_hz;
   for (size_t i = 0; i < r.t_s.size(); ++i) {
     if (r.lost[i]) continue;
     const double allowed = profile.max_accel_hz_per_s * std::abs(r.t_s[i] - t_mid) + 0.01 * disc.speed_hz +
                            2.0 * disc.bin_hz;
-    if (std::abs(r.speed_hz[i] - disc.speed_hz) > allowed) drop(i);
+    if (std::abs(r.speed_hz[i] - disc.speed_hz) > allowed) {
+      drop(i);
+      continue;
+    }
+    // Independent coarse estimate (the segment spectra of the discovery): the nearest segment
+    // centre within half a segment; disagreement beyond 1 % + one resolution width of the
+    // segment (1/T_seg) + the drift over the time offset means one of the two is wrong: lost.
+    size_t best = ct.size();
+    double best_dt = 0.5 * disc.segment_s;
+    for (size_t k = 0; k < ct.size(); ++k) {
+      const double dt = std::abs(ct[k] + t_shift - r.t_s[i]);
+      if (dt <= best_dt) {
+        best_dt = dt;
+        best = k;
+      }
+    }
+    if (best == ct.size()) continue;
+    const double tol = 0.01 * cf[best] + 1.0 / disc.segment_s + profile.max_accel_hz_per_s * best_dt;
+    if (std::abs(r.speed_hz[i] - cf[best]) > tol) drop(i);
   }
   return r;
 }
