@@ -166,8 +166,9 @@ TrackSpeedResult track_speed_with_profile(const std::vector<double>& x, double f
   }
   r.status = "ok";
   const double t_mid = 0.5 * rec_s;
-  // Decimation and FIR delay shift the coarse track's times like the tracker's.
-  const double t_shift = static_cast<double>(skip) / dec.output_rate_hz() + (m > 1 ? 0.0 : 0.0);
+  // Coarse-track times are relative to the first kept decimated sample (index `skip`), which
+  // describes input time ((skip + 1) M - 1) / fs - FIR delay.
+  const double t_shift = (static_cast<double>((skip + 1) * m) - 1.0) / fs_hz - (m > 1 ? dec.delay_s() : 0.0);
   const auto& ct = disc.coarse_t_s;
   const auto& cf = disc.coarse_hz;
   for (size_t i = 0; i < r.t_s.size(); ++i) {
