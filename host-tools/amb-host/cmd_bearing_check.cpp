@@ -83,8 +83,18 @@ int run(const Args& a) {
                   {"bsf", r.bsf.harmonics[0].ratio},
                   {"bsf2", r.bsf2.harmonics[0].ratio},
                   {"ftf", r.ftf.harmonics[0].ratio}};
-    j["score"] = {{"bpfo", r.bpfo.score}, {"bpfi", r.bpfi.score}, {"ball", std::max(r.bsf.score, r.bsf2.score)},
-                  {"ftf", r.ftf.score}};
+    // score: -log10 of the corrected family p-value (significance; docs/bearing.md).
+    j["score"] = {{"bpfo", r.bpfo.score}, {"bpfi", r.bpfi.score}, {"ball", r.bsf.score}, {"ftf", r.ftf.score}};
+    j["detected"] = {{"bpfo", r.bpfo.evidence}, {"bpfi", r.bpfi.evidence}, {"ball", r.bsf.evidence},
+                     {"ftf", r.ftf.evidence}};
+    j["family_band_hz"] = {{"bpfo", {r.bpfo.band.low_hz, r.bpfo.band.high_hz}},
+                           {"bpfi", {r.bpfi.band.low_hz, r.bpfi.band.high_hz}},
+                           {"ball", {r.bsf.band.low_hz, r.bsf.band.high_hz}},
+                           {"ftf", {r.ftf.band.low_hz, r.ftf.band.high_hz}}};
+    j["fundamental_ratio"] = {{"bpfo", r.bpfo.strength}, {"bpfi", r.bpfi.strength}, {"ball", r.bsf.strength},
+                              {"ftf", r.ftf.strength}};
+    j["bands_tried"] = r.bands_tried;
+    j["family_false_alarm"] = hb::BearingCheckOptions{}.family_false_alarm;
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -115,6 +125,12 @@ int run(const Args& a) {
                   l.hz / p.shaft_hz, l.hz / p.ftf_hz);
     std::printf("\n");
   }
+  std::printf("families (-log10 p corrected for %zu bands x 4 families; detected if > 3):", r.bands_tried);
+  for (const auto& [name, f] : {std::pair<const char*, const hb::FamilyResult*>{"bpfo", &r.bpfo}, {"bpfi", &r.bpfi},
+                                {"ball", &r.bsf}, {"ftf", &r.ftf}})
+    std::printf(" %s %.1f%s [%.0f-%.0f Hz]", name, f->score, f->evidence ? " detected" : "", f->band.low_hz,
+                f->band.high_hz);
+  std::printf("\n");
   std::printf("verdict: %s (%s)\n", r.verdict.c_str(), r.reason.c_str());
   return 0;
 }
