@@ -6,6 +6,7 @@
 
 #include "boards/embedded_boards.hpp"
 #include "firmware/board/parse_comms.hpp"
+#include "firmware/board/parse_journal.hpp"
 #include "firmware/board/parse_capture.hpp"
 #include "firmware/board/parse_tracker.hpp"
 #include "firmware/board/toml_reader.hpp"
@@ -222,6 +223,8 @@ BoardConfig parse_board(std::string_view toml_text, const std::string& source) {
   if (top.has("triggers")) parse_triggers(top.table("triggers"), b.capture.triggers);
   if (top.has("tracker")) parse_tracker(top.table("tracker"), b.tracker, b.rate_hz);
   if (top.has("comms")) parse_comms(top.table("comms"), b.comms);
+  if (top.has("journal_bearing"))
+    parse_journal_bearing(top.table("journal_bearing"), b.journal, rotor_length_m(b.plant.rotor));
   if (top.has("assumed")) parse_assumed(top.table("assumed"), root, b);
   top.finish();
   return b;

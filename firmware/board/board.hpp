@@ -11,6 +11,7 @@
 #include "firmware/capture/capture_params.hpp"
 #include "firmware/tracking/tracker_params.hpp"
 #include "model/control/pid_params.hpp"
+#include "model/journal/journal_rig.hpp"
 #include "model/plant/plant_params.hpp"
 
 namespace amb::board {
@@ -38,6 +39,7 @@ struct BoardConfig {
   fw::CaptureParams capture;          ///< [capture] and [triggers]; defaults when absent
   fw::TrackerParams tracker;          ///< on-board speed tracker ([tracker], optional)
   comms::CommsParams comms;           ///< I/O wiring of the linux backend ([comms], optional)
+  model::journal::JournalBearingParams journal;  ///< [journal_bearing] (optional; present = false without it)
   std::map<std::string, std::string> assumed;  ///< key path -> why the value is assumed
 };
 

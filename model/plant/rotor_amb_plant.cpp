@@ -136,6 +136,24 @@ void RotorAmbPlant::reset(bool levitated, double spin_hz) {
 
 void RotorAmbPlant::set_faults(const PlantFaults& faults) { faults_ = faults; }
 
+void RotorAmbPlant::set_journal(const journal::LinearJournal& j) {
+  journal_ = j;
+  journal_probe_m_ = {};
+  journal_force_n_ = {};
+  if (!j.enabled) return;
+  if (!(j.ref_spin_rad_s > 0.0)) throw std::invalid_argument("plant: journal linearisation speed must be > 0");
+  b_journal_ = to_vec(rotor::modal_interpolation(fe_, red_, j.axial_m));
+  for (size_t k = 0; k < 2; ++k) journal_probe_dir_[k] = magnet::axis_direction(j.probe_angle_deg[k]);
+  // Sub-step rule with the film as a spring (up to twice the linearisation speed) and a damper.
+  const double inv_mass = b_journal_.squaredNorm();
+  const double k_max = 2.0 * j.coeff.stiffness_n_per_m.cwiseAbs().maxCoeff();
+  const double c_max = j.coeff.damping_n_s_per_m.cwiseAbs().maxCoeff();
+  h_rule_s_ = std::min(h_rule_s_, 0.2 / std::sqrt(k_max * inv_mass + w2_.maxCoeff()));
+  if (c_max > 0.0) h_rule_s_ = std::min(h_rule_s_, 0.5 / (c_max * inv_mass));
+  h_nominal_s_ = p_.integration_step_s > 0.0 ? std::min(p_.integration_step_s, h_rule_s_) : h_rule_s_;
+  amp_h_ = -1.0;
+}
+
 void RotorAmbPlant::step(double dt_s, const PlantInputs& in) {
   if (!(dt_s > 0.0)) return;
   const int n = std::max(1, static_cast<int>(std::ceil(dt_s / h_nominal_s_ - 1e-9)));
@@ -171,6 +189,12 @@ void RotorAmbPlant::step(double dt_s, const PlantInputs& in) {
   for (int i = 0; i < n; ++i) substep(h, in);
   for (size_t s = 0; s < 4; ++s)
     sensor_out_m_[s] = sensor_filtered_m_[s] + p_.sensor[s].noise_rms_m * rng_.normal();
+  if (journal_.enabled) {
+    const double jx = b_journal_.dot(ex_) - journal_.bore_x_m, jy = b_journal_.dot(ey_) - journal_.bore_y_m;
+    for (size_t k = 0; k < 2; ++k)
+      journal_probe_m_[k] = journal_probe_dir_[k][0] * jx + journal_probe_dir_[k][1] * jy +
+                            journal_.probe_noise_rms_m * rng_.normal();
+  }
 }
 
 void RotorAmbPlant::substep(double h, const PlantInputs& in) {
@@ -231,6 +255,21 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
     friction_dissipated_j_ += h * contact_[b].friction_power_w;
   }
   if (any_contact) ++counters_.contact_substeps;
+
+  // Journal bearing: linearised film force, scaled with speed (see journal_rig.hpp).
+  if (journal_.enabled) {
+    const double dx = b_journal_.dot(ex_) - journal_.bore_x_m - journal_.lin_x_m;
+    const double dy = b_journal_.dot(ey_) - journal_.bore_y_m - journal_.lin_y_m;
+    const double vjx = b_journal_.dot(vx_), vjy = b_journal_.dot(vy_);
+    const auto& k = journal_.coeff.stiffness_n_per_m;
+    const auto& c = journal_.coeff.damping_n_s_per_m;
+    const double sc = spin_rad_s_ / journal_.ref_spin_rad_s;
+    const double fjx = sc * (journal_.coeff.fx0_n - k(0, 0) * dx - k(0, 1) * dy) - c(0, 0) * vjx - c(0, 1) * vjy;
+    const double fjy = sc * (journal_.coeff.fy0_n - k(1, 0) * dx - k(1, 1) * dy) - c(1, 0) * vjx - c(1, 1) * vjy;
+    journal_force_n_ = {fjx, fjy};
+    fx += fjx * b_journal_;
+    fy += fjy * b_journal_;
+  }
 
   // Unbalance (see constructor for the expansion).
   const double c = std::cos(spin_angle_rad_), s = std::sin(spin_angle_rad_);

@@ -29,6 +29,7 @@
 #include <Eigen/Core>
 
 #include "model/amb/amb_force.hpp"
+#include "model/journal/journal_rig.hpp"
 #include "model/plant/aux_contact.hpp"
 #include "model/plant/gaussian_rng.hpp"
 #include "model/plant/plant.hpp"
@@ -78,6 +79,18 @@ class RotorAmbPlant final : public Plant {
   /// Rotor displacement (x, y) at any axial position now, m (truth).
   std::array<double, 2> displacement_at(double axial_m) const;
 
+  /// Optional hydrodynamic journal bearing (seed 002, see model/journal/journal_rig.hpp):
+  /// a linearised film force F = (W / W0)(F0 - K dq) - C dq' at its plane. Configure time
+  /// (allocates; tightens the sub-step rule for the film's stiffness and damping). Passing
+  /// an element with enabled = false removes it.
+  void set_journal(const journal::LinearJournal& j);
+  const journal::LinearJournal& journal() const { return journal_; }
+  /// Journal probes now (with noise, updated each step): displacement from the bore centre
+  /// along each probe direction, m. Zero without a journal bearing.
+  std::array<double, 2> journal_probe_m() const { return journal_probe_m_; }
+  /// Film force on the rotor during the last sub-step, N (x, y).
+  std::array<double, 2> journal_force_n() const { return journal_force_n_; }
+
  private:
   void substep(double h, const PlantInputs& in);
   double contact_energy_j() const;
@@ -124,6 +137,12 @@ class RotorAmbPlant final : public Plant {
   std::array<double, 4> sensor_alpha_{};
 
   Counters counters_{};
+
+  // Journal bearing (optional).
+  journal::LinearJournal journal_{};
+  Vec b_journal_;
+  std::array<std::array<double, 2>, 2> journal_probe_dir_{};
+  std::array<double, 2> journal_probe_m_{}, journal_force_n_{};
 };
 
 }  // namespace amb::model

@@ -1,0 +1,123 @@
+// amb-host journal-sil: a steady record of the journal-bearing rig from software in the loop,
+// with a wear put into the plant (the test data of `wear-id`). Logic:
+// host-tools/core/wearid/journal_sil_record.hpp.
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/wearid/journal_sil_record.hpp"
+
+namespace {
+
+struct Args {
+  std::string out;
+  std::string board = "unicamp-journal-rig";
+  std::string wear = "none";
+  double eccentricity = 0.1;
+  double speed_hz = 34.0;
+  double record_s = 2.0;
+  unsigned long long seed = 1;
+  bool json = false;
+};
+
+// "none", "2p:D0_UM,GAMMA_DEG" or "3p:D0_UM,GAMMA_DEG,BETA_DEG".
+bool parse_wear(const std::string& s, amb::model::journal::WearParams& w, std::string& why) {
+  namespace mj = amb::model::journal;
+  if (s == "none") {
+    w = {};
+    return true;
+  }
+  const auto colon = s.find(':');
+  if (colon == std::string::npos) {
+    why = "--wear must be none, 2p:D0_UM,GAMMA_DEG or 3p:D0_UM,GAMMA_DEG,BETA_DEG";
+    return false;
+  }
+  const std::string kind = s.substr(0, colon);
+  std::stringstream ss(s.substr(colon + 1));
+  std::string item;
+  double v[3] = {0, 0, 0};
+  int n = 0;
+  while (std::getline(ss, item, ',') && n < 3) {
+    try {
+      v[n++] = std::stod(item);
+    } catch (const std::exception&) {
+      why = "--wear: not a number: '" + item + "'";
+      return false;
+    }
+  }
+  if (kind == "2p" && n == 2) {
+    w = {mj::WearModel::two_parameter, v[0] * 1e-6, v[1] * M_PI / 180.0, 0.0};
+  } else if (kind == "3p" && n == 3) {
+    w = {mj::WearModel::elliptical, v[0] * 1e-6, v[1] * M_PI / 180.0, v[2] * M_PI / 180.0};
+  } else {
+    why = "--wear must be none, 2p:D0_UM,GAMMA_DEG or 3p:D0_UM,GAMMA_DEG,BETA_DEG";
+    return false;
+  }
+  return true;
+}
+
+int run(const Args& a) {
+  amb::host::wearid::JournalSilOptions o;
+  std::string why;
+  if (!parse_wear(a.wear, o.wear, why)) {
+    std::fprintf(stderr, "amb-host journal-sil: error: %s\n", why.c_str());
+    return 1;
+  }
+  if (!(a.eccentricity >= 0.0 && a.eccentricity <= 0.9) || !(a.speed_hz > 1.0) || !(a.record_s > 0.2)) {
+    std::fprintf(stderr, "amb-host journal-sil: error: need 0 <= --eccentricity <= 0.9, --speed > 1 Hz, --record > 0.2 s\n");
+    return 1;
+  }
+  o.board = a.board;
+  o.eccentricity = a.eccentricity;
+  o.speed_hz = a.speed_hz;
+  o.record_s = a.record_s;
+  o.noise_seed = a.seed;
+  amb::host::wearid::JournalSilSummary s;
+  try {
+    s = amb::host::wearid::record_journal_sil(o, a.out);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "amb-host journal-sil: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "amb-host journal-sil: error: %s\n", e.what());
+    return 2;
+  }
+  if (!s.ok) {
+    std::fprintf(stderr, "amb-host journal-sil: error: %s\n", s.message.c_str());
+    return 2;
+  }
+  std::fprintf(stderr, "journal-sil: wrote %s.csv / %s.json\n", a.out.c_str(), a.out.c_str());
+  if (a.json) {
+    const nlohmann::json j = {{"speed_hz", s.speed_hz},
+                              {"static_eccentricity", s.static_eccentricity},
+                              {"journal_orbit_peak_um", s.orbit_peak_m * 1e6},
+                              {"simulated_s", s.sim_s}};
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("speed %.3f Hz, journal static eccentricity %.3f, orbit peak %.2f um (clearance %.0f um)\n", s.speed_hz,
+                s.static_eccentricity, s.orbit_peak_m * 1e6, s.journal_clearance_m * 1e6);
+  }
+  return 0;
+}
+
+const amb::host::Registration reg{
+    "journal-sil", "steady SIL record of the journal-bearing rig with a given wear (test data for wear-id)",
+    [](CLI::App& sub, std::function<int()>& run_fn) {
+      auto args = std::make_shared<Args>();
+      sub.add_option("--out", args->out, "output stem (writes STEM.csv and STEM.json)")->required();
+      sub.add_option("--board", args->board, "board with a [journal_bearing] (default unicamp-journal-rig)");
+      sub.add_option("--wear", args->wear, "none | 2p:D0_UM,GAMMA_DEG | 3p:D0_UM,GAMMA_DEG,BETA_DEG");
+      sub.add_option("--eccentricity", args->eccentricity, "static eccentricity ratio the AMBs hold (default 0.1)");
+      sub.add_option("--speed", args->speed_hz, "steady speed, Hz (default 34)");
+      sub.add_option("--record", args->record_s, "recorded time, s (default 2)");
+      sub.add_option("--seed", args->seed, "sensor-noise seed");
+      sub.add_flag("--json", args->json, "print the figures as JSON");
+      run_fn = [args] { return run(*args); };
+    }};
+
+}  // namespace

@@ -1,0 +1,134 @@
+// amb-host wear-id EVENT --model 2p|3p: journal-bearing wear identification from one steady
+// speed (seed 002). Logic: host-tools/core/wearid/wear_identification.hpp.
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/events/load_event.hpp"
+#include "host-tools/core/events/measured_event.hpp"
+#include "host-tools/core/wearid/journal_spectrum.hpp"
+#include "host-tools/core/wearid/wear_identification.hpp"
+
+namespace {
+
+namespace wi = amb::host::wearid;
+
+struct Args {
+  std::string event;
+  std::string model = "3p";
+  std::string board;
+  int doe = 9;
+  int starts = 8;
+  bool amb_planes = false;
+  int threads = 2;
+  double window_s = 2.0;
+  bool json = false;
+};
+
+nlohmann::json component(std::complex<double> z) {
+  return {{"amplitude_um", std::abs(z) * 1e6}, {"phase_deg", std::arg(z) * 180.0 / M_PI}};
+}
+
+int run(const Args& a) {
+  wi::WearIdOptions o;
+  if (a.model == "2p") {
+    o.model = amb::model::journal::WearModel::two_parameter;
+  } else if (a.model == "3p") {
+    o.model = amb::model::journal::WearModel::elliptical;
+  } else {
+    std::fprintf(stderr, "amb-host wear-id: error: --model must be 2p or 3p (got '%s')\n", a.model.c_str());
+    return 1;
+  }
+  o.doe_points = a.doe;
+  o.polished_starts = a.starts;
+  o.threads = a.threads;
+  o.window_s = a.window_s;
+  o.use_amb_planes = a.amb_planes;
+  if (const std::string why = o.check(); !why.empty()) {
+    std::fprintf(stderr, "amb-host wear-id: error: %s\n", why.c_str());
+    return 1;
+  }
+  wi::WearIdResult r;
+  try {
+    const amb::host::LoadedEvent ev = amb::host::load_event(a.event);
+    const std::string dir = std::filesystem::path(a.event).parent_path().string();
+    const amb::board::BoardConfig b =
+        a.board.empty() ? amb::host::resolve_rig(ev.rig, dir, a.event) : amb::board::load_board(a.board);
+    const wi::JournalMeasurement m = wi::measure_journal(ev, b, o.window_s);
+    std::fprintf(stderr, "wear-id: %s, %.3f Hz, static eccentricity %.3f, %d revolutions, model %s\n",
+                 a.event.c_str(), m.speed_hz, m.eccentricity, m.revolutions, a.model.c_str());
+    r = wi::identify_wear(b, m, o);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "amb-host wear-id: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "amb-host wear-id: error: %s\n", e.what());
+    return 2;
+  }
+  if (a.json) {
+    nlohmann::json j = {
+        {"model", r.model},
+        {"d0_um", r.d0_um},
+        {"d0_um_uncertainty", r.d0_uncertainty_um},
+        {"gamma_deg", r.gamma_deg},
+        {"gamma_deg_uncertainty", r.gamma_uncertainty_deg},
+        {"beta_deg", r.beta_deg},
+        {"beta_deg_uncertainty", r.beta_uncertainty_deg},
+        {"cost", r.cost},
+        {"evaluations", r.evaluations},
+        {"doe_evaluations", r.doe_evaluations},
+        {"wall_s", r.wall_s},
+        {"stop_reason", r.stop_reason},
+        {"bound_active", r.bound_active},
+        {"speed_hz", r.measured.speed_hz},
+        {"static_eccentricity", r.measured.eccentricity},
+        {"used_amb_planes", r.used_amb_planes},
+        {"spectrum",
+         {{"measured", {{"forward", component(r.measured.spectrum.forward_m)}, {"backward", component(r.measured.spectrum.backward_m)}}},
+          {"fitted", {{"forward", component(r.fitted.forward_m)}, {"backward", component(r.fitted.backward_m)}}},
+          {"noise_um", r.measured.noise_m * 1e6}}}};
+    // Non-finite uncertainties (Jacobian failed) become null.
+    for (const char* k : {"d0_um_uncertainty", "gamma_deg_uncertainty", "beta_deg_uncertainty"})
+      if (!std::isfinite(j[k].get<double>())) j[k] = nullptr;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("wear (%s model): d0 = %.2f +- %.2f um, gamma = %.2f +- %.2f deg, beta = %.2f +- %.2f deg%s\n",
+                r.model.c_str(), r.d0_um, r.d0_uncertainty_um, r.gamma_deg, r.gamma_uncertainty_deg, r.beta_deg,
+                r.beta_uncertainty_deg, r.model == "2p" ? " (span implied by the depth)" : "");
+    std::printf("cost %.3e after %d evaluations (%d in the DOE), %.2f s; optimiser: %s%s\n", r.cost, r.evaluations,
+                r.doe_evaluations, r.wall_s, r.stop_reason.c_str(), r.bound_active ? "; a parameter is on its bound" : "");
+    std::printf("+1x: measured %.3f um @ %.1f deg, model %.3f um @ %.1f deg\n", std::abs(r.measured.spectrum.forward_m) * 1e6,
+                std::arg(r.measured.spectrum.forward_m) * 180 / M_PI, std::abs(r.fitted.forward_m) * 1e6,
+                std::arg(r.fitted.forward_m) * 180 / M_PI);
+    std::printf("-1x: measured %.3f um @ %.1f deg, model %.3f um @ %.1f deg\n", std::abs(r.measured.spectrum.backward_m) * 1e6,
+                std::arg(r.measured.spectrum.backward_m) * 180 / M_PI, std::abs(r.fitted.backward_m) * 1e6,
+                std::arg(r.fitted.backward_m) * 180 / M_PI);
+  }
+  return 0;
+}
+
+const amb::host::Registration reg{
+    "wear-id", "identify journal-bearing wear (d0, gamma, beta) from one steady speed (seed 002)",
+    [](CLI::App& sub, std::function<int()>& run_fn) {
+      auto args = std::make_shared<Args>();
+      sub.add_option("event", args->event, "steady record (measured event .json/.csv or stem) with journal probes and key phasor")
+          ->required();
+      sub.add_option("--model", args->model, "wear model: 2p (depth, position; span tied to depth) or 3p (elliptical)");
+      sub.add_option("--board", args->board, "board to use instead of the one the event's rig names");
+      sub.add_option("--doe", args->doe, "design-of-experiments grid points per parameter (default 9)");
+      sub.add_option("--starts", args->starts, "best DOE points polished by the local optimiser (default 8)");
+      sub.add_option("--threads", args->threads, "threads (default 2)");
+      sub.add_option("--window", args->window_s, "analysed time at the end of the record, s (default 2)");
+      sub.add_flag("--amb-planes", args->amb_planes,
+                   "also fit the +1x/-1x at the AMB sensor planes (default: journal probes only, as the seed)");
+      sub.add_flag("--json", args->json, "print the figures as JSON");
+      run_fn = [args] { return run(*args); };
+    }};
+
+}  // namespace

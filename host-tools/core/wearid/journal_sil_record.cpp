@@ -1,0 +1,129 @@
+#include "host-tools/core/wearid/journal_sil_record.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "firmware/board/board.hpp"
+#include "firmware/sil/sil_rig.hpp"
+#include "host-tools/core/events/measured_event.hpp"
+#include "model/plant/rotor_amb_plant.hpp"
+
+namespace amb::host::wearid {
+
+JournalSilSummary record_journal_sil(const JournalSilOptions& o, const std::string& stem) {
+  board::BoardConfig b = board::load_board(o.board);
+  if (!b.journal.present) throw std::invalid_argument("journal SIL: board '" + b.name + "' has no [journal_bearing]");
+  b.journal.static_eccentricity = o.eccentricity;
+  b.journal.wear = o.wear;
+  b.lifecycle.operating_speed_hz = o.speed_hz;
+  sil::SilOptions so;
+  so.noise_seed = o.noise_seed;
+  sil::SilRig rig(b, so);
+  auto* plant = dynamic_cast<model::RotorAmbPlant*>(&rig.plant());
+  if (plant == nullptr) throw std::invalid_argument("journal SIL: the board's plant is not the rotor-AMB plant");
+  fw::Supervisor& sup = rig.supervisor();
+  JournalSilSummary s;
+  s.journal_clearance_m = b.journal.geometry.clearance_m;
+  auto at = [](fw::Phase p) { return [p](const fw::Status& st) { return st.phase == p || st.state == fw::State::fault; }; };
+  rig.run_for(0.02);
+  sup.post(fw::Command::levitate);
+  if (!rig.run_until(at(fw::Phase::levitated), 5.0) || sup.state() != fw::State::levitating) {
+    s.message = "did not levitate";
+    return s;
+  }
+  sup.post(fw::Command::run);
+  if (!rig.run_until(at(fw::Phase::at_speed), 60.0) || sup.state() != fw::State::running) {
+    s.message = "did not reach speed";
+    return s;
+  }
+  rig.run_for(o.settle_s);
+
+  // Record every loop period: AMB sensors, journal probes, key phasor, speed.
+  const size_t n = static_cast<size_t>(std::llround(o.record_s * b.rate_hz));
+  std::vector<double> t, a1, a2, b1, b2, j1, j2, kp, spd, tx, ty;
+  for (auto* v : {&t, &a1, &a2, &b1, &b2, &j1, &j2, &kp, &spd, &tx, &ty}) v->reserve(n);
+  const double t0 = rig.time_s();
+  rig.on_period = [&](const fw::Status&) {
+    if (t.size() >= n) return;
+    const model::PlantOutputs po = plant->outputs();
+    t.push_back(rig.time_s() - t0);
+    a1.push_back(po.displacement_m[0]);
+    a2.push_back(po.displacement_m[1]);
+    b1.push_back(po.displacement_m[2]);
+    b2.push_back(po.displacement_m[3]);
+    const auto jp = plant->journal_probe_m();
+    j1.push_back(jp[0]);
+    j2.push_back(jp[1]);
+    // Once-per-revolution pulse, leading edge at spin angle 0, 10 deg wide.
+    kp.push_back(po.spin_angle_rad < 10.0 * M_PI / 180.0 ? 5.0 : 0.0);
+    spd.push_back(po.spin_speed_hz);
+    const auto q = plant->displacement_at(b.journal.axial_m);
+    tx.push_back(q[0] - plant->journal().bore_x_m);
+    ty.push_back(q[1] - plant->journal().bore_y_m);
+  };
+  rig.run_for(o.record_s + 2.0 / b.rate_hz);
+  rig.on_period = nullptr;
+  if (sup.state() != fw::State::running) {
+    s.message = "left the running state while recording";
+    return s;
+  }
+  double mx = 0.0, my = 0.0;
+  for (size_t k = 0; k < tx.size(); ++k) {
+    mx += tx[k];
+    my += ty[k];
+  }
+  mx /= static_cast<double>(tx.size());
+  my /= static_cast<double>(ty.size());
+  for (size_t k = 0; k < tx.size(); ++k) s.orbit_peak_m = std::max(s.orbit_peak_m, std::hypot(tx[k] - mx, ty[k] - my));
+  s.static_eccentricity = std::hypot(mx, my) / b.journal.geometry.clearance_m;
+  s.speed_hz = plant->outputs().spin_speed_hz;
+  s.sim_s = rig.time_s();
+
+  MeasuredEventOut e;
+  e.rig = b.name;
+  e.sample_rate_hz = b.rate_hz;
+  e.trigger_index = 0;
+  e.speed_rpm = o.speed_hz * 60.0;
+  auto pos = [](const char* name, const char* q, const char* u, double ax, double ang, const std::vector<double>* v) {
+    MeasuredColumn c;
+    c.column = name;
+    c.quantity = q;
+    c.unit = u;
+    c.positioned = true;
+    c.axial_m = ax;
+    c.angle_deg = ang;
+    c.values = v;
+    return c;
+  };
+  MeasuredColumn ct;
+  ct.column = "t_s";
+  ct.quantity = "time";
+  ct.unit = "s";
+  ct.values = &t;
+  e.columns.push_back(ct);
+  e.columns.push_back(pos("a1", "displacement", "m", b.plant.sensor[0].axial_m, b.plant.sensor[0].angle_deg, &a1));
+  e.columns.push_back(pos("a2", "displacement", "m", b.plant.sensor[1].axial_m, b.plant.sensor[1].angle_deg, &a2));
+  e.columns.push_back(pos("b1", "displacement", "m", b.plant.sensor[2].axial_m, b.plant.sensor[2].angle_deg, &b1));
+  e.columns.push_back(pos("b2", "displacement", "m", b.plant.sensor[3].axial_m, b.plant.sensor[3].angle_deg, &b2));
+  e.columns.push_back(pos("j1", "displacement", "m", b.journal.axial_m, b.journal.probe_angle_deg[0], &j1));
+  e.columns.push_back(pos("j2", "displacement", "m", b.journal.axial_m, b.journal.probe_angle_deg[1], &j2));
+  MeasuredColumn ck;
+  ck.column = "keyphasor";
+  ck.quantity = "voltage";
+  ck.unit = "V";
+  ck.values = &kp;
+  e.columns.push_back(ck);
+  MeasuredColumn cs;
+  cs.column = "speed";
+  cs.quantity = "speed";
+  cs.unit = "Hz";
+  cs.values = &spd;
+  e.columns.push_back(cs);
+  e.notes = "SIL steady record of the journal-bearing rig at " + std::to_string(o.speed_hz) + " Hz";
+  write_measured_event(stem, e);
+  s.ok = true;
+  return s;
+}
+
+}  // namespace amb::host::wearid

@@ -1,0 +1,41 @@
+#pragma once
+// Steady-speed records of the UNICAMP rig with a (possibly worn) journal bearing, generated
+// in software-in-the-loop: the firmware levitates the rotor, places the journal at the
+// static eccentricity and spins it to the speed; the plant carries the journal film (see
+// model/journal/journal_rig.hpp) and noisy probes. Written in the measured-event exchange
+// format with the journal probes and a key phasor, the way a DAQ export would be.
+//
+// This is the data generator of the wear-identification checks: it knows the wear it puts
+// into the plant; the identification (wear_identification.hpp) only ever reads the files.
+#include <cstdint>
+#include <string>
+
+#include "model/journal/wear_geometry.hpp"
+
+namespace amb::host::wearid {
+
+struct JournalSilOptions {
+  std::string board = "unicamp-journal-rig";  ///< board name or path (needs [journal_bearing])
+  double eccentricity = 0.1;                  ///< static eccentricity ratio the AMBs hold
+  model::journal::WearParams wear;            ///< wear put into the plant
+  double speed_hz = 34.0;                     ///< steady speed, Hz
+  double settle_s = 45.0;                     ///< wait at speed before recording, s (the integral action is slow: KP/KI = 10 s)
+  double record_s = 2.0;                      ///< recorded time, s
+  std::uint64_t noise_seed = 1;
+};
+
+struct JournalSilSummary {
+  bool ok = false;                  ///< levitated, reached speed, no fault
+  std::string message;              ///< why not, when !ok
+  double speed_hz = 0.0;            ///< plant speed at the end, Hz
+  double static_eccentricity = 0.0; ///< journal's mean position / C over the record (truth)
+  double orbit_peak_m = 0.0;        ///< peak journal excursion from its mean (truth), m
+  double journal_clearance_m = 0.0;
+  double sim_s = 0.0;               ///< simulated time, s
+};
+
+/// Run the SIL and write STEM.csv / STEM.json. Throws std::runtime_error on I/O errors and
+/// std::invalid_argument for a board without a journal bearing.
+JournalSilSummary record_journal_sil(const JournalSilOptions& o, const std::string& stem);
+
+}  // namespace amb::host::wearid

@@ -1,0 +1,179 @@
+#include "host-tools/core/wearid/rig_response.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <stdexcept>
+
+#include "model/amb/amb_force.hpp"
+#include "model/journal/journal_rig.hpp"
+
+namespace amb::host::wearid {
+namespace {
+constexpr double k_two_pi = 2.0 * M_PI;
+}
+
+RigResponse::RigResponse(const board::BoardConfig& board, double speed_hz, std::array<double, 2> static_force_n)
+    : b_(board), speed_hz_(speed_hz) {
+  if (!board.journal.present) throw std::invalid_argument("wear-id: board '" + board.name + "' has no [journal_bearing]");
+  if (!(speed_hz > 0.0)) throw std::invalid_argument("wear-id: speed must be > 0 Hz");
+  const model::PlantParams& p = board.plant;
+  fe_ = model::rotor::build_rotor_model(p.rotor);
+  red_ = model::rotor::reduce_rotor(fe_, p.rotor, p.rotor.modes_kept);
+  m_ = red_.modes;
+  for (size_t b = 0; b < 2; ++b) {
+    b_amb_[b] = model::rotor::modal_interpolation(fe_, red_, p.amb[b].axial_m);
+    b_sensor_[b] = model::rotor::modal_interpolation(fe_, red_, p.sensor[2 * b].axial_m);
+  }
+  b_journal_ = model::rotor::modal_interpolation(fe_, red_, board.journal.axial_m);
+  unb_s_ = Eigen::VectorXd::Zero(m_);
+  unb_c_ = Eigen::VectorXd::Zero(m_);
+  for (const auto& d : p.rotor.disks) {
+    const Eigen::VectorXd bd = model::rotor::modal_interpolation(fe_, red_, d.axial_m).transpose();
+    const double ph = d.unbalance_phase_deg * M_PI / 180.0;
+    unb_s_ += d.unbalance_kg_m * std::sin(ph) * bd;
+    unb_c_ += d.unbalance_kg_m * std::cos(ph) * bd;
+  }
+  // AMB operating point: static AMB forces and positions are affine in the film force.
+  for (int k = 0; k < 3; ++k) {
+    const model::journal::RigStatics st = model::journal::static_state(
+        p, board.journal.axial_m, board.journal.axial_m, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0);
+    amb_force_basis_[static_cast<size_t>(k)] = st.amb_force_n;
+    amb_disp_basis_[static_cast<size_t>(k)] = st.amb_displacement_m;
+  }
+  for (size_t k = 1; k < 3; ++k)
+    for (size_t b = 0; b < 2; ++b)
+      for (size_t i = 0; i < 2; ++i) {
+        amb_force_basis_[k][b][i] -= amb_force_basis_[0][b][i];
+        amb_disp_basis_[k][b][i] -= amb_disp_basis_[0][b][i];
+      }
+  set_static_film_force(static_force_n);
+  for (size_t k = 0; k < 2; ++k) probe_dir_[k] = model::magnet::axis_direction(board.journal.probe_angle_deg[k]);
+  for (size_t k = 0; k < 4; ++k) sensor_dir_[k] = model::magnet::axis_direction(p.sensor[k].angle_deg);
+}
+
+void RigResponse::set_static_film_force(std::array<double, 2> f) {
+  const model::PlantParams& p = b_.plant;
+  for (size_t b = 0; b < 2; ++b) {
+    const model::magnet::AxisLaw law = model::magnet::make_axis_law(p.amb[b]);
+    ks_xy_[b] = Eigen::Matrix2d::Zero();
+    for (size_t a = 0; a < 2; ++a) {
+      const auto d = model::magnet::axis_direction(p.amb[b].actuator_angle_deg[a]);
+      double f_axis = 0.0, z_axis = 0.0;
+      for (size_t i = 0; i < 2; ++i) {
+        const double fi = amb_force_basis_[0][b][i] + f[0] * amb_force_basis_[1][b][i] + f[1] * amb_force_basis_[2][b][i];
+        const double zi = amb_disp_basis_[0][b][i] + f[0] * amb_disp_basis_[1][b][i] + f[1] * amb_disp_basis_[2][b][i];
+        f_axis += d[i] * fi;
+        z_axis += d[i] * zi;
+      }
+      const double ic = f_axis / p.amb[b].ki_n_per_a;
+      const double ks = model::magnet::linearise(law, z_axis, ic).ks_n_per_m;
+      const Eigen::Vector2d dv(d[0], d[1]);
+      ks_xy_[b] += ks * dv * dv.transpose();
+    }
+  }
+}
+
+Eigen::VectorXcd RigResponse::modal_response(double speed_hz, const Eigen::Matrix2d& kj,
+                                             const Eigen::Matrix2d& cj) const {
+  const model::PlantParams& p = b_.plant;
+  const double w = k_two_pi * speed_hz;  // excitation = spin
+  const cplx j(0.0, 1.0);
+  const int m = m_;
+  Eigen::MatrixXcd a = Eigen::MatrixXcd::Zero(2 * m, 2 * m);
+  for (int i = 0; i < m; ++i) {
+    const cplx zi = red_.omega2(i) - w * w + j * w * red_.damping(i);
+    a(i, i) = zi;
+    a(m + i, m + i) = zi;
+  }
+  // Gyroscopic coupling as in the plant: x'' + W P y' ..., y'' - W P x' ...
+  a.block(0, m, m, m) += (j * w * w) * red_.polar.cast<cplx>();
+  a.block(m, 0, m, m) -= (j * w * w) * red_.polar.cast<cplx>();
+
+  // Controller, discrete (see header), per direction in force units.
+  const double dt = 1.0 / b_.rate_hz;
+  const cplx zinv = std::exp(-j * w * dt);
+  const auto& c = b_.controller;
+  const double alpha = std::exp(-k_two_pi * c.derivative_filter_hz * dt);
+  const cplx deriv = (1.0 - alpha) * (1.0 - zinv) / (dt * (1.0 - alpha * zinv));
+  const cplx integ = c.ki_n_per_m_s * dt * zinv / (1.0 - zinv);
+  cplx pid = c.kp_n_per_m + integ + c.kd_n_s_per_m * deriv;
+  for (int n = 0; n < c.notch_count; ++n) {
+    const auto& nt = c.notches[static_cast<size_t>(n)];
+    const double w0 = k_two_pi * nt.centre_hz, bw = k_two_pi * nt.width_hz;
+    const cplx s = j * w;
+    pid *= (s * s + nt.depth * bw * s + w0 * w0) / (s * s + bw * s + w0 * w0);
+  }
+  const cplx hold = std::exp(-j * w * 0.5 * dt);
+  for (size_t b = 0; b < 2; ++b) {
+    const double fa = p.amb[b].amplifier_bandwidth_hz, fs = p.sensor[2 * b].bandwidth_hz;
+    const cplx amp = fa > 0.0 ? 1.0 / (1.0 + j * w / (k_two_pi * fa)) : cplx(1.0);
+    const cplx sen = fs > 0.0 ? 1.0 / (1.0 + j * w / (k_two_pi * fs)) : cplx(1.0);
+    const cplx loop = amp * hold * pid * sen;
+    const Eigen::MatrixXd aa = b_amb_[b].transpose() * b_amb_[b];
+    const Eigen::MatrixXd as = b_amb_[b].transpose() * b_sensor_[b];
+    for (int r = 0; r < 2; ++r)
+      for (int q = 0; q < 2; ++q) {
+        a.block(r * m, q * m, m, m) -= ks_xy_[b](r, q) * aa.cast<cplx>();
+        if (r == q) a.block(r * m, q * m, m, m) += loop * as.cast<cplx>();
+      }
+  }
+  // Film.
+  const Eigen::MatrixXd jj = b_journal_.transpose() * b_journal_;
+  for (int r = 0; r < 2; ++r)
+    for (int q = 0; q < 2; ++q) a.block(r * m, q * m, m, m) += (kj(r, q) + j * w * cj(r, q)) * jj.cast<cplx>();
+  // Unbalance: fx = W^2 (S cos - C sin), fy = W^2 (S sin + C cos) -> X = W^2 (S + j C), Y = -j X.
+  Eigen::VectorXcd f(2 * m);
+  for (int i = 0; i < m; ++i) {
+    const cplx fx = w * w * cplx(unb_s_(i), unb_c_(i));
+    f(i) = fx;
+    f(m + i) = -j * fx;
+  }
+  return a.partialPivLu().solve(f);
+}
+
+namespace {
+FullSpectrum pair_spectrum(const Eigen::RowVectorXd& b, const Eigen::VectorXcd& e, int m, const std::array<double, 2>& d0,
+                           const std::array<double, 2>& d1) {
+  cplx x = 0.0, y = 0.0;
+  for (int i = 0; i < m; ++i) {
+    x += b(i) * e(i);
+    y += b(i) * e(m + i);
+  }
+  const cplx xp = d0[0] * x + d0[1] * y, yp = d1[0] * x + d1[1] * y;
+  const cplx j(0.0, 1.0);
+  return {0.5 * (xp + j * yp), 0.5 * std::conj(xp - j * yp)};
+}
+}  // namespace
+
+std::array<FullSpectrum, 3> RigResponse::all_probes(const Eigen::Matrix2d& kj, const Eigen::Matrix2d& cj) const {
+  const Eigen::VectorXcd e = modal_response(speed_hz_, kj, cj);
+  return {pair_spectrum(b_journal_, e, m_, probe_dir_[0], probe_dir_[1]),
+          pair_spectrum(b_sensor_[0], e, m_, sensor_dir_[0], sensor_dir_[1]),
+          pair_spectrum(b_sensor_[1], e, m_, sensor_dir_[2], sensor_dir_[3])};
+}
+
+std::array<cplx, 2> RigResponse::journal_xy_at(double speed_hz, const Eigen::Matrix2d& kj,
+                                               const Eigen::Matrix2d& cj) const {
+  const Eigen::VectorXcd e = modal_response(speed_hz, kj, cj);
+  const int m = m_;
+  cplx x = 0.0, y = 0.0;
+  for (int i = 0; i < m; ++i) {
+    x += b_journal_(i) * e(i);
+    y += b_journal_(i) * e(m + i);
+  }
+  return {x, y};
+}
+
+FullSpectrum RigResponse::journal_probes_at(double speed_hz, const Eigen::Matrix2d& kj, const Eigen::Matrix2d& cj) const {
+  const auto xy = journal_xy_at(speed_hz, kj, cj);
+  const cplx xp = probe_dir_[0][0] * xy[0] + probe_dir_[0][1] * xy[1];
+  const cplx yp = probe_dir_[1][0] * xy[0] + probe_dir_[1][1] * xy[1];
+  const cplx j(0.0, 1.0);
+  return {0.5 * (xp + j * yp), 0.5 * std::conj(xp - j * yp)};
+}
+
+FullSpectrum RigResponse::journal_probes(const Eigen::Matrix2d& kj, const Eigen::Matrix2d& cj) const {
+  return journal_probes_at(speed_hz_, kj, cj);
+}
+
+}  // namespace amb::host::wearid

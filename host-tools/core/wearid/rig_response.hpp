@@ -1,0 +1,80 @@
+#pragma once
+// Steady unbalance response of the rig with its journal bearing, in the frequency domain
+// (the forward model of the wear identification; seed 002 section 2.4 with the film
+// linearised as in eq. 22-23):
+//   rotor: the board's modal reduction (the SIL plant's basis), gyroscopic at the speed,
+//          Rayleigh damping;
+//   AMBs:  the force law linearised at the static operating point (ks grows with the
+//          static coil current: dF/dz = 4 k (i0^2 + ic^2) / g0^3), ki at z = 0;
+//   loop:  sensors with their first-order roll-off -> (x, y) -> the firmware's discrete PID
+//          (backward-difference derivative with its first-order filter, integral updated
+//          after the output) -> half a period of zero-order hold -> first-order amplifiers;
+//   film:  F = -(K + j w C) q at the journal plane, K and C from the Reynolds solver;
+//   load:  the board's disk unbalances at the spin frequency.
+// Responses are complex amplitudes referred to the spin angle: x(t) = Re(X e^{j theta(t)}).
+// Full spectrum at a probe pair (x' at the first probe, y' at the second, 90 deg
+// counter-clockwise from it): forward (+1x) Z+ = (X' + j Y') / 2, backward (-1x)
+// Z- = conj(X' - j Y') / 2, so that x' + j y' = Z+ e^{j theta} + Z- e^{-j theta}.
+#include <array>
+#include <complex>
+
+#include <Eigen/Core>
+
+#include "firmware/board/board.hpp"
+#include "model/journal/reynolds_fvm.hpp"
+#include "model/rotor/modal_reduction.hpp"
+#include "model/rotor/rotor_model.hpp"
+
+namespace amb::host::wearid {
+
+using cplx = std::complex<double>;
+
+struct FullSpectrum {
+  cplx forward_m;   ///< +1x component, m (complex, referred to the spin angle)
+  cplx backward_m;  ///< -1x component, m
+};
+
+class RigResponse {
+ public:
+  /// `board` must have a [journal_bearing]; `static_force_n` is the film force at the static
+  /// journal position at `speed_hz` (it sets the AMBs' static currents). Throws
+  /// std::invalid_argument naming what is missing.
+  RigResponse(const board::BoardConfig& board, double speed_hz, std::array<double, 2> static_force_n);
+
+  /// Full spectrum at the journal probes for film coefficients at this speed (K in N/m,
+  /// C in N s/m, rotordynamic sign: F = -K q - C q').
+  FullSpectrum journal_probes(const Eigen::Matrix2d& k_n_per_m, const Eigen::Matrix2d& c_n_s_per_m) const;
+  /// Same at another speed (coefficients given for that speed): for run-up responses.
+  FullSpectrum journal_probes_at(double speed_hz, const Eigen::Matrix2d& k_n_per_m,
+                                 const Eigen::Matrix2d& c_n_s_per_m) const;
+  /// Full spectra at the journal probes and at the two AMB sensor planes (probe pairs
+  /// [A1, A2] and [B1, B2]), in that order.
+  std::array<FullSpectrum, 3> all_probes(const Eigen::Matrix2d& k_n_per_m, const Eigen::Matrix2d& c_n_s_per_m) const;
+  /// Complex amplitudes (x, y) at the journal plane, m.
+  std::array<cplx, 2> journal_xy_at(double speed_hz, const Eigen::Matrix2d& k_n_per_m,
+                                    const Eigen::Matrix2d& c_n_s_per_m) const;
+
+  double speed_hz() const { return speed_hz_; }
+  /// Modal response (x modes then y modes) at a speed.
+  Eigen::VectorXcd modal_response(double speed_hz, const Eigen::Matrix2d& k_n_per_m, const Eigen::Matrix2d& c_n_s_per_m) const;
+  /// Re-linearise the AMBs for another static film force (N, x y): the static AMB forces and
+  /// positions are linear in it (precomputed at construction), so this is cheap.
+  void set_static_film_force(std::array<double, 2> force_n);
+
+ private:
+  board::BoardConfig b_;
+  double speed_hz_ = 0.0;
+  model::rotor::RotorModel fe_;
+  model::rotor::ReducedRotor red_;
+  int m_ = 0;
+  std::array<Eigen::RowVectorXd, 2> b_amb_, b_sensor_;
+  Eigen::RowVectorXd b_journal_;
+  Eigen::VectorXd unb_s_, unb_c_;
+  std::array<Eigen::Matrix2d, 2> ks_xy_;   // per AMB: linearised negative stiffness in (x, y), N/m
+  // Static AMB force/position per unit film force: st0 + fx * stx + fy * sty.
+  std::array<std::array<std::array<double, 2>, 2>, 3> amb_force_basis_{}, amb_disp_basis_{};
+  std::array<std::array<double, 2>, 2> probe_dir_{};
+  std::array<std::array<double, 2>, 4> sensor_dir_{};
+};
+
+}  // namespace amb::host::wearid

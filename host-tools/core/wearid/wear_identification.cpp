@@ -1,0 +1,269 @@
+#include "host-tools/core/wearid/wear_identification.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <nlopt.hpp>
+#include <stdexcept>
+#include <thread>
+
+#include "model/journal/reynolds_fvm.hpp"
+
+namespace amb::host::wearid {
+namespace mj = model::journal;
+namespace {
+constexpr double k_deg = M_PI / 180.0;
+
+// One evaluator per thread: its own Reynolds solver workspace and rig response.
+class Evaluator {
+ public:
+  Evaluator(const board::BoardConfig& b, const JournalMeasurement& meas, const WearIdOptions& o)
+      : b_(b), meas_(meas), o_(o), rig_(b, meas.speed_hz, {0.0, 0.0}) {
+    n_ = o.model == mj::WearModel::two_parameter ? 2 : 3;
+    planes_ = o.use_amb_planes && meas.has_amb_planes;
+    double s2 = std::norm(meas.spectrum.forward_m) + std::norm(meas.spectrum.backward_m);
+    if (planes_)
+      for (const auto& p : meas.amb_planes) s2 += std::norm(p.forward_m) + std::norm(p.backward_m);
+    scale_ = std::sqrt(s2);
+  }
+  bool planes() const { return planes_; }
+  int residual_count() const { return planes_ ? 12 : 4; }
+  int dims() const { return n_; }
+
+  mj::WearParams wear_of(const std::vector<double>& u) const {
+    mj::WearParams w;
+    w.model = o_.model;
+    w.depth_m = 1e-6 * (o_.depth_um[0] + u[0] * (o_.depth_um[1] - o_.depth_um[0]));
+    w.position_rad = k_deg * (o_.position_deg[0] + u[1] * (o_.position_deg[1] - o_.position_deg[0]));
+    if (n_ == 3) w.span_rad = k_deg * (o_.span_deg[0] + u[2] * (o_.span_deg[1] - o_.span_deg[0]));
+    return w;
+  }
+
+  std::array<FullSpectrum, 3> spectra(const mj::WearParams& w) {
+    mj::ReynoldsSolver s(b_.journal.geometry, w, b_.journal.grid);
+    const double spin = 2.0 * M_PI * meas_.speed_hz;
+    const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, meas_.journal, spin);
+    rig_.set_static_film_force({d.fx0_n, d.fy0_n});
+    return rig_.all_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
+  }
+  FullSpectrum spectrum(const mj::WearParams& w) { return spectra(w)[0]; }
+
+  // Residuals in units of the measured spectra's norm: journal pair, then the AMB planes.
+  std::vector<double> residual(const std::vector<double>& u) {
+    ++evaluations;
+    const auto z = spectra(wear_of(u));
+    std::vector<double> r;
+    r.reserve(12);
+    auto add = [&](const FullSpectrum& mdl, const FullSpectrum& mea) {
+      const cplx a = (mdl.forward_m - mea.forward_m) / scale_, c = (mdl.backward_m - mea.backward_m) / scale_;
+      r.insert(r.end(), {a.real(), a.imag(), c.real(), c.imag()});
+    };
+    add(z[0], meas_.spectrum);
+    if (planes_) {
+      add(z[1], meas_.amb_planes[0]);
+      add(z[2], meas_.amb_planes[1]);
+    }
+    return r;
+  }
+  double cost(const std::vector<double>& u) {
+    double s = 0.0;
+    try {
+      for (double r : residual(u)) s += r * r;
+    } catch (const std::invalid_argument&) {
+      return 1e3;  // a wear the model cannot represent (e.g. journal touching the worn bore)
+    }
+    return 0.5 * s;
+  }
+  double scale() const { return scale_; }
+  int evaluations = 0;
+
+ private:
+  const board::BoardConfig& b_;
+  const JournalMeasurement& meas_;
+  const WearIdOptions& o_;
+  RigResponse rig_;
+  int n_ = 3;
+  double scale_ = 1.0;
+  bool planes_ = false;
+};
+
+double nlopt_cost(unsigned n, const double* x, double* grad, void* data) {
+  (void)grad;  // derivative-free
+  auto* e = static_cast<Evaluator*>(data);
+  return e->cost(std::vector<double>(x, x + n));
+}
+
+const char* nlopt_reason(nlopt::result r) {
+  switch (r) {
+    case nlopt::SUCCESS: return "success";
+    case nlopt::STOPVAL_REACHED: return "stopval_reached";
+    case nlopt::FTOL_REACHED: return "ftol_reached";
+    case nlopt::XTOL_REACHED: return "xtol_reached";
+    case nlopt::MAXEVAL_REACHED: return "maxeval_reached";
+    case nlopt::MAXTIME_REACHED: return "maxtime_reached";
+    default: return "failure";
+  }
+}
+}  // namespace
+
+std::string WearIdOptions::check() const {
+  if (model != mj::WearModel::two_parameter && model != mj::WearModel::elliptical) return "model must be 2p or 3p";
+  if (!(depth_um[0] > 0.0 && depth_um[1] > depth_um[0])) return "depth bounds must satisfy 0 < lower < upper (um)";
+  if (!(position_deg[1] > position_deg[0]) || position_deg[0] < -180.0 || position_deg[1] > 180.0)
+    return "gamma bounds must satisfy -180 <= lower < upper <= 180 (deg)";
+  if (!(span_deg[0] > 0.0 && span_deg[1] > span_deg[0] && span_deg[1] < 180.0))
+    return "beta bounds must satisfy 0 < lower < upper < 180 (deg)";
+  if (doe_points < 2 || doe_points > 50) return "doe_points must be 2..50";
+  if (polished_starts < 1) return "polished_starts must be >= 1";
+  if (max_evaluations < 10) return "max_evaluations must be >= 10";
+  if (threads < 1 || threads > 64) return "threads must be 1..64";
+  if (!(window_s > 0.0)) return "window_s must be > 0";
+  return "";
+}
+
+FullSpectrum predict_spectrum(const board::BoardConfig& board, const mj::WearParams& wear, const mj::JournalState& state,
+                              double speed_hz) {
+  mj::ReynoldsSolver s(board.journal.geometry, wear, board.journal.grid);
+  const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, state, 2.0 * M_PI * speed_hz);
+  RigResponse rig(board, speed_hz, {d.fx0_n, d.fy0_n});
+  return rig.journal_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
+}
+
+WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasurement& meas, const WearIdOptions& o) {
+  if (const std::string why = o.check(); !why.empty()) throw std::invalid_argument("wear-id: " + why);
+  if (!board.journal.present) throw std::invalid_argument("wear-id: board has no [journal_bearing]");
+  const auto t0 = std::chrono::steady_clock::now();
+  WearIdResult r;
+  r.model = mj::to_string(o.model);
+  r.measured = meas;
+
+  // Design of experiments: full grid over the scaled box [0, 1]^n, split over threads.
+  const int n = o.model == mj::WearModel::two_parameter ? 2 : 3;
+  int total = 1;
+  for (int i = 0; i < n; ++i) total *= o.doe_points;
+  std::vector<std::vector<double>> points(static_cast<size_t>(total), std::vector<double>(static_cast<size_t>(n)));
+  for (int k = 0; k < total; ++k) {
+    int rest = k;
+    for (int i = 0; i < n; ++i) {
+      points[static_cast<size_t>(k)][static_cast<size_t>(i)] = static_cast<double>(rest % o.doe_points) / (o.doe_points - 1);
+      rest /= o.doe_points;
+    }
+  }
+  std::vector<double> costs(static_cast<size_t>(total), 0.0);
+  const int nt = std::min(o.threads, total);
+  std::vector<int> evals(static_cast<size_t>(nt), 0);
+  {
+    std::vector<std::thread> pool;
+    for (int t = 0; t < nt; ++t)
+      pool.emplace_back([&, t] {
+        Evaluator e(board, meas, o);
+        for (int k = t; k < total; k += nt) costs[static_cast<size_t>(k)] = e.cost(points[static_cast<size_t>(k)]);
+        evals[static_cast<size_t>(t)] = e.evaluations;
+      });
+    for (auto& th : pool) th.join();
+  }
+  for (int v : evals) r.doe_evaluations += v;
+  std::vector<int> order(static_cast<size_t>(total));
+  for (int k = 0; k < total; ++k) order[static_cast<size_t>(k)] = k;
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return costs[static_cast<size_t>(a)] < costs[static_cast<size_t>(b)]; });
+
+  // Local polish (BOBYQA, bounded) from the best DOE points, in parallel.
+  const int starts = std::min(o.polished_starts, total);
+  std::vector<std::vector<double>> best_x(static_cast<size_t>(starts));
+  std::vector<double> best_f(static_cast<size_t>(starts), 1e300);
+  std::vector<std::string> reasons(static_cast<size_t>(starts));
+  std::vector<int> pevals(static_cast<size_t>(starts), 0);
+  {
+    std::vector<std::thread> pool;
+    const int np = std::min(o.threads, starts);
+    for (int t = 0; t < np; ++t)
+      pool.emplace_back([&, t] {
+        for (int s = t; s < starts; s += np) {
+          Evaluator e(board, meas, o);
+          nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
+          opt.set_lower_bounds(std::vector<double>(static_cast<size_t>(n), 0.0));
+          opt.set_upper_bounds(std::vector<double>(static_cast<size_t>(n), 1.0));
+          opt.set_min_objective(nlopt_cost, &e);
+          opt.set_xtol_rel(o.xtol_rel);
+          opt.set_ftol_abs(1e-14);
+          opt.set_maxeval(o.max_evaluations);
+          opt.set_initial_step(0.5 / (o.doe_points - 1));
+          std::vector<double> x = points[static_cast<size_t>(order[static_cast<size_t>(s)])];
+          // Keep the start strictly inside the box (BOBYQA's initial step must fit).
+          for (double& v : x) v = std::clamp(v, 0.26 / (o.doe_points - 1), 1.0 - 0.26 / (o.doe_points - 1));
+          double f = 1e300;
+          try {
+            reasons[static_cast<size_t>(s)] = nlopt_reason(opt.optimize(x, f));
+          } catch (const std::exception& ex) {
+            reasons[static_cast<size_t>(s)] = std::string("nlopt: ") + ex.what();
+            f = e.cost(x);
+          }
+          best_x[static_cast<size_t>(s)] = x;
+          best_f[static_cast<size_t>(s)] = f;
+          pevals[static_cast<size_t>(s)] = e.evaluations;
+        }
+      });
+    for (auto& th : pool) th.join();
+  }
+  int win = 0;
+  for (int s = 0; s < starts; ++s) {
+    r.evaluations += pevals[static_cast<size_t>(s)];
+    if (best_f[static_cast<size_t>(s)] < best_f[static_cast<size_t>(win)]) win = s;
+  }
+  r.evaluations += r.doe_evaluations;
+  const std::vector<double> x = best_x[static_cast<size_t>(win)];
+  r.cost = best_f[static_cast<size_t>(win)];
+  r.stop_reason = reasons[static_cast<size_t>(win)];
+  for (double v : x) r.bound_active = r.bound_active || v < 0.005 || v > 0.995;
+
+  Evaluator e(board, meas, o);
+  const mj::WearParams w = e.wear_of(x);
+  r.d0_um = w.depth_m * 1e6;
+  r.gamma_deg = w.position_rad / k_deg;
+  r.beta_deg = n == 3 ? w.span_rad / k_deg
+                      : mj::two_parameter_span_rad(w.depth_m, board.journal.geometry.clearance_m) / k_deg;
+  r.fitted = e.spectrum(w);
+
+  // Uncertainty: noise of each real residual component = noise_m / sqrt(2) (complex noise
+  // split evenly), Jacobian by central differences in physical units (um, deg).
+  const double sigma = std::max(meas.noise_m / std::sqrt(2.0), 1e-15) / e.scale();
+  const double range[3] = {o.depth_um[1] - o.depth_um[0], o.position_deg[1] - o.position_deg[0],
+                           o.span_deg[1] - o.span_deg[0]};
+  r.used_amb_planes = e.planes();
+  Eigen::MatrixXd jac(e.residual_count(), n);
+  bool ok = true;
+  for (int i = 0; i < n; ++i) {
+    const double h = 2e-3;
+    std::vector<double> xp = x, xm = x;
+    xp[static_cast<size_t>(i)] = std::min(1.0, x[static_cast<size_t>(i)] + h);
+    xm[static_cast<size_t>(i)] = std::max(0.0, x[static_cast<size_t>(i)] - h);
+    try {
+      const auto rp = e.residual(xp), rm = e.residual(xm);
+      const double du = (xp[static_cast<size_t>(i)] - xm[static_cast<size_t>(i)]) * range[i];
+      for (int k = 0; k < e.residual_count(); ++k) jac(k, i) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * sigma);
+    } catch (const std::invalid_argument&) {
+      ok = false;
+    }
+  }
+  if (ok) {
+    const Eigen::MatrixXd jtj = jac.transpose() * jac;
+    const Eigen::MatrixXd cov = jtj.completeOrthogonalDecomposition().pseudoInverse();
+    r.d0_uncertainty_um = std::sqrt(std::max(0.0, cov(0, 0)));
+    r.gamma_uncertainty_deg = std::sqrt(std::max(0.0, cov(1, 1)));
+    if (n == 3) {
+      r.beta_uncertainty_deg = std::sqrt(std::max(0.0, cov(2, 2)));
+    } else {
+      // beta = 2 acos(1 - d0/C): propagate d0's uncertainty.
+      const double c_um = board.journal.geometry.clearance_m * 1e6;
+      const double u = 1.0 - r.d0_um / c_um;
+      r.beta_uncertainty_deg = 2.0 / std::sqrt(std::max(1e-12, 1.0 - u * u)) / c_um * r.d0_uncertainty_um / k_deg;
+    }
+  } else {
+    r.d0_uncertainty_um = r.gamma_uncertainty_deg = r.beta_uncertainty_deg = NAN;
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace amb::host::wearid

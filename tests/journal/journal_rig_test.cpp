@@ -1,0 +1,113 @@
+// The UNICAMP rig with its journal bearing (seed 002): board, placement by the AMBs,
+// unbalance response (first critical near the seed's 31 Hz), and a short SIL run that
+// levitates, places the journal and holds it at 34 Hz.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "firmware/board/board.hpp"
+#include "host-tools/core/events/load_event.hpp"
+#include "host-tools/core/wearid/journal_sil_record.hpp"
+#include "host-tools/core/wearid/journal_spectrum.hpp"
+#include "host-tools/core/wearid/rig_response.hpp"
+#include "host-tools/core/wearid/wear_identification.hpp"
+#include "model/journal/journal_rig.hpp"
+#include "tests/support/test_paths.hpp"
+
+using namespace amb;
+namespace mj = amb::model::journal;
+namespace wi = amb::host::wearid;
+
+namespace {
+board::BoardConfig rig_board(double ecc) {
+  board::BoardConfig b = board::load_board("unicamp-journal-rig");
+  b.journal.static_eccentricity = ecc;
+  return b;
+}
+}  // namespace
+
+TEST(JournalRig, BoardDescribesTheSeedBearing) {
+  const board::BoardConfig b = board::load_board("unicamp-journal-rig");
+  ASSERT_TRUE(b.journal.present);
+  EXPECT_NEAR(b.journal.geometry.bore_radius_m * 2.0, 67.38e-3, 1e-9);
+  EXPECT_NEAR(b.journal.geometry.length_m, 38e-3, 1e-9);
+  EXPECT_NEAR(b.journal.geometry.clearance_m, 185e-6, 1e-12);
+  EXPECT_NEAR(b.journal.axial_m, 2.0283, 1e-6);  // node 25
+  EXPECT_FALSE(b.assumed.at("journal_bearing.viscosity_pa_s").empty());
+  // The AMB-only board stays without one.
+  EXPECT_FALSE(board::load_board("unicamp-amb-rig").journal.present);
+}
+
+TEST(JournalRig, BoardRefusesBadJournalKeys) {
+  const std::string path = std::string(test::source_dir()) + "/boards/unicamp-journal-rig.toml";
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  auto error_of = [](const std::string& t) {
+    try {
+      board::parse_board(t, "test.toml");
+    } catch (const board::BoardError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  std::string t = text;
+  t.replace(t.find("static_eccentricity = 0.1"), 25, "static_eccentricity = 1.2");
+  EXPECT_NE(error_of(t).find("journal_bearing.static_eccentricity"), std::string::npos) << error_of(t);
+  t = text;
+  t.replace(t.find("width_m = 0.038"), 15, "width_m = 0.038\nlenght_m = 1.0");
+  EXPECT_NE(error_of(t).find("journal_bearing.lenght_m"), std::string::npos) << error_of(t);
+}
+
+TEST(JournalRig, PlacementPutsTheJournalAtTheEccentricity) {
+  for (double ecc : {0.1, 0.7}) {
+    const board::BoardConfig b = rig_board(ecc);
+    const mj::LinearJournal j = mj::place_journal(b.plant, b.journal, 2.0 * M_PI * 34.0);
+    ASSERT_TRUE(j.enabled);
+    // The rotor's static position at the journal (sensors held at zero) minus the bore
+    // centre is the requested offset, straight down.
+    const auto q = mj::static_displacement_m(b.plant, b.journal.axial_m, b.journal.axial_m, j.coeff.fx0_n, j.coeff.fy0_n);
+    EXPECT_NEAR((q[0] - j.bore_x_m) / 185e-6, 0.0, 1e-9);
+    EXPECT_NEAR((q[1] - j.bore_y_m) / 185e-6, -ecc, 1e-9);
+    // The film pushes the journal back up, more at the larger eccentricity.
+    EXPECT_GT(j.coeff.fy0_n, 0.0);
+    std::printf("[ RESULT ] e = %.1f: film force (%.1f, %.1f) N, Kxx %.3g Kyy %.3g N/m, Cxx %.3g Cyy %.3g N s/m, bore at (%.1f, %.1f) um\n",
+                ecc, j.coeff.fx0_n, j.coeff.fy0_n, j.coeff.stiffness_n_per_m(0, 0), j.coeff.stiffness_n_per_m(1, 1),
+                j.coeff.damping_n_s_per_m(0, 0), j.coeff.damping_n_s_per_m(1, 1), j.bore_x_m * 1e6, j.bore_y_m * 1e6);
+  }
+}
+
+// The first-critical check (seed: ~31 Hz) lives in wear_id_long_test.cpp (label long): it
+// is not met by this model (peak at 37.25 Hz), see docs/journal-bearing.md.
+
+TEST(JournalRig, SilLevitatesAndHoldsTheJournalAt34Hz) {
+  // Short SIL run at e = 0.7 without wear: stable, at speed, journal where the AMBs put it,
+  // and the frequency-domain model reproduces the SIL's full spectrum at the probes.
+  const std::string stem = std::string(test::artefact_dir()) + "/journal_sil_e07";
+  std::filesystem::create_directories(test::artefact_dir());
+  wi::JournalSilOptions o;
+  o.eccentricity = 0.7;
+  o.record_s = 1.0;
+  const wi::JournalSilSummary s = wi::record_journal_sil(o, stem);
+  ASSERT_TRUE(s.ok) << s.message;
+  EXPECT_NEAR(s.speed_hz, 34.0, 0.34);
+  EXPECT_NEAR(s.static_eccentricity, 0.7, 0.02);
+  EXPECT_LT(s.orbit_peak_m, 0.5 * s.journal_clearance_m);
+  const board::BoardConfig b = board::load_board("unicamp-journal-rig");
+  const wi::JournalMeasurement m = wi::measure_journal(host::load_event(stem + ".json"), b, 1.0);
+  EXPECT_NEAR(m.eccentricity, 0.7, 0.02);
+  const wi::FullSpectrum z = wi::predict_spectrum(b, {}, m.journal, m.speed_hz);
+  const double scale = std::abs(m.spectrum.forward_m);
+  std::printf("[ RESULT ] SIL e=0.7: +1x %.3f um (model %.3f), -1x %.3f um (model %.3f), noise %.4f um, |dZ+|/|Z+| %.4f, |dZ-|/|Z+| %.4f\n",
+              std::abs(m.spectrum.forward_m) * 1e6, std::abs(z.forward_m) * 1e6, std::abs(m.spectrum.backward_m) * 1e6,
+              std::abs(z.backward_m) * 1e6, m.noise_m * 1e6, std::abs(z.forward_m - m.spectrum.forward_m) / scale,
+              std::abs(z.backward_m - m.spectrum.backward_m) / scale);
+  EXPECT_LT(std::abs(z.forward_m - m.spectrum.forward_m), 0.02 * scale);
+  EXPECT_LT(std::abs(z.backward_m - m.spectrum.backward_m), 0.02 * scale);
+}
