@@ -28,6 +28,7 @@ struct Args {
   std::string event;
   std::string board;
   bool json = false;
+  bool contact_law_update = false;
 };
 
 nlohmann::json figures(const hr::ErrorFigures& e) {
@@ -69,6 +70,24 @@ void print_text(const std::string& verdict, const hr::ErrorFigures& b, const hr:
   std::printf("verdict: %s\n", verdict.c_str());
 }
 
+nlohmann::json model_update(const hr::ResidualOutcome& o) {
+  const auto& u = o.model_update;
+  return {{"done", u.done}, {"loop_delay_s", u.loop_delay_s}, {"force_scale", u.force_scale},
+          {"force_noise_rms_n", u.force_noise_rms_n}, {"sensor_noise_rms_m", u.noise_rms_m}, {"delta_bic", u.delta_bic},
+          {"error_after_update", figures(o.updated.error)}};
+}
+
+nlohmann::json unexplained(const std::vector<hr::UnexplainedItem>& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& u : v) {
+    nlohmann::json j = {{"kind", u.kind}, {"f_hz", u.f_hz}, {"plane", u.plane == 0 ? "A" : u.plane == 1 ? "B" : "?"}};
+    if (u.kind == "band") j["level_db"] = u.level_db;
+    else j.update({{"order", u.order}, {"snr", u.snr}, {"direction", u.direction}, {"amplitude_m", u.amplitude_m}});
+    a.push_back(j);
+  }
+  return a;
+}
+
 nlohmann::json drop_errors(const hr::DropErrors& e) {
   nlohmann::json c = nlohmann::json::array();
   for (int k = 0; k < 2; ++k) {
@@ -84,7 +103,9 @@ nlohmann::json drop_errors(const hr::DropErrors& e) {
 
 int run_drop(const Args& a, const amb::host::LoadedEvent& rec, const amb::board::BoardConfig& b) {
   std::fprintf(stderr, "drop event: levitated part through the steady loop, drop part through the drop model fit\n");
-  const auto o = hr::run_drop_residual(rec, b);
+  hr::DropResidualOptions dro;
+  dro.update_contact_law = a.contact_law_update;
+  const auto o = hr::run_drop_residual(rec, b, dro);
   std::vector<std::string> notes;
   if (o.levitated_analysed) {
     for (const auto& n : o.levitated.structure.notes) notes.push_back("levitated: " + n);
@@ -104,11 +125,16 @@ int run_drop(const Args& a, const amb::host::LoadedEvent& rec, const amb::board:
     j["ranking"] = ranking(rank);
     j["structure"] = notes;
     nlohmann::json seg;
-    if (o.levitated_analysed)
+    if (o.levitated_analysed) {
       seg["levitated"] = {{"error_before", figures(o.levitated.before.error)},
                           {"error_after", figures(o.levitated.after.error)},
-                          {"verdict", o.levitated.verdict}};
-    seg["drop"] = {{"before", drop_errors(o.drop_before)}, {"after", drop_errors(o.drop_after)}};
+                          {"verdict", o.levitated.verdict},
+                          {"model_update", model_update(o.levitated)}};
+      j["unexplained"] = unexplained(o.levitated.unexplained);
+    } else {
+      j["unexplained"] = nlohmann::json::array();
+    }
+    seg["drop"] = {{"before", drop_errors(o.drop_before)}, {"after", drop_errors(o.drop_after)}, {"contact_law", o.contact_law}};
     j["segments"] = seg;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
@@ -142,6 +168,8 @@ int run_steady(const Args& a) {
                     {"backward_measured_m", l.backward_measured_m}, {"forward_residual_m", l.forward_residual_m},
                     {"backward_residual_m", l.backward_residual_m}});
     j["full_spectrum"] = fs;
+    j["model_update"] = model_update(o);
+    j["unexplained"] = unexplained(o.unexplained);
     j["channel_rms_residual"] = o.structure_after.channel_rms_residual;
     j["orbit_residual_max_m"] = o.structure_after.orbit_residual_max_m;
     std::printf("%s\n", j.dump(2).c_str());
@@ -190,6 +218,8 @@ const amb::host::Registration reg{
       sub.add_option("EVENT", a->event, "measured-event sidecar (.json) or a sweep directory (TUM .mat pair)")->required();
       sub.add_option("--board", a->board, "board name or file (default: the event's rig; tum-mlps-rig for a sweep)");
       sub.add_flag("--json", a->json, "print the figures as JSON");
+      sub.add_flag("--contact-law-update", a->contact_law_update,
+                   "drop events: fit the drop model with each contact law (rigid, hertz, linear) and keep the best");
       run = [a]() {
         try {
           if (std::filesystem::is_directory(a->event)) return run_sweep(*a);

@@ -119,8 +119,8 @@ EffectLoopModel::EffectLoopModel(const PlantParams& rig, const PidParams& pid, d
   kkt.block(0, 0, n_, n_) = k_;
   for (int j = 0; j < 4; ++j) {
     const auto& amb = rig.amb[static_cast<size_t>(j / 2)];
-    kkt.block(0, 0, n_, n_) -= amb.ks_n_per_m * n_amb_[static_cast<size_t>(j)] * n_amb_[static_cast<size_t>(j)].transpose();
-    kkt.block(0, n_ + j, n_, 1) = -amb.ki_n_per_a * n_amb_[static_cast<size_t>(j)];
+    kkt.block(0, 0, n_, n_) -= fx_.update.force_scale * amb.ks_n_per_m * n_amb_[static_cast<size_t>(j)] * n_amb_[static_cast<size_t>(j)].transpose();
+    kkt.block(0, n_ + j, n_, 1) = -fx_.update.force_scale * amb.ki_n_per_a * n_amb_[static_cast<size_t>(j)];
     kkt.block(n_ + j, 0, 1, n_) = s_row_[static_cast<size_t>(j)].transpose();
   }
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_ + 4);
@@ -136,14 +136,14 @@ EffectLoopModel::EffectLoopModel(const PlantParams& rig, const PidParams& pid, d
     }
     static_.current_a[static_cast<size_t>(j)] = ic;
     static_.ki_ratio[static_cast<size_t>(j)] = ratio;
-    ki_eff_[static_cast<size_t>(j)] = amb.ki_n_per_a * ratio;
+    ki_eff_[static_cast<size_t>(j)] = fx_.update.force_scale * amb.ki_n_per_a * ratio;
   }
 }
 
 Eigen::MatrixXcd EffectLoopModel::dynamic_stiffness(double w) const {
   Eigen::MatrixXcd d = k_.cast<cd>();
   for (int j = 0; j < 4; ++j) {
-    const double ks = rig_.amb[static_cast<size_t>(j / 2)].ks_n_per_m;
+    const double ks = fx_.update.force_scale * rig_.amb[static_cast<size_t>(j / 2)].ks_n_per_m;
     d -= (ks * n_amb_[static_cast<size_t>(j)] * n_amb_[static_cast<size_t>(j)].transpose()).cast<cd>();
   }
   d += cd(0.0, w) * (c_ + g_).cast<cd>();
@@ -184,6 +184,7 @@ cd EffectLoopModel::amplifier(int axis, double w) const {
   cd a = zoh * first_order(rig_.amb[static_cast<size_t>(axis / 2)].amplifier_bandwidth_hz, w);
   if (fx_.amplifier_lag && fx_.amplifier_lag->time_constant_s > 0.0)
     a *= 1.0 / cd(1.0, w * fx_.amplifier_lag->time_constant_s);
+  if (fx_.update.loop_delay_s > 0.0) a *= std::exp(cd(0.0, -w * fx_.update.loop_delay_s));
   return a;
 }
 

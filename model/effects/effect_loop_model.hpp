@@ -76,6 +76,9 @@ class EffectLoopModel {
   /// aux-bearing centres offset as the model's aux_bearing_offset says (none: board values).
   std::array<double, 4> rest_sensors_m() const;
 
+  /// Force per measured current of actuator axis j (board ki x force_scale x saturation slope), N/A.
+  double ki_eff(int axis) const { return ki_eff_[static_cast<size_t>(axis)]; }
+
   int modes() const { return m_; }
   const EffectSet& effects() const { return fx_; }
 

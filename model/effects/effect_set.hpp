@@ -88,8 +88,17 @@ struct SensorMass {
   std::vector<double> axial_m;      ///< where they sit, m from the rotor's left end
 };
 
+/// The base model's own uncertain parameters (model updating, not a model element: never
+/// named as an effect). A real rig differs from its board file in ways no element names; the
+/// residual loop fits these first, so that an element is not used to cover them.
+struct ModelUpdate {
+  double loop_delay_s = 0.0;  ///< extra delay between a sensor sample and the current it commands (computation delay), s
+  double force_scale = 1.0;   ///< actual / board actuator force constant: scales ki and ks together (pole area, gap), 1
+};
+
 /// The effects a model (or a generator) includes; unset = absent.
 struct EffectSet {
+  ModelUpdate update;  ///< the base model's uncertain parameters (defaults: the board's values)
   std::optional<PedestalResonance> pedestal;
   std::optional<SensorRunout> runout;
   std::optional<AuxBearingOffset> aux_offset;

@@ -10,6 +10,7 @@
 
 #include "host-tools/core/fit/drop_fit.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
+#include "model/amb/amb_force.hpp"
 #include "model/drop/sensor_orbit.hpp"
 
 namespace amb::host::residual {
@@ -312,6 +313,8 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   const double fs = r.sample_rate_hz;
   const auto trig = static_cast<size_t>(r.trigger_index);
 
+  size_t runout_window_start = 0;
+  double runout_spin_hz = 0.0;
   // Levitated part: the steady loop on the pre-trigger history.
   const double lev_s = static_cast<double>(trig) / fs;
   if (lev_s >= o.min_levitated_s) {
@@ -323,6 +326,8 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       const SteadyData d = extract_steady(pre, b, so);
       out.levitated = run_residual_loop(d, b, o.loop);
       out.levitated_analysed = true;
+      runout_window_start = d.window_start;
+      runout_spin_hz = d.spin_hz;
     } catch (const std::runtime_error& e) {
       out.levitated_note = std::string("levitated part not analysed: ") + e.what();
     }
@@ -331,15 +336,66 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   }
 
   // Drop part: fit the drop model, then look at the contact geometry.
-  const fit::DropMeasurement m = drop_measurement_of(r, b, o);
+  fit::DropMeasurement m = drop_measurement_of(r, b, o);
+  // Runout found in the levitated part is a measurement artefact: it stays in the readings
+  // when the rotor falls. Subtract it, with the rotor angle carried on from the levitated
+  // window through the recorded speed (scaled to the refined speed at the trigger).
+  bool runout_found = false;
+  for (const auto& e : out.levitated.effects_added) runout_found = runout_found || e.name == "sensor_runout";
+  if (out.levitated_analysed && runout_found && out.levitated.after.effects.runout && runout_spin_hz > 0.0) {
+    const auto& ro = *out.levitated.after.effects.runout;
+    const size_t first = trig - static_cast<size_t>(m.trigger_index);
+    const double f_trig = m.speed_rad_s.empty() ? 0.0 : m.speed_rad_s[static_cast<size_t>(m.trigger_index)] / (2.0 * M_PI);
+    double theta = 2.0 * M_PI * runout_spin_hz * (static_cast<double>(first) - static_cast<double>(runout_window_start)) / fs;
+    for (size_t i = 0; i < m.sensor_m.size(); ++i) {
+      for (int k = 0; k < 4; ++k) {
+        const auto dir = model::magnet::axis_direction(b.plant.sensor[static_cast<size_t>(k)].angle_deg);
+        double v = 0.0;
+        for (int h = 1; h <= model::effects::k_runout_orders; ++h)
+          v += (ro.r_m[static_cast<size_t>(k / 2)][static_cast<size_t>(h - 1)] * std::complex<double>(dir[0], -dir[1]) *
+                std::exp(std::complex<double>(0.0, h * theta))).real();
+        m.sensor_m[i][static_cast<size_t>(k)] -= v;
+      }
+      const bool after_trigger = i >= static_cast<size_t>(m.trigger_index) && f_trig > 0.0 && !m.speed_rad_s.empty();
+      const double f_now = after_trigger ? runout_spin_hz * m.speed_rad_s[i] / (2.0 * M_PI) / f_trig : runout_spin_hz;
+      theta += 2.0 * M_PI * f_now / fs;
+    }
+    out.drop_notes.push_back(fmt("runout of the levitated part subtracted from the drop readings (plane A 1x %.1f um, plane B 1x %.1f um)",
+                                 std::abs(ro.r_m[0][0]) * 1e6, std::abs(ro.r_m[1][0]) * 1e6));
+  }
   if (const auto err = m.check(); !err.empty()) throw std::runtime_error("event " + r.source + ": drop part: " + err);
   fit::DropFitOptions fo;
   fo.max_window_s = o.window_s;
-  const fit::DropFitResult base = fit::fit_drop(m, b, fo);
-  out.drop_before = evaluate(m, base, b.plant, o);
+  // Model updating of the drop part: the contact law is an uncertain part of the drop model
+  // (a real touchdown contact is compliant; the board states one law). The drop model is
+  // fitted with each law (board's first) and the one with the lowest Phase C cost is kept.
+  board::BoardConfig bu = b;
+  fit::DropFitResult base = fit::fit_drop(m, bu, fo);
+  const char* law_name[3] = {"rigid", "hertz", "linear"};
+  if (o.update_contact_law) {
+    const model::AuxContactLaw board_law = b.plant.aux[0].contact_law;
+    for (model::AuxContactLaw law : {model::AuxContactLaw::rigid, model::AuxContactLaw::hertz, model::AuxContactLaw::linear}) {
+      if (law == board_law) continue;
+      board::BoardConfig bl = b;
+      for (auto& a : bl.plant.aux) a.contact_law = law;
+      try {
+        fit::DropFitResult f = fit::fit_drop(m, bl, fo);
+        out.drop_notes.push_back(std::string("contact law ") + law_name[static_cast<int>(law)] +
+                                 fmt(": friction %.3f, Phase C cost %.4g", f.friction_coefficient, f.cost.total));
+        if (f.cost.total < base.cost.total) {
+          base = std::move(f);
+          bu = bl;
+        }
+      } catch (const std::exception& e) {
+        out.drop_notes.push_back(std::string("contact law ") + law_name[static_cast<int>(law)] + " not fitted: " + e.what());
+      }
+    }
+  }
+  out.contact_law = law_name[static_cast<int>(bu.plant.aux[0].contact_law)];
+  out.drop_before = evaluate(m, base, bu.plant, o);
   out.drop_after = out.drop_before;
   out.drop_notes.push_back(fmt("drop model fitted: friction coefficient %.3f, Phase C cost %.4g", base.friction_coefficient,
-                               base.cost.total));
+                               base.cost.total) + ", contact law " + out.contact_law);
   CandidateScore cand;
   cand.name = "aux_bearing_offset";
   std::array<std::array<double, 2>, 2> delta{};
@@ -356,7 +412,12 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     delta[static_cast<size_t>(k)] = {mc.centre_m[0] - sc.centre_m[0], mc.centre_m[1] - sc.centre_m[1]};
     const double dn = std::hypot(delta[static_cast<size_t>(k)][0], delta[static_cast<size_t>(k)][1]);
     const double sig = std::hypot(mc.sigma_m, sc.sigma_m);
-    const bool sig_k = dn > std::max(4.0 * sig, o.min_offset_fraction * R);
+    // The bias correction is the fitted drop model's: when that model does not match the
+    // contact (rigid vs compliant, other friction), its bias can itself be the difference. An
+    // offset is claimed only when the raw measured centre is also off the model's centre.
+    const auto& mcen = out.drop_before.model_centre_m[static_cast<size_t>(k)];
+    const double raw = std::hypot(mc.centre_m[0] - mcen[0], mc.centre_m[1] - mcen[1]);
+    const bool sig_k = dn > std::max(4.0 * sig, o.min_offset_fraction * R) && raw > std::max(4.0 * mc.sigma_m, o.min_offset_fraction * R);
     significant = significant || sig_k;
     out.drop_notes.push_back(fmt("aux bearing %.0f: contact circle centre %+.1f / %+.1f um from the model's (sigma %.1f um)", k,
                                  delta[static_cast<size_t>(k)][0] * 1e6, delta[static_cast<size_t>(k)][1] * 1e6, sig * 1e6) +
@@ -383,7 +444,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   out.drop_ranking.push_back(cand);
 
   if (testable && significant && cand.delta_bic > o.loop.min_delta_bic) {
-    board::BoardConfig b2 = b;
+    board::BoardConfig b2 = bu;
     for (int k = 0; k < 2; ++k) {
       b2.plant.aux[static_cast<size_t>(k)].centre_offset_x_m += delta[static_cast<size_t>(k)][0];
       b2.plant.aux[static_cast<size_t>(k)].centre_offset_y_m += delta[static_cast<size_t>(k)][1];
@@ -394,7 +455,16 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     const bool material = after.error.statics <= (1.0 - o.loop.min_relative_improvement) * out.drop_before.error.statics;
     out.drop_notes.push_back(fmt("refit with the offset: friction %.3f, contact misfit %.4g -> %.4g of the clearance, dBIC %.1f",
                                  refit.friction_coefficient, out.drop_before.error.statics, after.error.statics, dbic));
-    if (dbic > o.loop.min_delta_bic && material) {
+    // Kept only if every drop-part error falls (orbit rms, spectral, contact misfit; Pearson rises).
+    const auto& e0 = out.drop_before.error;
+    // (a change within 1 % counts as unchanged, as in the steady loop)
+    const double tol = 0.01;
+    const bool all_fall = after.error.rms <= e0.rms * (1.0 + tol) && after.error.spectral <= e0.spectral * (1.0 + tol) &&
+                          after.error.pearson >= e0.pearson * (1.0 - tol) && after.error.statics <= e0.statics * (1.0 + tol);
+    out.drop_notes.push_back(fmt("with the offset: orbit rms %.4f -> %.4f, spectral %.2f -> %.2f dB", e0.rms, after.error.rms,
+                                 e0.spectral, after.error.spectral) +
+                             fmt(", pearson %.3f -> %.3f", e0.pearson, after.error.pearson));
+    if (dbic > o.loop.min_delta_bic && material && all_fall) {
       out.drop_after = after;
       EffectAdded e;
       e.name = "aux_bearing_offset";
@@ -404,7 +474,8 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       e.delta_bic = dbic;
       out.effects_added.push_back(e);
     } else {
-      out.drop_notes.push_back("aux_bearing_offset not kept: it does not earn its parameters");
+      out.drop_notes.push_back(all_fall ? "aux_bearing_offset not kept: it does not earn its parameters"
+                                        : "aux_bearing_offset not kept: a drop-part error rises with it");
     }
   }
 

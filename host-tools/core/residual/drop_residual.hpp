@@ -33,6 +33,7 @@ struct DropResidualOptions {
   double contact_band = 0.9;        ///< a sample is a contact point when its radius about the centre >= this x clearance
   double decorrelation_s = 1e-3;    ///< contact points closer than this in time count as one (uncertainty, BIC), s
   double min_offset_fraction = 0.02; ///< smallest centre offset reported as evidence, fraction of the clearance
+  bool update_contact_law = false;  ///< fit the drop model with each contact law (rigid, hertz, linear) and keep the best (model updating; off by default: triples the drop part's time and, with the present fit, gains nothing)
   LoopOptions loop;                 ///< the steady loop on the levitated part
 };
 
@@ -92,6 +93,7 @@ struct DropResidualOutcome {
   std::vector<EffectAdded> effects_added;     ///< levitated part first, then the drop part
   ErrorFigures before, after;                 ///< both parts: rms, spectral, statics = quadratic mean; pearson = mean
   std::string verdict;                        ///< "none", else added names joined with "+"
+  std::string contact_law;                    ///< the drop model's contact law after model updating
 };
 
 /// Throws std::runtime_error naming the problem when the record is not a usable drop event.

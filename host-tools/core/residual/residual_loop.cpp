@@ -17,6 +17,10 @@ using cd = std::complex<double>;
 using model::effects::EffectKind;
 using model::effects::EffectSet;
 constexpr double k_inf = std::numeric_limits<double>::infinity();
+// Relative change of an error figure that counts as "unchanged" when checking that no figure
+// rises with an element (the time-domain rms of a noise-dominated record moves by a few
+// tenths of a percent when only the line predictions change).
+constexpr double k_figure_tolerance = 0.01;
 
 std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
   char buf[256];
@@ -29,10 +33,18 @@ struct Bounds {
   double f_max_hz = 1000.0;
   double rotor_mass_kg = 1.0;
   double bias_a = 1.0;
+  double fs_hz = 1.0;
+  bool update = true;   // the base model's uncertain parameters are in the vector
 };
+constexpr double k_max_delay_samples = 3.0;
+constexpr double k_force_scale_min = 0.8, k_force_scale_max = 1.25;
 
-std::vector<double> pack(const EffectSet& e) {
+std::vector<double> pack(const EffectSet& e, const Bounds& bd) {
   std::vector<double> x;
+  if (bd.update) {
+    x.push_back(e.update.loop_delay_s * bd.fs_hz);
+    x.push_back(std::log(e.update.force_scale) * 10.0);
+  }
   if (e.pedestal) {
     x.push_back(std::log(e.pedestal->frequency_hz));
     x.push_back(std::log(e.pedestal->damping_ratio));
@@ -47,6 +59,10 @@ std::vector<double> pack(const EffectSet& e) {
 EffectSet unpack(const std::vector<double>& x, EffectSet e, const Bounds& bd) {
   size_t i = 0;
   auto get = [&](double lo, double hi) { return std::clamp(std::exp(x[i++]), lo, hi); };
+  if (bd.update) {
+    e.update.loop_delay_s = std::clamp(x[i++], 0.0, k_max_delay_samples) / bd.fs_hz;
+    e.update.force_scale = std::clamp(std::exp(x[i++] / 10.0), k_force_scale_min, k_force_scale_max);
+  }
   if (e.pedestal) {
     e.pedestal->frequency_hz = get(3.0, bd.f_max_hz);
     e.pedestal->damping_ratio = get(0.003, 0.7);
@@ -56,6 +72,23 @@ EffectSet unpack(const std::vector<double>& x, EffectSet e, const Bounds& bd) {
   if (e.rotor_mode) e.rotor_mode->frequency_scale = get(0.5, 2.0);
   if (e.saturation) e.saturation->saturation_current_a = get(0.3 * bd.bias_a, 100.0 * bd.bias_a);
   return e;
+}
+
+// Is a fitted nonlinear parameter of element k at a bound of its range? Such a parameter is
+// not identified by the record (the likelihood keeps improving towards the bound, as when an
+// element stands in for something it does not describe), and the element is not added.
+bool at_bound(const EffectSet& e, EffectKind k, const Bounds& bd) {
+  auto near = [](double v, double lo, double hi) { return v <= lo * (1.0 + 1e-3) || v >= hi * (1.0 - 1e-3); };
+  switch (k) {
+    case EffectKind::pedestal_resonance:
+      return e.pedestal && (near(e.pedestal->frequency_hz, 3.0, bd.f_max_hz) || near(e.pedestal->damping_ratio, 0.003, 0.7) ||
+                            near(e.pedestal->mass_kg, 0.01 * bd.rotor_mass_kg, 50.0 * bd.rotor_mass_kg));
+    case EffectKind::amplifier_lag: return e.amplifier_lag && near(e.amplifier_lag->time_constant_s, 1e-6, 0.02);
+    case EffectKind::rotor_mode: return e.rotor_mode && near(e.rotor_mode->frequency_scale, 0.5, 2.0);
+    case EffectKind::magnetic_saturation:
+      return e.saturation && near(e.saturation->saturation_current_a, 0.3 * bd.bias_a, 100.0 * bd.bias_a);
+    default: return false;
+  }
 }
 
 struct Fitter {
@@ -74,10 +107,56 @@ struct Fitter {
   }
   // Refine all nonlinear parameters of `e` together (the linear ones are closed-form).
   EffectSet refine(EffectSet e) const {
-    const auto x0 = pack(e);
+    const auto x0 = pack(e, bd);
     if (x0.empty()) return e;
     const auto r = nelder_mead([&](const std::vector<double>& x) { return nll(unpack(x, e, bd)); }, x0, 0.25, max_eval, 1e-2);
     return unpack(r.x, e, bd);
+  }
+  // Profile check of a one-parameter element: its parameter is identified by the record only
+  // if the likelihood at both ends of its range is worse than at the fit by more than
+  // k_profile_nll (a confidence interval inside the range). A parameter the data does not
+  // bound on one side (e.g. bending modes pushed up without limit: the record has none) is
+  // not an identified element.
+  bool identified(const EffectSet& e, EffectKind k) const {
+    constexpr double k_profile_nll = 2.0;
+    const double v = nll(e);
+    auto worse = [&](EffectSet x) { return nll(x) > v + k_profile_nll; };
+    EffectSet lo = e, hi = e;
+    switch (k) {
+      case EffectKind::amplifier_lag:
+        lo.amplifier_lag->time_constant_s = 1e-6;
+        hi.amplifier_lag->time_constant_s = 0.02;
+        break;
+      case EffectKind::rotor_mode:
+        lo.rotor_mode->frequency_scale = 0.5;
+        hi.rotor_mode->frequency_scale = 2.0;
+        break;
+      case EffectKind::magnetic_saturation:
+        lo.saturation->saturation_current_a = 0.3 * bd.bias_a;
+        hi.saturation->saturation_current_a = 100.0 * bd.bias_a;
+        break;
+      default: return true;
+    }
+    return worse(lo) && worse(hi);
+  }
+  // The base model's uncertain parameters alone (elements held).
+  EffectSet update_base(EffectSet e) const {
+    std::vector<double> x0{e.update.loop_delay_s * bd.fs_hz, std::log(e.update.force_scale) * 10.0};
+    const Bounds& ub = bd;
+    auto apply = [&](const std::vector<double>& x) {
+      EffectSet r = e;
+      r.update.loop_delay_s = std::clamp(x[0], 0.0, k_max_delay_samples) / ub.fs_hz;
+      r.update.force_scale = std::clamp(std::exp(x[1] / 10.0), k_force_scale_min, k_force_scale_max);
+      return r;
+    };
+    // A coarse scan of the delay first (the likelihood is multimodal in it), then the polish.
+    double best_v = k_inf;
+    for (double dl : {0.0, 0.5, 1.0, 1.5, 2.0}) {
+      const double v = nll(apply({dl, 0.0}));
+      if (v < best_v) { best_v = v; x0 = {dl, 0.0}; }
+    }
+    const auto r = nelder_mead([&](const std::vector<double>& x) { return nll(apply(x)); }, x0, 0.3, max_eval, 1e-3);
+    return apply(r.x);
   }
   // Best start of a new element on top of `base` by a coarse scan, then a joint refinement.
   EffectSet fit_candidate(const EffectSet& base, EffectKind k, const std::vector<double>& peak_hz) const {
@@ -122,7 +201,7 @@ struct Fitter {
     std::sort(scored.begin(), scored.end());
     EffectSet best = starts.at(scored.front().second);
     double best_v = scored.front().first;
-    for (size_t r = 0; r < std::min<size_t>(1, scored.size()); ++r) {
+    for (size_t r = 0; r < std::min<size_t>(k == EffectKind::pedestal_resonance ? 3 : 1, scored.size()); ++r) {
       const EffectSet e = refine(starts[scored[r].second]);
       const double v = nll(e);
       if (v < best_v) {
@@ -351,20 +430,140 @@ ResidualStructure analyse_structure(const SteadyData& d, const board::BoardConfi
   return s;
 }
 
+double effect_size_sigma(const SteadyData& d, const board::BoardConfig& b, const SteadyEvaluation& with,
+                         const SteadyEvaluation& without) {
+  double z = 0.0;
+  const size_t nb = std::min(with.psd_pred.size(), without.psd_pred.size());
+  for (size_t i = 0; i < nb && i < d.bands.size(); ++i)
+    for (int c = 0; c < k_channels; ++c)
+      z = std::max(z, std::abs(std::log(with.psd_pred[i][static_cast<size_t>(c)] / without.psd_pred[i][static_cast<size_t>(c)])) *
+                          std::sqrt(d.bands[i].averages));
+  auto psd_near = [&](double f, int c) {
+    double p = 0.0, best = k_inf;
+    for (size_t i = 0; i < nb; ++i)
+      if (std::abs(d.bands[i].f_hz - f) < best) {
+        best = std::abs(d.bands[i].f_hz - f);
+        p = without.psd_pred[i][static_cast<size_t>(c)];
+      }
+    return p;
+  };
+  for (int h = 1; h <= k_orders; ++h)
+    for (int c = 0; c < k_channels; ++c) {
+      const double v = 2.0 * psd_near(h * d.spin_hz, c) / d.window_s;
+      if (v > 0)
+        z = std::max(z, std::abs(with.order_pred[static_cast<size_t>(c)][static_cast<size_t>(h - 1)] -
+                                 without.order_pred[static_cast<size_t>(c)][static_cast<size_t>(h - 1)]) / std::sqrt(v));
+    }
+  double lim = 1e9;
+  for (const auto& a : b.plant.amb) lim = std::min(lim, a.coil_current_limit_a);
+  for (int c = 0; c < k_channels; ++c) {
+    const double p0 = nb ? without.psd_pred[0][static_cast<size_t>(c)] : 0.0;
+    const double floor = c < 4 ? 0.2e-6 : 5e-4 * lim;
+    const double sd = std::sqrt(p0 / d.window_s + floor * floor);
+    z = std::max(z, std::abs(with.static_pred[static_cast<size_t>(c)] - without.static_pred[static_cast<size_t>(c)]) / sd);
+  }
+  if (d.has_rest)
+    for (int k = 0; k < 4; ++k) {
+      const double sd = std::sqrt(std::pow(d.rest_std_m[static_cast<size_t>(k)], 2) / std::max<size_t>(d.rest_len / 10, 1) + 0.25e-12);
+      z = std::max(z, std::abs(with.rest_pred_m[static_cast<size_t>(k)] - without.rest_pred_m[static_cast<size_t>(k)]) / sd);
+    }
+  return z;
+}
+
+std::vector<UnexplainedItem> unexplained_items(const SteadyData& d, const board::BoardConfig& b, const SteadyEvaluation& ev,
+                                               const ResidualStructure& st) {
+  (void)b;
+  std::vector<UnexplainedItem> out;
+  const size_t nb = d.bands.size();
+  // Bands: measured / model PSD per plane (2 sensors + 2 currents), smoothed over 3 bands.
+  std::array<std::vector<double>, 2> plane_db;
+  for (int pl = 0; pl < 2; ++pl) {
+    std::vector<double> r(nb, 0.0);
+    for (size_t i = 0; i < nb; ++i) {
+      double a = 0.0;
+      for (int c : {2 * pl, 2 * pl + 1, 4 + 2 * pl, 5 + 2 * pl})
+        a += 10.0 * std::log10(d.bands[i].psd[static_cast<size_t>(c)] / ev.psd_pred[i][static_cast<size_t>(c)]);
+      r[i] = a / 4.0;
+    }
+    plane_db[static_cast<size_t>(pl)].assign(nb, 0.0);
+    for (size_t i = 0; i < nb; ++i) {
+      double a = 0.0;
+      int n = 0;
+      for (size_t j = (i > 0 ? i - 1 : 0); j <= std::min(nb - 1, i + 1); ++j, ++n) a += r[j];
+      plane_db[static_cast<size_t>(pl)][i] = a / n;
+    }
+  }
+  auto add_band = [&](double f, double) {
+    size_t i = 0;
+    for (size_t j = 0; j < nb; ++j)
+      if (std::abs(d.bands[j].f_hz - f) < std::abs(d.bands[i].f_hz - f)) i = j;
+    UnexplainedItem u;
+    u.kind = "band";
+    u.f_hz = f;
+    u.plane = std::abs(plane_db[0][i]) >= std::abs(plane_db[1][i]) ? 0 : 1;
+    u.level_db = plane_db[static_cast<size_t>(u.plane)][i];
+    out.push_back(u);
+  };
+  for (const auto& [f, db] : st.resonance_excess) add_band(f, db);
+  for (const auto& [f, db] : st.resonance_deficit) add_band(f, db);
+  // Speed-order lines beyond 10 x their noise power: the plane and whirl direction that carry them.
+  for (int h = 1; h <= k_orders; ++h) {
+    if (st.order_excess_snr[static_cast<size_t>(h - 1)] <= 10.0) continue;
+    const FullSpectrumLine* best = nullptr;
+    double amp = -1.0;
+    for (const auto& l : st.full_spectrum)
+      if (l.order == h && std::max(l.forward_residual_m, l.backward_residual_m) > amp) {
+        amp = std::max(l.forward_residual_m, l.backward_residual_m);
+        best = &l;
+      }
+    UnexplainedItem u;
+    u.kind = "order";
+    u.order = h;
+    u.f_hz = h * d.spin_hz;
+    u.snr = st.order_excess_snr[static_cast<size_t>(h - 1)];
+    if (best != nullptr) {
+      u.plane = best->plane;
+      u.direction = best->forward_residual_m >= best->backward_residual_m ? "forward" : "backward";
+      u.amplitude_m = amp;
+    }
+    out.push_back(u);
+  }
+  return out;
+}
+
 ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig& b, const LoopOptions& o) {
   ResidualOutcome out;
   Fitter fit{d, b, {}, o.max_evaluations};
   fit.bd.f_max_hz = d.bands.empty() ? 1000.0 : 0.9 * d.bands.back().f_hz;
   fit.bd.rotor_mass_kg = model::rotor::build_rotor_model(b.plant.rotor).mass_kg;
   fit.bd.bias_a = b.plant.amb[0].bias_current_a;
+  fit.bd.fs_hz = d.fs_hz;
+  fit.bd.update = o.update_model;
 
   EffectSet current;
   out.before = evaluate_steady(d, b, current);
-  out.structure = analyse_structure(d, b, out.before);
   SteadyEvaluation now = out.before;
+  // Model updating first: the base model's own uncertain parameters (loop delay, actuator
+  // force scale; the force-noise level is closed-form in every evaluation).
+  if (o.update_model) {
+    current = fit.update_base(current);
+    now = evaluate_steady(d, b, current);
+    out.model_update = {true, current.update.loop_delay_s, current.update.force_scale, now.force_noise_rms_n, now.noise_rms_m,
+                        out.before.bic - now.bic};
+  }
+  out.updated = now;
+  out.structure = analyse_structure(d, b, now);
   const std::vector<EffectKind> kinds{EffectKind::pedestal_resonance, EffectKind::sensor_runout,
                                       EffectKind::aux_bearing_offset,  EffectKind::amplifier_lag,
                                       EffectKind::rotor_mode,          EffectKind::magnetic_saturation};
+  // Every reported error must fall (or stay, for a figure the element does not touch: a
+  // change within k_figure_tolerance counts as unchanged), and at least one by a material
+  // amount.
+  auto none_worse = [](const SteadyEvaluation& a, const SteadyEvaluation& c) {
+    const double tol = k_figure_tolerance;
+    return c.error.rms <= a.error.rms * (1.0 + tol) + 1e-12 && c.error.spectral <= a.error.spectral * (1.0 + tol) + 1e-12 &&
+           c.error.pearson >= a.error.pearson - tol * std::abs(a.error.pearson) && c.error.statics <= a.error.statics * (1.0 + tol) + 1e-12;
+  };
   for (int round = 0; round < o.max_effects; ++round) {
     const ResidualStructure st = round == 0 ? out.structure : analyse_structure(d, b, now);
     std::vector<double> peaks;
@@ -376,6 +575,8 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
       // Rest-position error counts once it exceeds 2 % of the clearance. Overwhelming
       // evidence (BIC decrease >= strong_delta_bic) may carry half the practical gain.
       const double r = o.min_relative_improvement;
+      if (!none_worse(a, c)) return false;
+      if (effect_size_sigma(d, b, c, a) < o.min_effect_sigma) return false;
       if (a.bic - c.bic >= o.strong_delta_bic && c.error.spectral <= (1.0 - 0.5 * r) * a.error.spectral) return true;
       return c.error.spectral <= (1.0 - r) * a.error.spectral ||
              c.error.rms <= (1.0 - o.min_relative_improvement) * a.error.rms ||
@@ -397,13 +598,18 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
       const EffectSet e = fit.fit_candidate(current, k, peaks);
       const SteadyEvaluation ev = evaluate_steady(d, b, e);
       c.delta_bic = now.bic - ev.bic;
+      const double z = effect_size_sigma(d, b, ev, now);
+      const bool bound = at_bound(e, k, fit.bd) || !fit.identified(e, k);
       c.evidence = evidence_for(k, st, c.delta_bic) +
                    fmt("; spectral %.2f -> %.2f dB, rms %.4f", now.error.spectral, ev.error.spectral, now.error.rms) +
-                   fmt(" -> %.4f", ev.error.rms);
-      if (!significant(now, ev)) c.evidence += " (not a material improvement)";
+                   fmt(" -> %.4f; largest predicted change %.1f sigma", ev.error.rms, z);
+      if (bound) c.evidence += " (a fitted parameter is at its bound or not bounded by the data: not identified)";
+      else if (z < o.min_effect_sigma) c.evidence += " (no effect within the recorded range: below the noise)";
+      else if (!none_worse(now, ev)) c.evidence += " (a reported error rises)";
+      else if (!significant(now, ev)) c.evidence += " (not a material improvement)";
       scores.push_back(c);
       fitted.push_back(e);
-      material.push_back(significant(now, ev) ? 1 : 0);
+      material.push_back(!bound && significant(now, ev) ? 1 : 0);
     }
     std::vector<size_t> idx(scores.size());
     for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
@@ -415,17 +621,18 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
     if (round == 0)
       for (size_t i : idx) out.ranking.push_back(scores[i]);
     if (idx.empty() || !material[idx[0]] || !(scores[idx[0]].delta_bic > o.min_delta_bic)) break;
-    // Add the top one and refit every nonlinear parameter together.
-    // The joint refit of every nonlinear parameter, or the candidate's own fit if the joint
-    // one is not better (or not a material improvement).
+    // The joint refit of every nonlinear parameter (the base model's included), or the
+    // candidate's own fit if the joint one is not better (or not a material improvement).
     SteadyEvaluation ev = evaluate_steady(d, b, fitted[idx[0]]);
     {
       const SteadyEvaluation joint = evaluate_steady(d, b, fit.refine(fitted[idx[0]]));
       if (joint.bic <= ev.bic && significant(now, joint)) ev = joint;
     }
     const double gain = now.bic - ev.bic;
-    if (!(gain > o.min_delta_bic) || !significant(now, ev)) break;
-    const auto kind = *model::effects::effect_from_name(scores[idx[0]].name);
+    const auto kind_added = *model::effects::effect_from_name(scores[idx[0]].name);
+    if (!(gain > o.min_delta_bic) || !significant(now, ev) || at_bound(ev.effects, kind_added, fit.bd) ||
+        !fit.identified(ev.effects, kind_added))
+      break;
     current = ev.effects;
     now = ev;
     EffectAdded a;
@@ -433,12 +640,12 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
     a.delta_bic = gain;
     a.evidence = scores[idx[0]].evidence;
     out.effects_added.push_back(a);
-    (void)kind;
   }
   // Final parameters of every added element (after the last joint refit).
   for (auto& a : out.effects_added) a.parameters = effect_parameters(current, *model::effects::effect_from_name(a.name));
   out.after = now;
   out.structure_after = analyse_structure(d, b, now);
+  out.unexplained = unexplained_items(d, b, now, out.structure_after);
   std::vector<std::string> names;
   for (const auto& a : out.effects_added) names.push_back(a.name);
   out.verdict = names.empty() ? "none" : join(names, "+");

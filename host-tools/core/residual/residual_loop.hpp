@@ -25,6 +25,26 @@ struct LoopOptions {
   /// With a BIC decrease at least this large, half of min_relative_improvement on the
   /// spectral error suffices.
   double strong_delta_bic = 300.0;
+  /// An element is never added when its fitted parameters have no effect within the recorded
+  /// range: its predicted change of the signals (against the model without it) must exceed
+  /// this many standard errors of the record's noise at some band, line, static value or rest
+  /// reading (effect_size_sigma).
+  double min_effect_sigma = 3.0;
+  /// Fit the base model's own uncertain parameters (loop delay, force scale; EffectSet::update)
+  /// before any element is tried.
+  bool update_model = true;
+};
+
+/// A part of the residual that no element explains (after the loop), with its structure.
+struct UnexplainedItem {
+  std::string kind;        ///< "band" (fixed-frequency PSD excess or deficit) or "order" (speed-locked line)
+  double f_hz = 0.0;       ///< band centre or line frequency, Hz
+  int order = 0;           ///< speed order (kind "order"), else 0
+  int plane = -1;          ///< bearing plane carrying most of it (0 = A, 1 = B)
+  double level_db = 0.0;   ///< band: measured / model PSD, dB (smoothed over 3 bands, mean of the plane's channels)
+  double snr = 0.0;        ///< order: residual line power / its noise power
+  std::string direction;   ///< order: "forward" or "backward" whirl of the residual line (full spectrum)
+  double amplitude_m = 0.0; ///< order: residual line amplitude at that plane, m
 };
 
 /// Full-spectrum (seed 002) components of one bearing plane at one speed order:
@@ -64,8 +84,20 @@ struct EffectAdded {
   double delta_bic = 0.0;
 };
 
+struct ModelUpdateReport {
+  bool done = false;
+  double loop_delay_s = 0.0;      ///< fitted extra loop delay, s
+  double force_scale = 1.0;       ///< fitted actuator force constant / board's, 1
+  double force_noise_rms_n = 0.0; ///< fitted force disturbance, N rms per sample and axis
+  double noise_rms_m = 0.0;       ///< fitted sensor noise, m rms per sample
+  double delta_bic = 0.0;         ///< BIC(board values) - BIC(updated)
+};
+
 struct ResidualOutcome {
   SteadyEvaluation before, after;
+  SteadyEvaluation updated;                  ///< the base model after model updating (= before when not done)
+  ModelUpdateReport model_update;
+  std::vector<UnexplainedItem> unexplained;  ///< what remains after the loop, beyond the noise
   ResidualStructure structure;               ///< of the residual before anything was added
   ResidualStructure structure_after;
   std::vector<CandidateScore> ranking;       ///< first round, best first
@@ -79,6 +111,16 @@ ResidualStructure analyse_structure(const SteadyData& d, const board::BoardConfi
 /// Named parameters of an element in a set (SI units in the names).
 std::vector<std::pair<std::string, double>> effect_parameters(const model::effects::EffectSet& e,
                                                               model::effects::EffectKind k);
+
+/// Largest predicted change of the signals between two evaluations of one record, in standard
+/// errors of the record's noise: PSD bands |ln P_a - ln P_b| sqrt(averages); speed-order lines
+/// |dY| / sqrt(2 P / T); statics and rest readings against their likelihood's standard deviation.
+double effect_size_sigma(const SteadyData& d, const board::BoardConfig& b, const SteadyEvaluation& with,
+                         const SteadyEvaluation& without);
+
+/// The structure of what remains: bands and speed-order lines beyond the noise.
+std::vector<UnexplainedItem> unexplained_items(const SteadyData& d, const board::BoardConfig& b, const SteadyEvaluation& ev,
+                                               const ResidualStructure& st);
 
 ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig& b, const LoopOptions& o = {});
 

@@ -61,30 +61,67 @@ SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& 
   const model::effects::EffectLoopModel m(b.plant, b.controller, b.rate_hz, d.spin_hz, fx);
   const double t = d.window_s;
 
-  // ---- PSD: shape per unit noise variance, then the variance in closed form ----
+  // ---- PSD: two white noise sources, sensor noise (variance sigma_s^2 per sample at every
+  // sensor) and a force disturbance (variance sigma_f^2 per sample on every actuator axis);
+  // P = sigma_s^2 g + sigma_f^2 h. For a ratio rho_f = sigma_f^2 / sigma_s^2 the Whittle optimum of
+  // sigma_s^2 is closed-form; rho_f is found by a golden-section search on log10 rho_f (and rho_f = 0).
   const size_t nb = d.bands.size();
-  std::vector<std::array<double, k_channels>> g(nb);
-  double num = 0.0, den = 0.0;
+  std::vector<std::array<double, k_channels>> g(nb), gf(nb);
   for (size_t i = 0; i < nb; ++i) {
     const auto r = m.at(d.bands[i].f_hz);
     for (int c = 0; c < k_channels; ++c) {
-      double s = 0.0;
-      for (int k = 0; k < 4; ++k) s += std::norm(r.noise(c, k));
+      double s = 0.0, sf = 0.0;
+      for (int k = 0; k < 4; ++k) {
+        s += std::norm(r.noise(c, k));
+        sf += std::norm(r.injection(c, k) / m.ki_eff(k));
+      }
       g[i][static_cast<size_t>(c)] = std::max(s * 2.0 / d.fs_hz, 1e-300);
-      num += d.bands[i].averages * d.bands[i].psd[static_cast<size_t>(c)] / g[i][static_cast<size_t>(c)];
-      den += d.bands[i].averages;
+      gf[i][static_cast<size_t>(c)] = sf * 2.0 / d.fs_hz;
     }
   }
-  const double sigma2 = den > 0 ? num / den : 0.0;
+  auto whittle = [&](double rho_f, double* sigma2_out) {
+    double num = 0.0, den = 0.0;
+    for (size_t i = 0; i < nb; ++i)
+      for (int c = 0; c < k_channels; ++c) {
+        num += d.bands[i].averages * d.bands[i].psd[static_cast<size_t>(c)] / (g[i][static_cast<size_t>(c)] + rho_f * gf[i][static_cast<size_t>(c)]);
+        den += d.bands[i].averages;
+      }
+    const double s2 = den > 0 ? num / den : 0.0;
+    double v = 0.0;
+    for (size_t i = 0; i < nb; ++i)
+      for (int c = 0; c < k_channels; ++c) {
+        const double p = std::max(s2 * (g[i][static_cast<size_t>(c)] + rho_f * gf[i][static_cast<size_t>(c)]), 1e-300);
+        v += d.bands[i].averages * (std::log(p) + d.bands[i].psd[static_cast<size_t>(c)] / p);
+      }
+    if (sigma2_out != nullptr) *sigma2_out = s2;
+    return v;
+  };
+  double rho_f = 0.0;
+  {
+    double best = whittle(0.0, nullptr);
+    double lo = 4.0, hi = 22.0;  // log10 (m/N)^2
+    const double gr = 0.5 * (std::sqrt(5.0) - 1.0);
+    double a = hi - gr * (hi - lo), bb = lo + gr * (hi - lo);
+    double fa = whittle(std::pow(10.0, a), nullptr), fb = whittle(std::pow(10.0, bb), nullptr);
+    for (int it = 0; it < 40; ++it) {
+      if (fa < fb) {
+        hi = bb; bb = a; fb = fa; a = hi - gr * (hi - lo); fa = whittle(std::pow(10.0, a), nullptr);
+      } else {
+        lo = a; a = bb; fa = fb; bb = lo + gr * (hi - lo); fb = whittle(std::pow(10.0, bb), nullptr);
+      }
+    }
+    const double x = fa < fb ? a : bb;
+    if (std::min(fa, fb) < best) rho_f = std::pow(10.0, x);
+  }
+  double sigma2 = 0.0;
+  double nll = whittle(rho_f, &sigma2);
   ev.noise_rms_m = std::sqrt(sigma2);
+  ev.force_noise_rms_n = std::sqrt(sigma2 * rho_f);
   ev.psd_pred.resize(nb);
-  double nll = 0.0;
   int data = 0;
   for (size_t i = 0; i < nb; ++i)
     for (int c = 0; c < k_channels; ++c) {
-      const double p = sigma2 * g[i][static_cast<size_t>(c)];
-      ev.psd_pred[i][static_cast<size_t>(c)] = p;
-      nll += d.bands[i].averages * (std::log(p) + d.bands[i].psd[static_cast<size_t>(c)] / p);
+      ev.psd_pred[i][static_cast<size_t>(c)] = sigma2 * (g[i][static_cast<size_t>(c)] + rho_f * gf[i][static_cast<size_t>(c)]);
       ++data;
     }
   // Model PSD at an arbitrary frequency (for line and static variances).
@@ -93,7 +130,7 @@ SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& 
     const auto r = m.at(std::max(f_hz, 0.5));
     for (int c = 0; c < k_channels; ++c) {
       double s = 0.0;
-      for (int k = 0; k < 4; ++k) s += std::norm(r.noise(c, k));
+      for (int k = 0; k < 4; ++k) s += std::norm(r.noise(c, k)) + rho_f * std::norm(r.injection(c, k) / m.ki_eff(k));
       out[static_cast<size_t>(c)] = sigma2 * s * 2.0 / d.fs_hz;
     }
     return out;
@@ -198,7 +235,7 @@ SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& 
   }
 
   ev.nll = nll;
-  ev.parameters = 5;
+  ev.parameters = k_base_parameters;
   for (int k = 0; k < model::effects::k_effect_kinds; ++k)
     if (fx.has(static_cast<EffectKind>(k))) ev.parameters += element_parameters(static_cast<EffectKind>(k));
   ev.data_points = data;

@@ -3,9 +3,12 @@
 // with a set of model elements (model/effects/), compared with what extract_steady() found.
 //
 // Original unknowns, solved in closed form at every evaluation ("refitted together"):
-//   * the sensor-noise variance sigma^2 (white, per sample; one for all sensors),
+//   * the sensor-noise variance sigma^2 (white, per sample; one for all sensors) and the
+//     variance of a white force disturbance on every actuator axis,
 //   * the unbalance: a complex forward-rotating 1x force at each of the two heaviest disks,
-// and the linear parameters of the elements that have them (sensor_runout phasors,
+// The base model's uncertain parameters (EffectSet::update: loop delay, force scale) are
+// counted as base parameters whether or not they were updated; fitted by the caller.
+// And the linear parameters of the elements that have them (sensor_runout phasors,
 // aux_bearing_offset). Nonlinear element parameters are fitted by the caller.
 //
 // Likelihood (negative log, up to constants):
@@ -23,6 +26,10 @@
 
 namespace amb::host::residual {
 
+/// Parameters of the base model: sensor noise, force noise, 2 complex unbalance forces,
+/// loop delay, force scale.
+inline constexpr int k_base_parameters = 8;
+
 struct ErrorFigures {
   double rms = 0.0;       ///< sqrt(mean over channels of sum r^2 / sum y^2), time domain (steady window, and the rest segment), 1
   double spectral = 0.0;  ///< rms over channels and bands of 10 log10(P^/P_model), dB
@@ -33,11 +40,12 @@ struct ErrorFigures {
 struct SteadyEvaluation {
   model::effects::EffectSet effects;   ///< with the linear parameters filled in
   double nll = 0.0;
-  int parameters = 0;                  ///< base (5) + element parameters
+  int parameters = 0;                  ///< base (k_base_parameters) + element parameters
   int data_points = 0;                 ///< real data values used
   double bic = 0.0;                    ///< 2 nll + parameters ln(data_points)
   double aic = 0.0;                    ///< 2 nll + 2 parameters
   double noise_rms_m = 0.0;            ///< fitted sensor noise, m rms per sample
+  double force_noise_rms_n = 0.0;      ///< fitted force disturbance per actuator axis, N rms per sample
   std::array<std::complex<double>, 2> unbalance_force_n{};  ///< fitted forward 1x forces at the two planes, N
   std::array<double, 2> unbalance_axial_m{};
   std::array<double, k_channels> static_pred{};

@@ -26,6 +26,7 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
   // The generator's rig: the board's, changed by the effect; the firmware keeps the board.
   board::BoardConfig truth = b;
   model::effects::apply_to_params(effects, truth.plant);
+  for (auto& disk : truth.plant.rotor.disks) disk.unbalance_kg_m *= o.unbalance_scale;
   auto plant = std::make_unique<model::effects::EffectPlant>(sil::make_board_plant(truth, o.seed), truth.plant, effects);
   b.lifecycle.spin_accel_hz_per_s = o.spin_accel_hz_per_s;
   sil::SilOptions so;

@@ -24,6 +24,9 @@ struct SteadyRecordOptions {
   /// (what a capture's pre-trigger history holds: no rest segment, no spin-up) and its
   /// trigger_index is the cut sample. declared_faults stays empty. s
   double drop_s = 0.0;
+  /// Scale of the board's disk unbalances in the generator's plant (the rig's truth; the host
+  /// model never reads it: the residual loop solves the unbalance as an unknown), 1
+  double unbalance_scale = 1.0;
 };
 
 /// Steady run or drop event (see drop_s). Writes DIR/STEM.json + DIR/STEM.csv; returns the sidecar path. Throws on a failed run.
