@@ -19,6 +19,7 @@
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
 #include "host-tools/core/residual/sweep_frf.hpp"
+#include "host-tools/core/residual/sweep_report.hpp"
 
 namespace {
 
@@ -29,6 +30,7 @@ struct Args {
   std::string board;
   bool json = false;
   bool contact_law_update = false;
+  std::string plot;  // sweep: FRF overlay SVG path
 };
 
 nlohmann::json figures(const hr::ErrorFigures& e) {
@@ -191,6 +193,10 @@ int run_sweep(const Args& a) {
   }
   const auto b = amb::board::load_board(a.board.empty() ? "tum-mlps-rig" : a.board);
   const auto o = hr::run_sweep_residual(in, out, 1.0 / dt, b);
+  if (!a.plot.empty()) {
+    hr::write_sweep_overlay_svg(o, a.plot);
+    std::fprintf(stderr, "FRF overlay written to %s\n", a.plot.c_str());
+  }
   if (a.json) {
     nlohmann::json j;
     j["effects_added"] = added(o.effects_added);
@@ -204,6 +210,7 @@ int run_sweep(const Args& a) {
     j["gain_scale"] = o.after.gain_scale;
     j["bic_before"] = o.before.bic;
     j["bic_after"] = o.after.bic;
+    j["model_updating"] = hr::sweep_update_json(o);
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     print_text(o.verdict, o.before.error, o.after.error, o.ranking, o.effects_added, o.notes);
@@ -220,6 +227,7 @@ const amb::host::Registration reg{
       sub.add_flag("--json", a->json, "print the figures as JSON");
       sub.add_flag("--contact-law-update", a->contact_law_update,
                    "drop events: fit the drop model with each contact law (rigid, hertz, linear) and keep the best");
+      sub.add_option("--plot", a->plot, "sweep only: write the measured vs modelled FRF overlay (SVG) to this file");
       run = [a]() {
         try {
           if (std::filesystem::is_directory(a->event)) return run_sweep(*a);

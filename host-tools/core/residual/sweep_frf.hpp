@@ -1,16 +1,20 @@
 #pragma once
 // The residual loop on a measured current-to-response sweep (the TUM MLPS record):
-//  * H1 FRF estimate from the AMB control current (A) to each shaft accelerometer (m/s^2),
-//    Welch with Hann segments, segments that overlap an excluded time span (the nonlinear
-//    burst) left out, and the coherence per bin;
-//  * the host model: the board's closed loop at standstill (EffectLoopModel), FRF =
-//    acceleration at z_c per actual current at the excited actuator axis;
-//  * original unknowns: which AMB was excited, a scale on the PID gains (the gain set in use
-//    is not recorded) and each accelerometer's axial position (not recorded);
-//  * cost: coherence-weighted squared complex log error, sum_c,f w |ln(H_meas / H_model)|^2,
-//    w = K g^2 / (1 - g^2) (K segments), over the fitted band less the excluded band;
-//  * then the same loop as for steady records: rank the candidate elements by BIC, add the
-//    top one, refit all, keep it if the BIC falls by more than min_delta_bic.
+//  1. nonlinear stretches are detected from the time data (nonlinear_span.hpp) and left out;
+//  2. H1 FRF from the control current (A) to each shaft accelerometer (m/s^2), Welch with Hann
+//     segments, coherence per bin; a zero-padded estimate for the peak frequencies;
+//  3. the compared band: fit band with coherence >= min_coherence per channel and bin;
+//  4. the model is the one the rig measures with the current as reference: the rotor with the
+//     excited bearing's current as input and the other bearing closed through its PID
+//     (model/analysis/half_open_frf.hpp); which AMB was excited and the sign convention are
+//     chosen by the data; accelerometer positions (not recorded) are fitted per channel;
+//  5. FE model updating (frf_update.hpp): resonance peaks from the data (modal_peaks.hpp),
+//     frequencies first, then the complex FRF (shapes and levels), bounded parameters, NLopt;
+//     elements the board lacks (accelerometer masses "sensor_mass", actuator lag / loop delay
+//     "amplifier_lag", a housing / foundation mode "pedestal_resonance") are added greedily
+//     when they lower the BIC by more than min_delta_bic;
+//  6. identifiability (Jacobian rank, correlations), modal frequencies and MAC per peak, and a
+//     validation that fits half the accelerometers and checks the other half, both ways.
 #include <array>
 #include <complex>
 #include <string>
@@ -18,8 +22,9 @@
 #include <vector>
 
 #include "firmware/board/board.hpp"
+#include "host-tools/core/residual/frf_update.hpp"
+#include "host-tools/core/residual/nonlinear_span.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
-#include "model/effects/effect_set.hpp"
 
 namespace amb::host::residual {
 
@@ -32,12 +37,13 @@ struct SweepFrf {
 
 struct SweepOptions {
   double segment_s = 1.0;                 ///< Welch segment, s
-  double exclude_t0_s = 1.6, exclude_t1_s = 2.1;   ///< time span left out (nonlinear burst), s
-  double f_min_hz = 8.0, f_max_hz = 240.0;          ///< fitted band, Hz
-  double exclude_f0_hz = 50.0, exclude_f1_hz = 65.0;///< band left out of the fit, Hz
-  double min_delta_bic = 10.0;
-  int max_effects = 2;
-  int max_evaluations = 60;
+  int zero_pad = 1;                       ///< FFT length = zero_pad x segment (peak frequencies: 4)
+  std::vector<std::array<double, 2>> exclude_spans_s;  ///< time spans left out of the FRF, s
+  double f_min_hz = 8.0, f_max_hz = 240.0;///< compared band, Hz
+  double min_coherence = 0.8;             ///< bins below this (per channel) are not compared
+  double min_delta_bic = 10.0;            ///< an element must lower the BIC by more than this
+  int max_evaluations = 400;              ///< per bounded fit (NLopt BOBYQA)
+  bool validate = true;                   ///< run the half-channel validation
 };
 
 /// H1 estimate. `input`: excitation current (A); `outputs`: response channels (m/s^2).
@@ -45,22 +51,41 @@ SweepFrf estimate_frf(const std::vector<double>& input, const std::vector<std::v
                       const SweepOptions& o);
 
 struct SweepFitEvaluation {
-  model::effects::EffectSet effects;
   int excited_axis = 0;                   ///< actuator axis index of the excitation (0: AMB A x, 2: AMB B x)
-  double gain_scale = 1.0;                ///< PID gains relative to the board's, 1
+  double gain_scale = 1.0;                ///< PID gains of the closed bearing relative to the board's, 1
   std::vector<double> accel_axial_m;      ///< fitted accelerometer positions, m
-  double cost = 0.0;                      ///< weighted squared log error (= 2 nll)
+  double cost = 0.0;                      ///< coherence-weighted squared complex log error
   int parameters = 0, data_points = 0;
   double bic = 0.0;
-  ErrorFigures error;                     ///< rms: rms over channels/bins of |ln ratio| (weighted 1); spectral: rms dB of |H| ratio; pearson: of log|H|
-  std::vector<std::vector<std::complex<double>>> h_model;  ///< [channel][bin]
+  ErrorFigures error;                     ///< over the compared bins, unweighted: rms |ln ratio|, spectral rms dB, pearson of log|H|
+  std::vector<std::vector<std::complex<double>>> h_model;  ///< [channel][bin of SweepOutcome::data]
+};
+
+struct ModeMatch {
+  double measured_hz = 0.0, model_hz = 0.0;  ///< model_hz NaN: no model peak within +-4 %
+  double error_pct = 0.0;                    ///< 100 (model / measured - 1)
+  double mac = 0.0;                          ///< measured vs modelled shape over the accelerometers
+  double prominence = 0.0;
+};
+
+struct ValidationRun {
+  std::vector<size_t> fit_channels, check_channels;
+  FrfErrors fit, check;                   ///< after the fit on fit_channels
+  FrfErrors check_nominal;                ///< the board's model on the check channels
 };
 
 struct SweepOutcome {
   SweepFrf frf;
+  FrfFitData data;                        ///< compared bins and weights
+  std::vector<NonlinearSpan> nonlinear;
   SweepFitEvaluation before, after;
   std::vector<CandidateScore> ranking;
   std::vector<EffectAdded> effects_added;
+  std::vector<UpdateParameter> parameters;  ///< final values (value), nominal, bounds
+  std::vector<bool> parameter_at_bound;
+  Identifiability identifiability;
+  std::vector<ModeMatch> modes_before, modes_after;
+  std::vector<ValidationRun> validation;
   std::vector<std::string> notes;         ///< structure of the residual
   std::string verdict;
 };
