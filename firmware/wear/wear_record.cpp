@@ -1,5 +1,7 @@
 #include "firmware/wear/wear_record.hpp"
 
+#include <cmath>
+
 #include "firmware/common/byte_codec.hpp"
 #include "firmware/common/crc32.hpp"
 
@@ -8,6 +10,25 @@ namespace amb::fw {
 namespace {
 constexpr size_t k_name_width = 32;
 constexpr size_t k_model_width = 64;
+constexpr size_t k_name_offset = 12;  // magic, version, reserved, sequence
+
+/// A fixed-width text field as the encoder writes it: printable ASCII, NUL-terminated within
+/// the field, zero padding after the terminator. Anything else is refused (found by fuzzing:
+/// such a record decoded but did not re-encode to the same bytes).
+bool text_field_ok(const uint8_t* p, size_t width) {
+  size_t n = 0;
+  while (n < width && p[n] != 0) {
+    if (p[n] < 0x20 || p[n] > 0x7E) return false;
+    ++n;
+  }
+  if (n == width) return false;
+  for (size_t i = n; i < width; ++i)
+    if (p[i] != 0) return false;
+  return true;
+}
+
+/// Loads, durations, energies, forces and fractions are finite and not negative.
+bool quantity_ok(float v) { return std::isfinite(v) && v >= 0.0f; }
 }  // namespace
 
 std::vector<uint8_t> encode_wear_record(const WearRecord& r) {
@@ -70,7 +91,15 @@ bool decode_wear_record(const std::vector<uint8_t>& bytes, WearRecord& out, std:
   WearRecord w;
   r.u32();
   r.u16();
-  r.u16();
+  if (r.u16() != 0) {
+    error = "wear record reserved field is not zero";
+    return false;
+  }
+  if (!text_field_ok(bytes.data() + k_name_offset, k_name_width) ||
+      !text_field_ok(bytes.data() + k_name_offset + k_name_width, k_model_width)) {
+    error = "wear record name fields are not NUL-terminated printable text";
+    return false;
+  }
   w.sequence = r.u32();
   w.board_name = r.str(k_name_width);
   w.life_model = r.str(k_model_width);
@@ -90,6 +119,20 @@ bool decode_wear_record(const std::vector<uint8_t>& bytes, WearRecord& out, std:
   if (!r.ok()) {
     error = "wear record malformed";
     return false;
+  }
+  bool values_ok = quantity_ok(w.last_friction_coefficient);
+  for (size_t k = 0; k < w.bearing.size(); ++k) {
+    const AuxBearingWear& b = w.bearing[k];
+    for (float v : b.event_load_n) values_ok = values_ok && quantity_ok(v);
+    for (float v : b.cumulative_load_n) values_ok = values_ok && quantity_ok(v);
+    for (float v : {b.swing_s, b.forward_rub_s, b.backward_rub_s, b.friction_energy_j, b.peak_force_n,
+                    b.life_used_fraction})
+      values_ok = values_ok && quantity_ok(v);
+    if (!values_ok) {
+      error = "wear record: a value of aux bearing " + std::to_string(k) +
+              " (or the friction coefficient) is negative, infinite or NaN";
+      return false;
+    }
   }
   out = std::move(w);
   return true;

@@ -1,0 +1,67 @@
+// Modbus requests come from any client that reaches the port. The input is read as a
+// sequence of requests (function byte, start address, count, values) applied to the board's
+// register map exactly as the TCP server applies them: reads of 1..125 registers, writes of
+// 1..123 registers (the Modbus PDU limits). The map must answer every request with a value or
+// a Modbus exception, never crash, and a refused write must not change what reads back.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <vector>
+
+#include "firmware/app/supervisor.hpp"
+#include "firmware/board/board.hpp"
+#include "firmware/persistence/wear_store.hpp"
+#include "firmware/supervisory/register_map.hpp"
+#include "hal/sim/sim_rig.hpp"
+
+namespace {
+
+struct Board {
+  amb::board::BoardConfig board = amb::board::load_board("bath-amb-rig");
+};
+const Board& shared_board() {
+  static const Board b;
+  return b;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const auto& board = shared_board().board;
+  amb::fw::Supervisor sup;
+  sup.configure(board);
+  amb::hal::sim::MemoryStorage events(1u << 20), wear_storage(1u << 20);
+  std::string error;
+  const std::vector<uint8_t> blob(300, 0xA5);  // an opaque event file to list and download
+  events.write_atomic("event_0001.ambe", blob, error);
+  amb::fw::WearStore wear(wear_storage, board.name);
+  wear.open();
+  amb::fw::RegisterSources src;
+  src.supervisor = &sup;
+  src.events = &events;
+  src.wear = &wear;
+  src.board_name = board.name;
+  src.rate_hz = board.rate_hz;
+  amb::fw::RegisterMap map(src);
+
+  std::vector<uint16_t> regs(125), values(123);
+  size_t i = 0;
+  while (i + 4 <= size) {
+    const uint8_t fc = data[i];
+    const uint16_t address = static_cast<uint16_t>((data[i + 1] << 8) | data[i + 2]);
+    i += 3;
+    if (fc & 1u) {  // write multiple registers
+      const size_t n = 1 + data[i++] % 123;
+      size_t k = 0;
+      for (; k < n && i + 2 <= size; ++k, i += 2) values[k] = static_cast<uint16_t>((data[i] << 8) | data[i + 1]);
+      if (k == 0) break;
+      map.write_registers(address, std::span<const uint16_t>(values.data(), k));
+    } else {  // read holding registers
+      const size_t n = 1 + data[i++] % 125;
+      const auto st = map.read_registers(address, std::span<uint16_t>(regs.data(), n));
+      if (st > amb::hal::RegisterHandler::busy) __builtin_trap();
+    }
+  }
+  return 0;
+}
