@@ -26,6 +26,7 @@ HOST_PKGS=(
   libfftw3-dev             # FFT
   libmatio-dev             # MATLAB v5 .mat reader for measured data
   libnlopt-cxx-dev         # maintained optimisers (local bounded polish, model updating)
+  clang libclang-rt-14-dev # libFuzzer + ASan/UBSan runtimes for scripts/fuzz.sh
   can-utils mbpoll         # interop tools nobody here wrote
   g++-aarch64-linux-gnu    # cross toolchain for the Linux/ARM board
   qemu-user qemu-system-arm qemu-utils   # run aarch64 binaries / boot the ARM board

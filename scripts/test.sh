@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's test command: install dependencies, build for the host and run every test,
 # cross-build for the aarch64 board and run the unit tests under qemu-user, then run the
-# target test on an emulated ARM board.
+# target test on an emulated ARM board; in between, a short fuzz run of every outside-input parser.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
@@ -18,7 +18,13 @@ echo "== host build ($BUILD)"
 cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DAMB_BUILD_BENCH=OFF
 cmake --build "$BUILD" -j"$JOBS"
 echo "== host tests"
-ctest --test-dir "$BUILD" -j"$JOBS" --output-on-failure --timeout 900
+# Tests labelled `long` (validation sweeps, documented in docs/) run with: ctest --test-dir build -L long
+ctest --test-dir "$BUILD" -j"$JOBS" --output-on-failure --timeout 900 -LE long
+
+if [ "${AMB_SKIP_FUZZ:-0}" != 1 ]; then
+  echo "== fuzz smoke: every outside-input parser, 10 s each under ASan+UBSan (scripts/fuzz.sh)"
+  AMB_FUZZ_BUILD_DIR="$ROOT/build-fuzz" bash scripts/fuzz.sh --smoke
+fi
 
 if [ "${AMB_SKIP_ARM:-0}" != 1 ]; then
   echo "== aarch64 cross build ($BUILD_ARM)"
