@@ -100,7 +100,7 @@ int run(Args& a) {
   std::printf("track-speed %s:%s  (%zu samples at %.1f Hz, decimated by %zu to %.1f Hz)\n", a.mat.c_str(),
               a.var.c_str(), x.size(), a.fs_hz, r.decimation, r.tracker_rate_hz);
   std::printf("  updates        %zu at %.1f per second (window %.3f s, latency %.3f s)\n", r.t_s.size(),
-              r.summary.update_rate_hz, a.opt.tracker.stft.window_s, r.summary.latency_s);
+              r.summary.update_rate_hz, r.window_s, r.summary.latency_s);
   if (std::isfinite(med))
     std::printf("  median speed   %.3f Hz = %.1f rpm\n", med, 60.0 * med);
   else
