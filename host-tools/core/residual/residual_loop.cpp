@@ -21,6 +21,9 @@ constexpr double k_inf = std::numeric_limits<double>::infinity();
 // rises with an element (the time-domain rms of a noise-dominated record moves by a few
 // tenths of a percent when only the line predictions change).
 constexpr double k_figure_tolerance = 0.01;
+// Smallest relative variation of the force per ampere over the recorded currents for which
+// magnetic saturation acts within the recorded range (below it, it is a constant gain).
+constexpr double k_min_ki_variation = 0.01;
 
 std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
   char buf[256];
@@ -599,17 +602,37 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
       const SteadyEvaluation ev = evaluate_steady(d, b, e);
       c.delta_bic = now.bic - ev.bic;
       const double z = effect_size_sigma(d, b, ev, now);
-      const bool bound = at_bound(e, k, fit.bd) || !fit.identified(e, k);
+      bool bound = at_bound(e, k, fit.bd) || !fit.identified(e, k);
+      // Saturation acts through the variation of the force per ampere with the current; a
+      // constant ki change at the operating point is the force scale of the model update. Its
+      // effect within the recorded range is the ki variation over the recorded currents.
+      double ki_variation = 1.0;
+      if (k == EffectKind::magnetic_saturation && e.saturation) {
+        ki_variation = 0.0;
+        for (int j = 0; j < 4; ++j) {
+          const auto& w = d.window[static_cast<size_t>(4 + j)];
+          if (w.empty()) continue;
+          const auto [lo, hi] = std::minmax_element(w.begin(), w.end());
+          const double i0 = b.plant.amb[static_cast<size_t>(j / 2)].bias_current_a;
+          const double s0 = model::effects::equivalent_current_slope(*e.saturation, i0, 0.5 * (*lo + *hi));
+          for (double ic : {*lo, *hi})
+            ki_variation = std::max(ki_variation, std::abs(model::effects::equivalent_current_slope(*e.saturation, i0, ic) - s0) / s0);
+        }
+      }
+      const bool out_of_range = ki_variation < k_min_ki_variation;
       c.evidence = evidence_for(k, st, c.delta_bic) +
                    fmt("; spectral %.2f -> %.2f dB, rms %.4f", now.error.spectral, ev.error.spectral, now.error.rms) +
                    fmt(" -> %.4f; largest predicted change %.1f sigma", ev.error.rms, z);
-      if (bound) c.evidence += " (a fitted parameter is at its bound or not bounded by the data: not identified)";
+      if (out_of_range)
+        c.evidence += fmt(" (no effect within the recorded range: force per ampere varies by %.2g %% over the recorded currents)",
+                          100.0 * ki_variation);
+      else if (bound) c.evidence += " (a fitted parameter is at its bound or not bounded by the data: not identified)";
       else if (z < o.min_effect_sigma) c.evidence += " (no effect within the recorded range: below the noise)";
       else if (!none_worse(now, ev)) c.evidence += " (a reported error rises)";
       else if (!significant(now, ev)) c.evidence += " (not a material improvement)";
       scores.push_back(c);
       fitted.push_back(e);
-      material.push_back(!bound && significant(now, ev) ? 1 : 0);
+      material.push_back(!bound && !out_of_range && significant(now, ev) ? 1 : 0);
     }
     std::vector<size_t> idx(scores.size());
     for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
