@@ -30,6 +30,7 @@ struct Args {
   double window_s = 0.4;
   bool fit_restitution = false;
   bool fit_offset = false;
+  bool fit_law_shape = false;
   std::string wear_in, wear_out;
 };
 
@@ -60,6 +61,8 @@ int run(const Args& a) {
   o.max_window_s = a.window_s;
   o.fit_restitution = a.fit_restitution;
   o.fit_centre_offset = a.fit_offset;
+  o.fit_slip_regularisation = a.fit_law_shape;
+  o.fit_contact_exponent = a.fit_law_shape;
   o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (const std::string e = o.check(); !e.empty()) return bad_input(e);
   hf::DropFitResult r;
@@ -108,7 +111,33 @@ int run(const Args& a) {
     j["rubbing_s_per_bearing"] = {durations(r.rubbing[0]), durations(r.rubbing[1])};
     j["measured_rubbing_s_per_bearing"] = {durations(r.measured_rubbing[0]), durations(r.measured_rubbing[1])};
     j["cost"] = r.cost.total;
-    j["cost_terms"] = {{"rubbing", r.cost.rubbing}, {"orbit", r.cost.orbit}, {"speed", r.cost.speed}};
+    j["cost_terms"] = {{"rubbing", r.cost.rubbing}, {"orbit", r.cost.orbit},   {"speed", r.cost.speed},
+                       {"spin_down", r.cost.spin_down}, {"contact", r.cost.contact}, {"whirl", r.cost.whirl},
+                       {"bounce", r.cost.bounce}};
+    j["friction_uncertainty"] = r.friction_uncertainty;
+    j["bound_active"] = r.bound_active;
+    j["contact_law"] = r.contact_law;
+    j["contact_stiffness_n_per_m"] = r.contact_stiffness_n_per_m;
+    j["contact_damping_n_s_per_m"] = r.contact_damping_n_s_per_m;
+    j["ring_drag_n_m"] = r.ring_drag_n_m;
+    j["spin_down_rad_s2"] = r.spin_down_rad_s2;
+    j["fitted_spin_down_rad_s2"] = r.fitted_spin_down_rad_s2;
+    j["polish_evaluations"] = r.polish_evaluations;
+    nlohmann::json unknowns = nlohmann::json::array();
+    for (const auto& u : r.unknowns)
+      unknowns.push_back({{"name", u.name}, {"value", u.value}, {"uncertainty", u.uncertainty}, {"lower", u.lower},
+                          {"upper", u.upper}, {"bound_active", u.bound_active}});
+    j["unknowns"] = unknowns;
+    const auto whirl_json = [](const std::array<hf::WhirlSummary, 2>& w) {
+      nlohmann::json list = nlohmann::json::array();
+      for (const auto& x : w)
+        list.push_back({{"direction", x.direction}, {"frequency_hz", x.frequency_hz}, {"onset_s", x.onset_s},
+                     {"contact_share", x.contact_share}, {"whirl_rate_rad_s", x.whirl_rate_rad_s},
+                     {"bounce_rate_per_s", x.bounce_rate_per_s}});
+      return list;
+    };
+    j["whirl"] = whirl_json(r.whirl);
+    j["fitted_whirl"] = whirl_json(r.fitted_whirl);
     j["evaluations"] = r.evaluations;
     j["wall_s"] = r.wall_s;
     j["converged"] = r.converged;
@@ -120,13 +149,24 @@ int run(const Args& a) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
-  std::printf("friction coefficient %.4f (restitution %.2f), cost %.4f (rubbing %.4f, orbit %.4f, speed %.4f)\n",
-              r.friction_coefficient, r.restitution, r.cost.total, r.cost.rubbing, r.cost.orbit, r.cost.speed);
+  std::printf("friction coefficient %.4f +- %.4f (%s contact), cost %.4f (rubbing %.4f, orbit %.4f, speed %.4f, spin-down %.4f, "
+              "contact %.4f, whirl %.4f, bounce %.4f)\n",
+              r.friction_coefficient, r.friction_uncertainty, r.contact_law.c_str(), r.cost.total, r.cost.rubbing, r.cost.orbit,
+              r.cost.speed, r.cost.spin_down, r.cost.contact, r.cost.whirl, r.cost.bounce);
+  for (const auto& u : r.unknowns)
+    std::printf("  %s = %.6g +- %.3g [%.4g, %.4g]%s\n", u.name.c_str(), u.value, u.uncertainty, u.lower, u.upper,
+                u.bound_active ? " BOUND ACTIVE" : "");
+  std::printf("spin-down %.3f rad/s^2 measured, %.3f fitted\n", r.spin_down_rad_s2, r.fitted_spin_down_rad_s2);
+  for (size_t b = 0; b < 2; ++b)
+    std::printf("aux bearing %zu whirl: %s at %.1f Hz from %.4f s (fitted model: %s at %.1f Hz)\n", b + 1,
+                r.whirl[b].direction.c_str(), r.whirl[b].frequency_hz, r.whirl[b].onset_s, r.fitted_whirl[b].direction.c_str(),
+                r.fitted_whirl[b].frequency_hz);
   for (size_t b = 0; b < 2; ++b)
     std::printf("aux bearing %zu: swing %.4f s, forward rub %.4f s, backward rub %.4f s (measured %.4f / %.4f / %.4f)\n", b + 1,
                 r.rubbing[b].swing_s, r.rubbing[b].forward_s, r.rubbing[b].backward_s, r.measured_rubbing[b].swing_s,
                 r.measured_rubbing[b].forward_s, r.measured_rubbing[b].backward_s);
-  std::printf("%d evaluations, %.2f s, %s (%s)\n", r.evaluations, r.wall_s, r.converged ? "converged" : "not converged",
+  std::printf("%d evaluations, %.2f s, %s (%s)\n", r.evaluations, r.wall_s,
+              r.converged ? "converged" : (r.bound_active ? "bound active" : "not converged"),
               r.stop_reason.c_str());
   if (!wear_note.empty()) std::printf("%s\n", wear_note.c_str());
   return 0;
@@ -141,6 +181,8 @@ const amb::host::Registration reg{
       sub.add_option("--window", args->window_s, "longest event window compared, s (default 0.4)");
       sub.add_flag("--fit-restitution", args->fit_restitution, "also fit the restitution coefficient");
       sub.add_flag("--fit-offset", args->fit_offset, "also fit an offset of the aux-bearing centres");
+      sub.add_flag("--fit-law-shape", args->fit_law_shape,
+                   "compliant laws: also fit the friction regularisation velocity and the spring exponent");
       sub.add_option("--wear-in", args->wear_in, "previous wear record (AMBW) to update");
       sub.add_option("--wear-out", args->wear_out, "write the updated wear record here");
       sub.add_flag("--json", args->json, "print the figures as JSON");

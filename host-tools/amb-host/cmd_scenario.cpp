@@ -37,11 +37,16 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
                   {"phase_b", {{"fault", s.phase_b_fault}, {"confidence", s.phase_b_confidence}, {"summary", s.phase_b_summary}}}};
     j["fit"] = {{"ran", s.fitted}, {"friction_coefficient", s.friction_coefficient}, {"cost", s.fit_cost},
                 {"evaluations", s.fit_evaluations}, {"wall_s", s.fit_wall_s}, {"converged", s.fit_converged},
+                {"friction_uncertainty", s.friction_uncertainty}, {"bound_active", s.fit_bound_active},
+                {"contact_law", s.contact_law},
+                {"whirl", {{{"direction", s.whirl_direction[0]}, {"frequency_hz", s.whirl_frequency_hz[0]}},
+                           {{"direction", s.whirl_direction[1]}, {"frequency_hz", s.whirl_frequency_hz[1]}}}},
                 {"rubbing_s", {{"swing", s.rubbing_s[0]}, {"forward", s.rubbing_s[1]}, {"backward", s.rubbing_s[2]}}},
                 {"error", s.fit_error}};
     j["wear_record"] = {{"written", s.wear_written}, {"path", s.wear_path}, {"sequence", s.wear_sequence},
                         {"peak_force_n", s.wear_peak_force_n}, {"friction_energy_j", s.wear_friction_energy_j},
-                        {"load_sum_n", s.load_sum_n}, {"load_peak_bin_deg", s.load_peak_bin_deg}};
+                        {"load_sum_n", s.load_sum_n}, {"load_peak_bin_deg", s.load_peak_bin_deg},
+                        {"load_whirl_hz", s.load_whirl_hz}};
     j["report"] = s.report_path;
     j["residual"] = {{"ran", s.residual_ran}, {"record", s.residual_record}, {"verdict", s.residual_verdict},
                      {"error_before", {{"rms", s.residual_before[0]}, {"spectral", s.residual_before[1]}, {"pearson", s.residual_before[2]}}},
@@ -78,10 +83,13 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
       std::printf("  Phase A capture    : NO event captured\n");
     }
     if (s.fitted)
-      std::printf("  Phase C fit        : friction coefficient %.4f, rubbing swing %.3f s / forward %.3f s / backward %.3f s,\n"
-                  "                       cost %.4g, %d evaluations in %.1f s, %s\n",
-                  s.friction_coefficient, s.rubbing_s[0], s.rubbing_s[1], s.rubbing_s[2], s.fit_cost, s.fit_evaluations,
-                  s.fit_wall_s, s.fit_converged ? "converged" : "not converged");
+      std::printf("  Phase C fit        : friction coefficient %.4f +- %.4f (%s contact), rubbing swing %.3f s / forward %.3f s / "
+                  "backward %.3f s,\n"
+                  "                       whirl A %s %.1f Hz, B %s %.1f Hz; cost %.4g, %d evaluations in %.1f s, %s\n",
+                  s.friction_coefficient, s.friction_uncertainty, s.contact_law.c_str(), s.rubbing_s[0], s.rubbing_s[1],
+                  s.rubbing_s[2], s.whirl_direction[0].c_str(), s.whirl_frequency_hz[0], s.whirl_direction[1].c_str(),
+                  s.whirl_frequency_hz[1], s.fit_cost, s.fit_evaluations, s.fit_wall_s,
+                  s.fit_converged ? "converged" : (s.fit_bound_active ? "BOUND ACTIVE" : "not converged"));
     else if (!s.fit_error.empty())
       std::printf("  Phase C fit        : not run: %s\n", s.fit_error.c_str());
     if (s.wear_written)
@@ -109,7 +117,7 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
     std::printf("  run                : %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.simulated_s, s.wall_s,
                 s.simulated_s / s.wall_s);
   }
-  if (!s.report_path.empty()) std::printf("report: %s\n", s.report_path.c_str());
+  if (!s.report_path.empty()) std::fprintf(json ? stderr : stdout, "report: %s\n", s.report_path.c_str());
   const bool ok = s.levitated && s.reached_speed && s.fault_detected && s.event_captured;
   return ok ? 0 : 2;
 }

@@ -160,6 +160,13 @@ void DropModel::set_contact_stiffness(double n_per_m) {
   }
 }
 
+void DropModel::set_contact_exponent(double e) {
+  if (!(e >= 1.0 && e <= 2.0)) fail("contact exponent must be in [1, 2]");
+  if (!compliant()) return;
+  law_exp_ = e;
+  set_contact_stiffness(0.5 * (p_.aux[0].contact_stiffness_n_per_m + p_.aux[1].contact_stiffness_n_per_m));
+}
+
 void DropModel::set_contact_damping(double n_s_per_m) {
   if (!(n_s_per_m >= 0.0)) fail("contact damping must be >= 0");
   for (auto& a : p_.aux) a.contact_damping_n_s_per_m = n_s_per_m;
@@ -176,7 +183,8 @@ void DropModel::set_ring_drag(double n_m) {
 }
 
 double DropModel::contact_force_n(size_t b, double d_m) const {
-  return d_m > 0.0 ? law_k_[b] * (law_exp_ == 1.0 ? d_m : d_m * std::sqrt(d_m)) : 0.0;
+  if (d_m <= 0.0) return 0.0;
+  return law_k_[b] * (law_exp_ == 1.0 ? d_m : law_exp_ == 1.5 ? d_m * std::sqrt(d_m) : std::pow(d_m, law_exp_));
 }
 
 double DropModel::contact_energy_at(size_t b, double d_m) const {

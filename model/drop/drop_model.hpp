@@ -155,13 +155,24 @@ class DropModel final : public Plant {
   void set_contact_damping(double n_s_per_m);   ///< linear contact damping c, N s/m
   void set_slip_regularisation(double m_s);     ///< 0: exact Coulomb, else tanh(v / eps), m/s
   void set_ring_drag(double n_m);               ///< ring drag torque, both bearings, N m
+  /// Exponent e of f(d) = K d^e (1.5 Hertz, 1 linear; fitted shapes in between), K keeps the
+  /// secant stiffness at d_ref. Compliant laws only, e in [1, 2].
+  void set_contact_exponent(double e);
+  double contact_exponent() const { return law_exp_; }
   /// The law in use (the board's or DropOptions::contact_law).
   AuxContactLaw contact_law() const { return contact_law_; }
   bool compliant() const { return contact_law_ != AuxContactLaw::rigid; }
   void set_observer(StepObserver* observer) { observer_ = observer; }
 
   const DropState& state() const { return s_; }
-  void restore(const DropState& s) { s_ = s; }
+  /// Restore a saved state. The cached step matrices are dropped too, so that a simulation
+  /// from a restored state does not depend on what ran before (the matrices are rebuilt when
+  /// the spin drifts by 0.1 %: a cache from another run would differ by up to that much, and
+  /// chaotic contact motion amplifies it; the fit's evaluations must be reproducible).
+  void restore(const DropState& s) {
+    s_ = s;
+    for (auto& mm : mats_) mm.h = -1.0;
+  }
   const DropCounters& counters() const { return counters_; }
   void clear_counters() { counters_ = DropCounters{}; }
   const EnergyLedger& energy_ledger() const { return s_.ledger; }

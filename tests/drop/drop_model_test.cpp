@@ -84,7 +84,9 @@ TEST(DropModel, ContactSolverNeverCreatesEnergy) {
   for (const Case c : {Case{2e-6, 0.15}, Case{4e-4, 0.05}}) {
     auto p = amb::test::bath_board().plant;
     for (auto& d : p.rotor.disks) d.unbalance_kg_m = c.unbalance_kg_m;
-    auto m = amb::test::make_drop_model(p);
+    md::DropOptions rigid;
+    rigid.contact_law = md::ContactLawChoice::rigid;  // this test is about the rigid law's solver
+    auto m = amb::test::make_drop_model(p, rigid);
     m->set_friction_coefficient(c.mu);
     md::DropScenario sc;
     md::levitate(*m, sc);
@@ -123,6 +125,7 @@ TEST(DropModel, ConvergesWithStepSize) {
   sc.pre_trigger_s = 0.0;
   auto run = [&](const amb::model::PlantParams& p, double mu, double h, bool full) {
     md::DropOptions o;
+    o.contact_law = md::ContactLawChoice::rigid;  // the rigid Moreau-Jean law (the board says hertz)
     o.sensor_noise = false;
     auto lev = amb::test::make_drop_model(p, o);
     md::levitate(*lev, sc);
@@ -187,6 +190,7 @@ TEST(DropModel, ConvergesWithModeCount) {
   sc.pre_trigger_s = 0.0;
   auto run = [&](int modes) {
     md::DropOptions o;
+    o.contact_law = md::ContactLawChoice::rigid;  // the rigid Moreau-Jean law (the board says hertz)
     o.modes_per_plane = modes;
     o.sensor_noise = false;
     auto m = amb::test::make_drop_model(p, o);
@@ -205,6 +209,7 @@ TEST(DropModel, ConvergesWithModeCount) {
 
 TEST(DropModel, ServesAsPlantWithoutAllocation) {
   md::DropOptions o;
+  o.contact_law = md::ContactLawChoice::rigid;  // the rigid Moreau-Jean law (the board says hertz)
   o.internal_controller = false;
   auto m = amb::test::make_drop_model(amb::test::bath_board().plant, o);
   m->reset(false, 10.0);

@@ -14,8 +14,14 @@
 //  * Speed term (when speed is measured): RMS of the speed difference over the window,
 //    divided by 1 % of the speed at the trigger. The spin-down is set by the friction
 //    torque mu N R, the most direct trace of the friction coefficient in the data.
+//  * Features that stay meaningful once the motion is chaotic (issue 13), per aux bearing:
+//    spin-down rate (least-squares slope of the speed over the window, / 1 % of the trigger
+//    speed per s), share of the window in contact, mean whirl rate of the contact angle while
+//    in contact (signed, / the spin speed) and bounce rate (contact onsets per s, / 100 per s).
+//    They compare statistics of the motion, not where the rotor is at a given instant.
 // Both the measurement and the simulation pass through the same sensor view (sensor_orbit.hpp).
 #include <array>
+#include <string>
 #include <vector>
 
 #include "model/drop/rubbing_states.hpp"
@@ -31,6 +37,22 @@ struct DropCostWeights {
   double orbit = 1.0;           ///< weight of the orbit term, 1
   double orbit_window_s = 0.015; ///< the orbit term covers the first this-many seconds after the trigger, s
   double speed = 3.0;           ///< weight of the speed term, 1
+  double spin_down = 3.0;       ///< weight of the spin-down-rate term (per 1 % of the trigger speed per s), 1
+  double contact_share = 1.0;   ///< weight of the contact-share difference (0..1), 1
+  double whirl = 1.0;           ///< weight of the whirl-rate difference (/ spin speed), 1
+  double bounce = 0.2;          ///< weight of the bounce-rate difference (/ 100 per s), 1
+};
+
+/// Whirl of one aux bearing over a window (from the orbit only; rubbing_states.hpp).
+struct WhirlSummary {
+  /// "none" (no contact), "bouncing" (swinging dominates), "forward" or "backward" (the
+  /// rub state that lasts longest, when it lasts at least as long as the swinging).
+  std::string direction = "none";
+  double frequency_hz = 0.0;     ///< mean |whirl rate| over that state's samples, Hz (0: none)
+  double onset_s = -1.0;         ///< first sample of that state after the window start, s (-1: none)
+  double contact_share = 0.0;    ///< share of the window in contact, 1
+  double whirl_rate_rad_s = 0.0; ///< mean signed contact-angle rate while in contact (+: with the spin), rad/s
+  double bounce_rate_per_s = 0.0;///< contact onsets per second, 1/s
 };
 
 /// What the cost compares, for one event window (samples after the trigger).
@@ -39,7 +61,12 @@ struct DropFeatures {
   std::array<model::drop::RubbingDurations, 2> rubbing{};  ///< per aux bearing
   std::vector<std::array<double, 4>> plane_xy_m;           ///< (xA, yA, xB, yB) at the sensor planes, m
   std::vector<double> speed_rad_s;                         ///< empty when not measured
+  std::array<WhirlSummary, 2> whirl{};                     ///< per aux bearing
+  double spin_down_rad_s2 = 0.0;                           ///< -(LS slope of the speed), rad/s^2 (0: not measured)
 };
+
+/// Whirl summary of one bearing's rubbing classification (`spin_sign` +1 or -1).
+WhirlSummary whirl_summary(const model::drop::RubbingResult& r, double period_s, double spin_sign);
 
 /// Features of a window of sensor readings [A1, A2, B1, B2] (m) sampled at `period_s`;
 /// the aux-bearing centres and clearances come from `rig` (offsets as given there).
@@ -48,7 +75,7 @@ DropFeatures drop_features(const model::PlantParams& rig, const model::drop::Sen
                            double period_s, double spin_sign, const model::drop::RubbingOptions& rubbing);
 
 struct CostBreakdown {
-  double rubbing = 0.0, orbit = 0.0, speed = 0.0, total = 0.0;
+  double rubbing = 0.0, orbit = 0.0, speed = 0.0, spin_down = 0.0, contact = 0.0, whirl = 0.0, bounce = 0.0, total = 0.0;
 };
 
 /// Cost of `sim` against `meas` (same window length; the shorter one sets it).

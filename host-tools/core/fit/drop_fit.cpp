@@ -6,6 +6,9 @@
 #include <stdexcept>
 
 #include <Eigen/QR>
+#include <algorithm>
+#include <nlopt.hpp>
+#include <thread>
 
 #include "model/drop/drop_model.hpp"
 
@@ -18,6 +21,11 @@ std::string DropFitOptions::check() const {
   if (fit_restitution && !(restitution_min >= 0.0 && restitution_max <= 1.0 && restitution_max > restitution_min))
     return "restitution bounds must satisfy 0 <= min < max <= 1";
   if (!(offset_max_fraction > 0.0 && offset_max_fraction < 1.0)) return "offset_max_fraction must be in (0, 1)";
+  if (!(stiffness_factor_min > 0.0 && stiffness_factor_max > stiffness_factor_min)) return "stiffness factor bounds must satisfy 0 < min < max";
+  if (!(damping_max_n_s_per_m > 0.0)) return "damping_max_n_s_per_m must be > 0";
+  if (!(ring_drag_max_n_m > 0.0)) return "ring_drag_max_n_m must be > 0";
+  if (polish_max_evaluations < 1) return "polish_max_evaluations must be >= 1";
+  if (!(uncertainty_step > 0.0 && uncertainty_step < 0.5)) return "uncertainty_step must be in (0, 0.5)";
   if (!(max_window_s > 0.0)) return "max_window_s must be > 0";
   if (!(settle_s >= 0.0)) return "settle_s must be >= 0";
   if (!(free_fall_radius_fraction > 0.0 && free_fall_radius_fraction < 1.0)) return "free_fall_radius_fraction must be in (0, 1)";
@@ -32,7 +40,33 @@ namespace {
 // Parameters of one evaluation, unpacked from the optimiser's vector.
 struct Params {
   double mu = 0.0, e = 0.0, dx = 0.0, dy = 0.0;
+  double stiffness = 0.0, damping = 0.0, drag = 0.0;  // compliant-law stiffness / damping, ring drag
+  double eps = 0.0, exponent = 0.0;                    // slip regularisation, spring exponent
 };
+
+// Cost at x in the unit box (bounds lo/hi) for NLopt.
+struct PolishData {
+  const CostFunction* f;
+  const std::vector<double>* lo;
+  const std::vector<double>* hi;
+  int evaluations = 0;
+  double best = 1e300;
+  std::vector<double> best_x;
+};
+
+double polish_cost(unsigned n, const double* z, double* grad, void* data) {
+  (void)grad;  // derivative-free
+  auto* d = static_cast<PolishData*>(data);
+  std::vector<double> x(n);
+  for (unsigned i = 0; i < n; ++i) x[i] = (*d->lo)[i] + std::clamp(z[i], 0.0, 1.0) * ((*d->hi)[i] - (*d->lo)[i]);
+  const double c = (*d->f)(x, 0);
+  ++d->evaluations;
+  if (c < d->best) {
+    d->best = c;
+    d->best_x = x;
+  }
+  return c;
+}
 
 // Samples after the trigger during which the measured rotor is still in free fall: until the
 // orbit radius at either aux bearing first reaches `fraction` x clearance (sensor view).
@@ -165,8 +199,40 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
     models[0]->clear_counters();
   }
 
+  const bool compliant = models[0]->compliant();
+  const bool fit_k = compliant && o.fit_contact_stiffness, fit_c = compliant && o.fit_contact_damping;
+  const double k_board = rig.aux[0].contact_stiffness_n_per_m;
   std::vector<double> lo{o.mu_min}, hi{o.mu_max};
-  if (o.fit_restitution) {
+  std::vector<std::string> names{"friction_coefficient"};
+  if (fit_k) {
+    lo.push_back(std::log10(o.stiffness_factor_min));
+    hi.push_back(std::log10(o.stiffness_factor_max));
+    names.push_back("log10_contact_stiffness_factor");
+  }
+  if (fit_c) {
+    lo.push_back(0.0);
+    hi.push_back(o.damping_max_n_s_per_m);
+    names.push_back("contact_damping_n_s_per_m");
+  }
+  const bool fit_eps = compliant && o.fit_slip_regularisation, fit_exp = compliant && o.fit_contact_exponent;
+  if (fit_eps) {
+    lo.push_back(std::log10(o.slip_regularisation_min_m_s));
+    hi.push_back(std::log10(o.slip_regularisation_max_m_s));
+    names.push_back("log10_slip_regularisation_m_s");
+  }
+  if (fit_exp) {
+    lo.push_back(o.contact_exponent_min);
+    hi.push_back(o.contact_exponent_max);
+    names.push_back("contact_exponent");
+  }
+  if (o.fit_ring_drag) {
+    lo.push_back(0.0);
+    hi.push_back(o.ring_drag_max_n_m);
+    names.push_back("ring_drag_n_m");
+  }
+  if (o.fit_restitution && !compliant) names.push_back("restitution");
+  if (o.fit_centre_offset) names.insert(names.end(), {"centre_offset_x_m", "centre_offset_y_m"});
+  if (o.fit_restitution && !compliant) {
     lo.push_back(o.restitution_min);
     hi.push_back(o.restitution_max);
   }
@@ -179,7 +245,12 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
     Params p;
     size_t i = 0;
     p.mu = x[i++];
-    p.e = o.fit_restitution ? x[i++] : mo.restitution;
+    p.stiffness = fit_k ? k_board * std::pow(10.0, x[i++]) : k_board;
+    p.damping = fit_c ? x[i++] : rig.aux[0].contact_damping_n_s_per_m;
+    p.eps = fit_eps ? std::pow(10.0, x[i++]) : mo.slip_regularisation_m_s;
+    p.exponent = fit_exp ? x[i++] : models[0]->contact_exponent();
+    p.drag = o.fit_ring_drag ? x[i++] : rig.aux[0].ring_friction_torque_n_m;
+    p.e = (o.fit_restitution && !compliant) ? x[i++] : mo.restitution;
     if (o.fit_centre_offset) {
       p.dx = x[i++];
       p.dy = x[i++];
@@ -196,6 +267,13 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
     }
     model.set_friction_coefficient(p.mu);
     model.set_restitution(p.e);
+    model.set_ring_drag(p.drag);
+    if (compliant) {
+      model.set_contact_exponent(p.exponent);
+      model.set_slip_regularisation(p.eps);
+      model.set_contact_stiffness(p.stiffness);
+      model.set_contact_damping(p.damping);
+    }
     model.restore(levitated);
     return md::record_drop(model, sc, keep_contacts);
   };
@@ -223,8 +301,78 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
     };
   const ImplicitFilteringSummary s = implicit_filtering(cost, lo, hi, o.optimiser, progress);
 
+  // Bounded local polish (NLopt BOBYQA in the unit box) from the implicit-filtering optimum.
+  std::vector<double> x_best = s.x;
+  double j_best = s.cost;
+  int polish_evals = 0;
+  if (o.polish) {
+    PolishData pd{&cost, &lo, &hi, 0, 1e300, {}};
+    const unsigned nu = static_cast<unsigned>(lo.size());
+    nlopt::opt opt(nu == 1 ? nlopt::LN_SBPLX : nlopt::LN_BOBYQA, nu);
+    opt.set_lower_bounds(std::vector<double>(nu, 0.0));
+    opt.set_upper_bounds(std::vector<double>(nu, 1.0));
+    opt.set_min_objective(polish_cost, &pd);
+    opt.set_maxeval(o.polish_max_evaluations);
+    opt.set_xtol_abs(o.optimiser.min_stencil);
+    opt.set_initial_step(std::vector<double>(nu, 4.0 * o.optimiser.min_stencil > 0.02 ? 4.0 * o.optimiser.min_stencil : 0.02));
+    std::vector<double> z(nu);
+    for (unsigned i = 0; i < nu; ++i) z[i] = (s.x[i] - lo[i]) / (hi[i] - lo[i]);
+    double jz = 0.0;
+    try {
+      opt.optimize(z, jz);
+    } catch (const std::exception&) {
+      // NLopt's roundoff/forced stops keep the best point seen (pd.best_x).
+    }
+    polish_evals = pd.evaluations;
+    if (pd.best < j_best) {
+      j_best = pd.best;
+      x_best = pd.best_x;
+    }
+  }
+
   DropFitResult r;
-  const Params best = unpack(s.x);
+  r.polish_evaluations = polish_evals;
+  // Uncertainty per unknown: central second difference of the cost at the optimum; the change
+  // that raises the cost by the misfit left there (J0) is not resolved: sigma = sqrt(J0 / a),
+  // a = J'' / 2. A flat or noisy direction (a <= 0) reports half the range.
+  {
+    const size_t nu = lo.size();
+    std::vector<std::vector<double>> probes;
+    for (size_t i = 0; i < nu; ++i)
+      for (int sgn = -1; sgn <= 1; sgn += 2) {
+        std::vector<double> x = x_best;
+        const double step = o.uncertainty_step * (hi[i] - lo[i]);
+        x[i] = std::clamp(x[i] + sgn * step, lo[i], hi[i]);
+        probes.push_back(x);
+      }
+    std::vector<double> jp(probes.size());
+    std::vector<std::thread> pool;
+    for (int w = 0; w < workers; ++w)
+      pool.emplace_back([&, w] {
+        for (size_t k = static_cast<size_t>(w); k < probes.size(); k += static_cast<size_t>(workers)) jp[k] = cost(probes[k], w);
+      });
+    for (auto& t : pool) t.join();
+    for (size_t i = 0; i < nu; ++i) {
+      DropFitResult::Unknown u;
+      u.name = names[i];
+      u.lower = lo[i];
+      u.upper = hi[i];
+      u.value = x_best[i];
+      const double d_minus = x_best[i] - probes[2 * i][i], d_plus = probes[2 * i + 1][i] - x_best[i];
+      double a = 0.0;
+      if (d_minus > 0.0 && d_plus > 0.0)
+        a = ((jp[2 * i + 1] - j_best) / d_plus + (jp[2 * i] - j_best) / d_minus) / (d_plus + d_minus);
+      u.uncertainty = a > 0.0 ? std::sqrt(std::max(j_best, 1e-12) / a) : 0.5 * (hi[i] - lo[i]);
+      u.bound_active = x_best[i] - lo[i] <= 0.005 * (hi[i] - lo[i]) || hi[i] - x_best[i] <= 0.005 * (hi[i] - lo[i]);
+      // A physically zero-bounded quantity (damping, drag) at 0 is a value, not a stuck fit
+      // of the friction; only the friction's and the stiffness's bounds make the fit suspect.
+      r.bound_active = r.bound_active || (u.bound_active && (i == 0 || u.name == "log10_contact_stiffness_factor"));
+      r.unknowns.push_back(u);
+    }
+    r.evaluations += static_cast<int>(probes.size());
+    r.friction_uncertainty = r.unknowns[0].uncertainty;
+  }
+  const Params best = unpack(x_best);
   r.friction_coefficient = best.mu;
   r.restitution = best.e;
   r.centre_offset_m = {best.dx, best.dy};
@@ -238,9 +386,21 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
   r.initial_rigid_dq = rigid_dq;
   r.initial_rigid_du = rigid_du;
   r.free_fall_samples = free_fall_used;
-  r.evaluations = s.evaluations + 1;
-  r.converged = s.converged;
-  r.stop_reason = s.stop_reason;
+  r.evaluations += s.evaluations + polish_evals + 1;
+  r.converged = s.converged && !r.bound_active;
+  r.contact_law = models[0]->contact_law() == model::AuxContactLaw::hertz    ? "hertz"
+                  : models[0]->contact_law() == model::AuxContactLaw::linear ? "linear"
+                                                                             : "rigid";
+  r.contact_stiffness_n_per_m = best.stiffness;
+  r.contact_damping_n_s_per_m = best.damping;
+  r.ring_drag_n_m = best.drag;
+  r.whirl = meas_p.whirl;
+  r.fitted_whirl = fitted.whirl;
+  r.spin_down_rad_s2 = meas_p.spin_down_rad_s2;
+  r.fitted_spin_down_rad_s2 = fitted.spin_down_rad_s2;
+  r.stop_reason = s.stop_reason + (o.polish ? "; NLopt polish: " + std::to_string(polish_evals) + " evaluations" : "");
+  for (const auto& u : r.unknowns)
+    if (u.bound_active) r.stop_reason += "; bound active: " + u.name;
   r.cost_history = s.cost_history;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

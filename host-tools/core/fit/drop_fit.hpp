@@ -22,6 +22,29 @@ namespace amb::host::fit {
 
 struct DropFitOptions {
   double mu_min = 0.02, mu_max = 0.6;          ///< friction coefficient bounds, 1
+  // Compliant contact laws (board contact_law "hertz"/"linear"): further unknowns. Ignored
+  // under the rigid law. Stiffness fitted as log10 of a factor on the board's value.
+  bool fit_contact_stiffness = true;           ///< contact_stiffness_n_per_m
+  double stiffness_factor_min = 0.25, stiffness_factor_max = 4.0;  ///< bounds, x the board's, 1
+  bool fit_contact_damping = true;             ///< linear contact damping
+  double damping_max_n_s_per_m = 4000.0;       ///< bound (lower 0), N s/m
+  /// Friction law shape (compliant laws): fit the tanh regularisation velocity eps of the
+  /// Coulomb law (log10 range below; micro-slip of a rolling contact), and the exponent of
+  /// the spring law f = K d^e between 1 (linear) and 2 (Hertz 1.5 inside). Off by default:
+  /// with them the fit needs ~250 evaluations and did not settle better within its budget
+  /// (docs/drop-model.md); `amb-host fit --fit-law-shape` switches both on.
+  bool fit_slip_regularisation = false;
+  double slip_regularisation_min_m_s = 1e-4, slip_regularisation_max_m_s = 0.3;  ///< bounds, m/s
+  bool fit_contact_exponent = false;
+  double contact_exponent_min = 1.0, contact_exponent_max = 2.0;                 ///< bounds, 1
+  bool fit_ring_drag = true;                   ///< ring drag torque (both rings, also under the rigid law)
+  double ring_drag_max_n_m = 0.1;              ///< bound (lower 0), N m
+  /// After implicit filtering: bounded local polish with NLopt BOBYQA from its best point.
+  bool polish = true;
+  int polish_max_evaluations = 40;             ///< budget of the polish
+  /// Uncertainty of each fitted value: the change that raises the cost by the misfit left at
+  /// the optimum (central second difference at uncertainty_step x the range). Heuristic, stated.
+  double uncertainty_step = 0.01;              ///< fraction of each range, 1
   bool fit_restitution = false;                ///< also fit e_n
   double restitution_min = 0.05, restitution_max = 0.9;
   bool fit_centre_offset = false;              ///< also fit one (x, y) offset of both bearing centres
@@ -47,6 +70,25 @@ struct DropFitOptions {
 
 struct DropFitResult {
   double friction_coefficient = 0.0;           ///< fitted, 1
+  double friction_uncertainty = 0.0;           ///< its uncertainty (see DropFitOptions::uncertainty_step), 1
+  std::string contact_law;                     ///< "rigid", "hertz" or "linear"
+  double contact_stiffness_n_per_m = 0.0;      ///< used or fitted (compliant laws), N/m
+  double contact_damping_n_s_per_m = 0.0;      ///< used or fitted (compliant laws), N s/m
+  double ring_drag_n_m = 0.0;                  ///< used or fitted, N m
+  /// Every fitted unknown: name, value, uncertainty (same unit), bounds and whether the value
+  /// sits on a bound (within 0.5 % of its range).
+  struct Unknown {
+    std::string name;
+    double value = 0.0, uncertainty = 0.0, lower = 0.0, upper = 0.0;
+    bool bound_active = false;
+  };
+  std::vector<Unknown> unknowns;
+  bool bound_active = false;                   ///< any unknown on a bound (then never `converged`)
+  std::array<WhirlSummary, 2> whirl{};         ///< measured whirl per aux bearing
+  std::array<WhirlSummary, 2> fitted_whirl{};  ///< the fitted simulation's
+  double spin_down_rad_s2 = 0.0;               ///< measured spin-down rate (LS slope), rad/s^2
+  double fitted_spin_down_rad_s2 = 0.0;        ///< the fitted simulation's, rad/s^2
+  int polish_evaluations = 0;                  ///< evaluations of the NLopt polish
   double restitution = 0.0;                    ///< used or fitted, 1
   std::array<double, 2> centre_offset_m{};     ///< fitted common offset (x, y) added to the rig's, m
   std::array<model::drop::RubbingDurations, 2> rubbing{};          ///< fitted simulation, per bearing
@@ -58,7 +100,7 @@ struct DropFitResult {
   int free_fall_samples = 0;                   ///< samples used by that estimate (0: not estimated)
   int evaluations = 0;
   double wall_s = 0.0;                         ///< host wall time of the fit, s
-  bool converged = false;
+  bool converged = false;                      ///< optimiser converged AND no bound active
   std::string stop_reason;
   std::vector<double> cost_history;
   model::drop::DropTrace trace;                ///< Phase D record of the fitted simulation (contact steps kept)

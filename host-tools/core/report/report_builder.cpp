@@ -173,8 +173,13 @@ void add_fit(ReportData& d, const fit::DropFitResult& r, const std::string& sour
   c.wall_s = r.wall_s;
   c.stop_reason = r.stop_reason;
   c.figures.emplace_back("restitution", r.restitution);
+  c.figures.emplace_back("friction uncertainty", r.friction_uncertainty);
+  c.figures.emplace_back("bound active (1 = yes)", r.bound_active ? 1.0 : 0.0);
   for (size_t b = 0; b < 2; ++b) {
     const std::string k = b ? " B" : " A";
+    // Whirl per aux bearing (measured orbit): the direction is in the label, the value is its
+    // mean whirl frequency (0 for none / bouncing without a rub).
+    c.figures.emplace_back("whirl Hz, " + r.whirl[b].direction + k, r.whirl[b].frequency_hz);
     c.figures.emplace_back("swing s (fit)" + k, r.rubbing[b].swing_s);
     c.figures.emplace_back("forward rub s (fit)" + k, r.rubbing[b].forward_s);
     c.figures.emplace_back("backward rub s (fit)" + k, r.rubbing[b].backward_s);

@@ -168,6 +168,13 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       sum.fit_evaluations = r.evaluations;
       sum.fit_wall_s = r.wall_s;
       sum.fit_converged = r.converged;
+      sum.friction_uncertainty = r.friction_uncertainty;
+      sum.fit_bound_active = r.bound_active;
+      sum.contact_law = r.contact_law;
+      for (size_t b = 0; b < 2; ++b) {
+        sum.whirl_direction[b] = r.whirl[b].direction;
+        sum.whirl_frequency_hz[b] = r.whirl[b].frequency_hz;
+      }
       sum.rubbing_s = {r.rubbing[0].swing_s, r.rubbing[0].forward_s, r.rubbing[0].backward_s};
       fitted = std::make_unique<fit::DropFitResult>(r);
     } catch (const std::exception& e) {
@@ -199,6 +206,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       const auto& load = wear.bearing[b].event_load_n;
       sum.load_peak_bin_deg[b] = static_cast<int>(std::max_element(load.begin(), load.end()) - load.begin());
       for (float f : load) sum.load_sum_n[b] += f;
+      sum.load_whirl_hz[b] = we.load[b].whirl_hz;
     }
   }
   // Close the loop with a steady run whose plant carries sensor runout (speed-locked: 1x at plane A,

@@ -66,7 +66,13 @@ struct DropScenarioSummary {
   double fit_cost = 0.0;
   int fit_evaluations = 0;
   double fit_wall_s = 0.0;
-  bool fit_converged = false;
+  bool fit_converged = false;             ///< never true with a bound active
+  double friction_uncertainty = 0.0;      ///< the fit's uncertainty of the friction coefficient, 1
+  bool fit_bound_active = false;          ///< a fitted value sits on its bound
+  std::string contact_law;                ///< drop-model contact law used by the fit
+  std::array<std::string, 2> whirl_direction{};  ///< measured whirl per aux bearing: none/bouncing/forward/backward
+  std::array<double, 2> whirl_frequency_hz{};    ///< its mean whirl frequency, Hz
+  std::array<double, 2> load_whirl_hz{};         ///< whirl of the fitted model's contact point (load map; + forward), Hz
   std::array<double, 3> rubbing_s{};      ///< swing, forward, backward (bearing 1), s
   std::string fit_error;                  ///< why the fit did not run, if it did not
   // Phase E and the report.

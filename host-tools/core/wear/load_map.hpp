@@ -21,6 +21,9 @@ struct BearingEventLoad {
   double peak_force_n = 0.0;                     ///< largest step-mean |F|, N
   double friction_energy_j = 0.0;                ///< friction work dissipated at the contact, J
   double contact_time_s = 0.0;                   ///< time with the contact closed, s
+  /// Mean whirl of the contact point while closed, from consecutive contact steps, Hz:
+  /// positive with a positive (+z) spin (forward), negative against it (backward whirl).
+  double whirl_hz = 0.0;
 };
 
 /// Load maps of one event from the drop model's contact steps (DropTrace::contact_steps).
