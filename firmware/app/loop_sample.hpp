@@ -17,6 +17,20 @@ enum SampleFlags : uint32_t {
   flag_amplifier_fault = 1u << 7,
 };
 
+/// LoopSample::speed_quality bit 7: no valid speed this period (speed_hz is NaN).
+inline constexpr uint8_t k_speed_lost_bit = 0x80;
+/// Pack a speed confidence in [0, 1] and a lost flag into LoopSample::speed_quality.
+constexpr uint8_t pack_speed_quality(double confidence, bool lost) {
+  const double c = confidence > 1.0 ? 1.0 : (confidence > 0.0 ? confidence : 0.0);
+  return static_cast<uint8_t>(static_cast<uint8_t>(c * 100.0 + 0.5) | (lost ? k_speed_lost_bit : 0u));
+}
+
+struct LoopSample;
+/// Confidence of the sample's speed, 0..1.
+inline double speed_confidence(const LoopSample& s);
+/// True when the sample carries no valid speed.
+inline bool speed_lost(const LoopSample& s);
+
 struct LoopSample {
   uint64_t seq = 0;                           ///< loop period counter since configure (gap = lost sample)
   int64_t t_ns = 0;                           ///< HAL clock time of the input sample, ns
@@ -28,8 +42,11 @@ struct LoopSample {
   uint8_t state = 0;                          ///< fw::State
   uint8_t phase = 0;                          ///< fw::Phase
   uint8_t fault = 0;                          ///< fw::FaultReason
-  uint8_t reserved = 0;
+  uint8_t speed_quality = 0;                  ///< bits 0..6: confidence of speed_hz, percent (0..100); bit 7: lost (speed_hz is NaN)
   uint32_t flags = 0;                         ///< SampleFlags
 };
+
+inline double speed_confidence(const LoopSample& s) { return static_cast<double>(s.speed_quality & 0x7Fu) / 100.0; }
+inline bool speed_lost(const LoopSample& s) { return (s.speed_quality & k_speed_lost_bit) != 0; }
 
 }  // namespace amb::fw

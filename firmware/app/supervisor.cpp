@@ -1,6 +1,9 @@
 #include "firmware/app/supervisor.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "model/rotor/rotor_model.hpp"
@@ -96,9 +99,28 @@ void Supervisor::configure(const board::BoardConfig& board) {
   step_count_ = 0;
   seq_ = 0;
   pending_.store(0);
+  tracked_packed_.store(0);
+  tracked_publish_count_ = 0;
+  tracked_seen_update_ = 0;
+  tracked_updates_seen_ = 0;
+  tracked_age_steps_ = 0;
+  stale_steps_ = static_cast<uint64_t>(std::ceil(board.tracker.stale_after_s * board.rate_hz));
   status_ = {};
   status_.state = state_;
   published_.store(status_);
+}
+
+void Supervisor::publish_tracked_speed(double speed_hz, double confidence, bool lost) {
+  const bool ok = !lost && std::isfinite(speed_hz);
+  const float f = ok ? static_cast<float>(speed_hz) : 0.0f;
+  uint32_t bits = 0;
+  std::memcpy(&bits, &f, sizeof bits);
+  const double c = std::isfinite(confidence) ? std::clamp(confidence, 0.0, 1.0) : 0.0;
+  if (++tracked_publish_count_ == 0) tracked_publish_count_ = 1;  // 0 means "never published"
+  const uint64_t packed = static_cast<uint64_t>(bits) | (static_cast<uint64_t>(std::lround(c * 100.0)) << 32) |
+                          (static_cast<uint64_t>(ok ? 0u : 1u) << 40) |
+                          (static_cast<uint64_t>(tracked_publish_count_) << 48);
+  tracked_packed_.store(packed, std::memory_order_release);
 }
 
 bool Supervisor::post(Command c) {
@@ -283,9 +305,64 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
   dout.watchdog = watchdog_;
   dout.status_ok = state_ != State::fault;
 
-  // Speed estimate: a tachometer if the rig has one, else the tracker, else the command.
-  const double tracked = tracked_speed_hz_.load(std::memory_order_relaxed);
-  const double speed = in.tach_speed_hz >= 0.0 ? in.tach_speed_hz : (tracked >= 0.0 ? tracked : speed_cmd_hz_);
+  // Tracked speed: take the analysis thread's newest update and age it in loop periods.
+  const uint64_t packed = tracked_packed_.load(std::memory_order_acquire);
+  const auto update = static_cast<uint16_t>(packed >> 48);
+  bool new_update = false;
+  if (update != tracked_seen_update_) {
+    tracked_seen_update_ = update;
+    tracked_age_steps_ = 0;
+    ++tracked_updates_seen_;
+    new_update = true;
+  } else {
+    ++tracked_age_steps_;
+  }
+  TrackedSpeedView& tv = status_.tracked;
+  {
+    const auto bits = static_cast<uint32_t>(packed);
+    float f = 0.0f;
+    std::memcpy(&f, &bits, sizeof f);
+    const bool published = update != 0;
+    tv.stale = published && tracked_age_steps_ > stale_steps_;
+    tv.lost = !published || ((packed >> 40) & 1u) != 0 || tv.stale || !std::isfinite(f);
+    tv.speed_hz = tv.lost ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(f);
+    tv.confidence = (published && !tv.stale) ? static_cast<double>((packed >> 32) & 0xFFu) / 100.0 : 0.0;
+    tv.age_s = static_cast<double>(tracked_age_steps_) * dt_s_;
+    tv.updates = tracked_updates_seen_;
+  }
+  // Tracker vs tachometer, once per tracker update while both are valid.
+  const double tach = in.tach_speed_hz;
+  if (new_update && !tv.lost && tach > 0.0 &&
+      std::abs(tv.speed_hz - tach) > board_.tracker.tach_disagreement_fraction * tach)
+    ++counters_.speed_disagreements;
+
+  // Speed estimate per the board's speed source. A lost tracker gives NaN and the lost flag,
+  // never the last good value.
+  double speed = speed_cmd_hz_;
+  double speed_conf = 1.0;
+  bool speed_lost = false;
+  switch (board_.tracker.speed_source) {
+    case SpeedSource::tach:
+      // A tachometer if the rig has one (NaN: present but invalid), else the tracker, else the command.
+      if (!(tach < 0.0)) {
+        speed = tach;
+        speed_lost = std::isnan(tach);
+      } else if (!tv.lost) {
+        speed = tv.speed_hz;
+        speed_conf = tv.confidence;
+      }
+      break;
+    case SpeedSource::tracker:
+      speed = tv.speed_hz;
+      speed_conf = tv.confidence;
+      speed_lost = tv.lost;
+      break;
+    case SpeedSource::command: break;
+  }
+  if (speed_lost) {
+    speed = std::numeric_limits<double>::quiet_NaN();
+    ++counters_.speed_lost_periods;
+  }
 
   sample_.seq = seq_++;
   sample_.t_ns = in.t_ns;
@@ -296,6 +373,7 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
   }
   sample_.speed_hz = static_cast<float>(speed);
   sample_.speed_command_hz = static_cast<float>(speed_cmd_hz_);
+  sample_.speed_quality = pack_speed_quality(speed_conf, speed_lost);
   sample_.state = static_cast<uint8_t>(state_);
   sample_.phase = static_cast<uint8_t>(phase_);
   sample_.fault = static_cast<uint8_t>(fault_);
@@ -315,6 +393,9 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
   status_.current_demand_a = out.current_demand_a;
   status_.speed_command_hz = speed_cmd_hz_;
   status_.speed_estimate_hz = speed;
+  status_.speed_confidence = speed_lost ? 0.0 : speed_conf;
+  status_.speed_lost = speed_lost;
+  status_.tach_speed_hz = tach;
   status_.counters = counters_;
   published_.store(status_);
 }

@@ -46,6 +46,18 @@ struct FaultCounters {
   uint64_t saturated_steps = 0;
   uint64_t rejected_commands = 0;
   uint64_t safe_state_entries = 0;
+  uint64_t speed_disagreements = 0;  ///< tracker updates off the tachometer by more than tracker.tach_disagreement_fraction
+  uint64_t speed_lost_periods = 0;   ///< periods whose speed estimate was lost (speed source tracker, or a NaN tach)
+};
+
+/// The tracked speed as the loop sees it (Status::tracked).
+struct TrackedSpeedView {
+  double speed_hz = 0.0;      ///< newest tracker speed, Hz; NaN when lost, stale or none yet
+  double confidence = 0.0;    ///< its confidence, 0..1 (0 when stale)
+  bool lost = true;           ///< no valid tracked speed (tracker lost, below its minimum, stale or absent)
+  bool stale = false;         ///< the tracker has not updated for more than tracker.stale_after_s
+  double age_s = 0.0;         ///< loop time since the tracker's last update, s
+  uint64_t updates = 0;       ///< tracker updates the loop has seen
 };
 
 /// Snapshot published each step for other threads (supervisory link, CLI, tests).
@@ -59,7 +71,11 @@ struct Status {
   std::array<double, 2> orbit_radius_m{}; ///< radius from the set-point per plane, m
   std::array<double, 4> current_demand_a{};
   double speed_command_hz = 0.0;
-  double speed_estimate_hz = 0.0;         ///< tachometer, tracker or command (see LoopSample)
+  double speed_estimate_hz = 0.0;         ///< per tracker.speed_source (see LoopSample); NaN when lost
+  double speed_confidence = 0.0;          ///< confidence of speed_estimate_hz, 0..1
+  bool speed_lost = false;                ///< speed_estimate_hz is not a valid speed
+  double tach_speed_hz = -1.0;            ///< tachometer reading, Hz (<0: none)
+  TrackedSpeedView tracked;               ///< the tracker's speed as the loop sees it
   FaultCounters counters;
 };
 
@@ -69,8 +85,13 @@ class Supervisor {
   void configure(const board::BoardConfig& board);
   /// Any thread: post a command. Returns false if a command is still pending.
   bool post(Command c);
-  /// Any thread: newest speed estimate from the tracker thread, Hz (<0: unknown).
-  void set_tracked_speed_hz(double hz) { tracked_speed_hz_.store(hz, std::memory_order_relaxed); }
+  /// One thread (the analysis thread): publish a tracker update: speed (Hz; ignored when
+  /// `lost`), confidence (0..1), lost flag. Lock-free (one 64-bit atomic store); the loop
+  /// takes it at its next step and ages it: an update older than tracker.stale_after_s is
+  /// treated as lost.
+  void publish_tracked_speed(double speed_hz, double confidence, bool lost);
+  /// Compatibility: publish a speed with full confidence (<0 or NaN: lost).
+  void set_tracked_speed_hz(double hz) { publish_tracked_speed(hz, 1.0, !(hz >= 0.0)); }
 
   /// [RT] One loop period. `in_ok` false: the front end had no valid sample.
   void step(const hal::AnalogInputs& in, bool in_ok, const hal::DiscreteInputs& din,
@@ -112,7 +133,13 @@ class Supervisor {
   Status status_{};
   SeqLock<Status> published_;
   std::atomic<uint8_t> pending_{0};
-  std::atomic<double> tracked_speed_hz_{-1.0};
+  // Tracked speed: f32 speed bits | confidence percent << 32 | lost << 40 | update counter << 48.
+  std::atomic<uint64_t> tracked_packed_{0};
+  uint16_t tracked_publish_count_ = 0;    ///< writer side (analysis thread)
+  uint16_t tracked_seen_update_ = 0;      ///< loop side
+  uint64_t tracked_updates_seen_ = 0;
+  uint64_t tracked_age_steps_ = 0;
+  uint64_t stale_steps_ = 0;
 };
 
 }  // namespace amb::fw

@@ -96,14 +96,19 @@ StiffnessUpdate BearingTask::update_stiffness(double load_n, double cage_angle_r
 
 void BearingTask::estimate_drop_load(std::span<const double> x_m, std::span<const double> y_m, double dt_s,
                                      DropLoadEstimate& out) noexcept {
+  estimate_drop_load_at(x_m, y_m, dt_s, cfg_.aux_radial_clearance_m, cfg_.aux_spin_speed_hz, out);
+}
+
+void BearingTask::estimate_drop_load_at(std::span<const double> x_m, std::span<const double> y_m, double dt_s,
+                                        double clearance_m, double spin_hz, DropLoadEstimate& out) noexcept {
   out = DropLoadEstimate{};
   if (!configured_ || x_m.size() != y_m.size() || x_m.empty() || !(dt_s > 0) ||
-      !(cfg_.aux_contact_constant_n_per_m1p5 > 0)) {
+      !(cfg_.aux_contact_constant_n_per_m1p5 > 0) || !(clearance_m > 0) || !(spin_hz >= 0)) {
     ++counters_.rejected_drops;
     return;
   }
   const double k = cfg_.aux_contact_constant_n_per_m1p5;
-  const double c = cfg_.aux_radial_clearance_m;
+  const double c = clearance_m;
   for (size_t i = 0; i < x_m.size(); ++i) {
     const double x = x_m[i], y = y_m[i];
     if (!std::isfinite(x) || !std::isfinite(y)) continue;
@@ -125,9 +130,9 @@ void BearingTask::estimate_drop_load(std::span<const double> x_m, std::span<cons
   }
   for (double d : out.damage_n3_s) out.damage_total_n3_s += d;
   out.contact_time_s = out.samples_in_contact * dt_s;
-  if (cfg_.aux_dynamic_load_rating_n > 0 && cfg_.aux_spin_speed_hz > 0) {
+  if (cfg_.aux_dynamic_load_rating_n > 0 && spin_hz > 0) {
     const double c3 = cfg_.aux_dynamic_load_rating_n * cfg_.aux_dynamic_load_rating_n * cfg_.aux_dynamic_load_rating_n;
-    out.miner_fraction = out.damage_total_n3_s / c3 * cfg_.aux_spin_speed_hz / 1e6;
+    out.miner_fraction = out.damage_total_n3_s / c3 * spin_hz / 1e6;
   }
   out.valid = true;
 }

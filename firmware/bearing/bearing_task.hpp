@@ -94,6 +94,10 @@ class BearingTask {
   /// @param out       filled in place (no allocation)
   void estimate_drop_load(std::span<const double> x_m, std::span<const double> y_m, double dt_s,
                           DropLoadEstimate& out) noexcept;
+  /// The same with this aux bearing's radial clearance (m, > 0) and the inner-race spin used
+  /// for the life fraction (Hz, >= 0; 0: no life fraction) instead of the configured ones.
+  void estimate_drop_load_at(std::span<const double> x_m, std::span<const double> y_m, double dt_s,
+                             double clearance_m, double spin_hz, DropLoadEstimate& out) noexcept;
 
   const BearingTaskCounters& counters() const { return counters_; }
   const DefectUpdate& last_defects() const { return last_defects_; }

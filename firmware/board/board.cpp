@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "boards/embedded_boards.hpp"
+#include "firmware/board/parse_bearing.hpp"
 #include "firmware/board/parse_comms.hpp"
 #include "firmware/board/parse_journal.hpp"
 #include "firmware/board/parse_capture.hpp"
@@ -222,6 +223,7 @@ BoardConfig parse_board(std::string_view toml_text, const std::string& source) {
   if (top.has("capture")) parse_capture(top.table("capture"), b.capture, b.rate_hz);
   if (top.has("triggers")) parse_triggers(top.table("triggers"), b.capture.triggers);
   if (top.has("tracker")) parse_tracker(top.table("tracker"), b.tracker, b.rate_hz);
+  if (top.has("bearing")) parse_bearing(top.table("bearing"), b.bearing);
   if (top.has("comms")) parse_comms(top.table("comms"), b.comms);
   if (top.has("journal_bearing"))
     parse_journal_bearing(top.table("journal_bearing"), b.journal, rotor_length_m(b.plant.rotor));

@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "firmware/bearing/bearing_params.hpp"
 #include "firmware/comms/comms_params.hpp"
 #include "firmware/capture/capture_params.hpp"
 #include "firmware/tracking/tracker_params.hpp"
@@ -38,6 +39,7 @@ struct BoardConfig {
   LifecycleParams lifecycle;
   fw::CaptureParams capture;          ///< [capture] and [triggers]; defaults when absent
   fw::TrackerParams tracker;          ///< on-board speed tracker ([tracker], optional)
+  fw::BearingParams bearing;          ///< on-board bearing task ([bearing], optional)
   comms::CommsParams comms;           ///< I/O wiring of the linux backend ([comms], optional)
   model::journal::JournalBearingParams journal;  ///< [journal_bearing] (optional; present = false without it)
   std::map<std::string, std::string> assumed;  ///< key path -> why the value is assumed

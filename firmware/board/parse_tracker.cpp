@@ -32,6 +32,18 @@ void parse_tracker(TableReader r, fw::TrackerParams& t, double rate_hz) {
       o.order_weights[i] = i < orders.size() ? 1.0 / (1.0 + 0.5 * static_cast<double>(i)) : 0.0;
     }
   }
+  const std::string src = r.string_or("speed_source", "tach");
+  if (src == "tach") t.speed_source = fw::SpeedSource::tach;
+  else if (src == "tracker") t.speed_source = fw::SpeedSource::tracker;
+  else if (src == "command") t.speed_source = fw::SpeedSource::command;
+  else r.fail("speed_source", "must be one of \"tach\", \"tracker\", \"command\"");
+  if (t.speed_source == fw::SpeedSource::tracker && !t.enabled)
+    r.fail("speed_source", "\"tracker\" needs the tracker enabled (enabled = true)");
+  t.tach_disagreement_fraction = r.number_or("tach_disagreement_fraction", t.tach_disagreement_fraction, 0.001, 1.0);
+  t.poll_period_s = r.number_or("poll_period_s", t.poll_period_s, 0.001, 1.0);
+  t.status_frame_period_s = r.number_or("status_frame_period_s", t.status_frame_period_s, 0.01, 10.0);
+  // A lock older than a few tracker hops is stale; never shorter than the analysis period.
+  t.stale_after_s = r.number_or("stale_after_s", t.stale_after_s, 2.0 * t.poll_period_s, 60.0);
   const std::string err = o.validate();
   if (!err.empty()) r.fail("", err);
   r.finish();

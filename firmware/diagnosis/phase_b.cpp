@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <complex>
 #include <cstdio>
 #include <numbers>
@@ -255,9 +256,17 @@ Diagnosis diagnose(const DiagnosisInput& in, const DiagnosisOptions& o) {
       y[b][i] = xy[1];
     }
   }
+  // Mean speed over the samples that carry one (a tracker that lost the line stamps NaN).
+  // With a speed on fewer than half of them the orders are unknown: not treated as spinning.
   double speed = 0.0;
-  for (size_t i = 0; i < T; ++i) speed += s[i].speed_hz;
-  speed /= static_cast<double>(T);
+  size_t with_speed = 0;
+  for (size_t i = 0; i < T; ++i)
+    if (std::isfinite(s[i].speed_hz)) {
+      speed += s[i].speed_hz;
+      ++with_speed;
+    }
+  speed = 2 * with_speed >= T && with_speed > 0 ? speed / static_cast<double>(with_speed)
+                                                : std::numeric_limits<double>::quiet_NaN();
   d.speed_hz = speed;
   const bool spinning = speed >= o.min_speed_hz;
 
@@ -315,13 +324,18 @@ Diagnosis diagnose(const DiagnosisInput& in, const DiagnosisOptions& o) {
       len = static_cast<size_t>(std::llround(k * rev));
     }
     len = std::max<size_t>(len, 8);
-    const double f_end = std::max(static_cast<double>(s[T].speed_hz), o.min_speed_hz);
+    const double f_end = std::max(std::isfinite(s[T].speed_hz) ? static_cast<double>(s[T].speed_hz) : speed, o.min_speed_hz);
     for (size_t a = T % len; a + len <= T; a += len) {
       OrbitWindow ow;
       ow.t_s = (static_cast<double>(a) + 0.5 * static_cast<double>(len)) / fs;
       double fw = 0.0;
-      for (size_t i = a; i < a + len; ++i) fw += s[i].speed_hz;
-      fw /= static_cast<double>(len);
+      size_t nw = 0;
+      for (size_t i = a; i < a + len; ++i)
+        if (std::isfinite(s[i].speed_hz)) {
+          fw += s[i].speed_hz;
+          ++nw;
+        }
+      fw = nw > 0 ? fw / static_cast<double>(nw) : speed;
       for (size_t b = 0; b < 2; ++b) {
         double mx = 0.0, my = 0.0;
         for (size_t i = a; i < a + len; ++i) { mx += x[b][i]; my += y[b][i]; }

@@ -93,7 +93,7 @@ void write_sample(ByteWriter& w, const LoopSample& s) {
   w.u8(s.state);
   w.u8(s.phase);
   w.u8(s.fault);
-  w.u8(s.reserved);
+  w.u8(s.speed_quality);
   w.u32(s.flags);
 }
 
@@ -108,7 +108,7 @@ void read_sample(ByteReader& r, LoopSample& s) {
   s.state = r.u8();
   s.phase = r.u8();
   s.fault = r.u8();
-  s.reserved = r.u8();
+  s.speed_quality = r.u8();
   s.flags = r.u32();
 }
 
@@ -150,6 +150,50 @@ void read_diagnosis(ByteReader& r, diag::Diagnosis& d) {
   d.summary = r.str(256);
 }
 
+void write_analysis(ByteWriter& w, const EventAnalysis& a) {
+  w.u8(a.speed_source);
+  w.u8(a.speed_lost_at_trigger ? 1 : 0);
+  w.u8(a.quick_look_valid ? 1 : 0);
+  w.u8(0);
+  w.u32(0);
+  w.f64(a.speed_confidence_at_trigger);
+  w.f64(a.quick_look_spin_hz);
+  w.f64(a.aux_contact_constant_n_per_m1p5);
+  w.f64(a.aux_dynamic_load_rating_n);
+  for (const AuxQuickLook& q : a.aux) {
+    w.u8(q.valid ? 1 : 0);
+    w.u8(0);
+    w.u16(0);
+    w.u32(q.samples_in_contact);
+    w.f64(q.peak_force_n);
+    w.f64(q.peak_angle_deg);
+    w.f64(q.life_fraction);
+    w.f64(q.contact_time_s);
+  }
+}
+
+void read_analysis(ByteReader& r, EventAnalysis& a) {
+  a.speed_source = r.u8();
+  a.speed_lost_at_trigger = r.u8() != 0;
+  a.quick_look_valid = r.u8() != 0;
+  (void)r.u8();
+  (void)r.u32();
+  a.speed_confidence_at_trigger = r.f64();
+  a.quick_look_spin_hz = r.f64();
+  a.aux_contact_constant_n_per_m1p5 = r.f64();
+  a.aux_dynamic_load_rating_n = r.f64();
+  for (AuxQuickLook& q : a.aux) {
+    q.valid = r.u8() != 0;
+    (void)r.u8();
+    (void)r.u16();
+    q.samples_in_contact = r.u32();
+    q.peak_force_n = r.f64();
+    q.peak_angle_deg = r.f64();
+    q.life_fraction = r.f64();
+    q.contact_time_s = r.f64();
+  }
+}
+
 std::string hex32(uint32_t v) {
   char b[16];
   std::snprintf(b, sizeof b, "0x%08" PRIx32, v);
@@ -164,15 +208,18 @@ uint32_t crc32_fast(std::span<const uint8_t> data, uint32_t crc) {
   return ~crc;
 }
 
-std::vector<uint8_t> encode_event(const EventRecord& r) {
+namespace {
+std::vector<uint8_t> encode(const EventRecord& r, uint16_t version) {
   const size_t n = r.samples.size();
   const size_t diag_bytes = r.has_diagnosis ? k_event_diagnosis_bytes_v1 : 0;
-  const uint64_t total = k_event_preamble_bytes + k_event_meta_bytes_v1 + n * k_event_sample_bytes_v1 + diag_bytes + 4;
+  const size_t analysis_bytes = version >= 2 ? k_event_analysis_bytes_v2 : 0;
+  const uint64_t total = k_event_preamble_bytes + k_event_meta_bytes_v1 + n * k_event_sample_bytes_v1 + diag_bytes +
+                         analysis_bytes + 4;
   std::vector<uint8_t> out;
   out.reserve(static_cast<size_t>(total));
   ByteWriter w(out);
   w.u8('A'); w.u8('M'); w.u8('B'); w.u8('E');
-  w.u16(k_event_format_version);
+  w.u16(version);
   w.u16(0);
   w.u64(total);
   w.u32(static_cast<uint32_t>(k_event_meta_bytes_v1));
@@ -182,9 +229,14 @@ std::vector<uint8_t> encode_event(const EventRecord& r) {
   write_meta(w, r.meta);
   for (const LoopSample& s : r.samples) write_sample(w, s);
   if (r.has_diagnosis) write_diagnosis(w, r.diagnosis);
+  if (version >= 2) write_analysis(w, r.has_analysis ? r.analysis : EventAnalysis{});
   w.u32(crc32_fast(out));
   return out;
 }
+}  // namespace
+
+std::vector<uint8_t> encode_event(const EventRecord& r) { return encode(r, k_event_format_version); }
+std::vector<uint8_t> encode_event_v1(const EventRecord& r) { return encode(r, 1); }
 
 bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string& error) {
   const size_t size = bytes.size();
@@ -224,21 +276,23 @@ bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string&
     error = "bad checksum: stored CRC-32 " + hex32(stored) + ", computed " + hex32(computed) + " (file corrupted)";
     return false;
   }
-  if (version != k_event_format_version) {
-    error = "unsupported version " + std::to_string(version) + " (this reader reads AMBE version " +
-            std::to_string(k_event_format_version) + ")";
+  if (version < k_event_format_oldest_read || version > k_event_format_version) {
+    error = "unsupported version " + std::to_string(version) + " (this reader reads AMBE versions " +
+            std::to_string(k_event_format_oldest_read) + " to " + std::to_string(k_event_format_version) + ")";
     return false;
   }
+  const size_t analysis_bytes = version >= 2 ? k_event_analysis_bytes_v2 : 0;
   const uint32_t meta_bytes = pre.u32();
   const uint32_t count = pre.u32();
   const uint32_t sample_bytes = pre.u32();
   const uint32_t diag_bytes = pre.u32();
   if (meta_bytes != k_event_meta_bytes_v1 || sample_bytes != k_event_sample_bytes_v1 ||
       (diag_bytes != 0 && diag_bytes != k_event_diagnosis_bytes_v1) ||
-      total != k_event_preamble_bytes + meta_bytes + static_cast<uint64_t>(count) * sample_bytes + diag_bytes + 4) {
+      total != k_event_preamble_bytes + meta_bytes + static_cast<uint64_t>(count) * sample_bytes + diag_bytes +
+                   analysis_bytes + 4) {
     error = "inconsistent sizes: metadata " + std::to_string(meta_bytes) + " B, " + std::to_string(count) +
             " samples of " + std::to_string(sample_bytes) + " B, diagnosis " + std::to_string(diag_bytes) +
-            " B do not add up to " + std::to_string(total) + " B for version 1";
+            " B do not add up to " + std::to_string(total) + " B for version " + std::to_string(version);
     return false;
   }
   EventRecord r;
@@ -248,6 +302,8 @@ bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string&
   for (LoopSample& s : r.samples) read_sample(rd, s);
   r.has_diagnosis = diag_bytes != 0;
   if (r.has_diagnosis) read_diagnosis(rd, r.diagnosis);
+  r.has_analysis = version >= 2;
+  if (r.has_analysis) read_analysis(rd, r.analysis);
   if (!rd.ok() || rd.remaining() != 0) {
     error = "inconsistent sizes: body does not match the declared layout";
     return false;

@@ -58,16 +58,49 @@ struct EventMetadata {
   double current_trigger_limit_a = 0.0;
 };
 
+/// Quick-look load of one auxiliary bearing during the drop (bearing task, Hertz contact on
+/// the rotor displacement at the aux-bearing plane; see fw::DropLoadEstimate).
+struct AuxQuickLook {
+  bool valid = false;                ///< false: not computed (no [bearing] table, or bad input)
+  uint32_t samples_in_contact = 0;   ///< samples with the rotor beyond the clearance
+  double peak_force_n = 0.0;         ///< largest contact force, N
+  double peak_angle_deg = 0.0;       ///< its contact angle, deg from +x towards +y, [0, 360)
+  double life_fraction = 0.0;        ///< provisional L10 life used by this drop (Miner), fraction
+  double contact_time_s = 0.0;       ///< time in contact, s
+};
+
+/// What the board's analysis adds to an event (AMBE v2 section): where its speed came from,
+/// how sure the speed at the trigger is, and the quick-look aux-bearing load. The host's
+/// fitted wear record supersedes the quick-look once it is written back.
+struct EventAnalysis {
+  uint8_t speed_source = 0;              ///< fw::SpeedSource in force
+  bool speed_lost_at_trigger = false;    ///< the trigger sample had no valid speed (speed_at_trigger_hz NaN)
+  double speed_confidence_at_trigger = 0.0;  ///< 0..1
+  bool quick_look_valid = false;         ///< the quick-look below was computed
+  double quick_look_spin_hz = 0.0;       ///< aux inner-race spin used for the life fraction, Hz
+  double aux_contact_constant_n_per_m1p5 = 0.0;  ///< K used, N/m^1.5
+  double aux_dynamic_load_rating_n = 0.0;        ///< C used, N
+  std::array<AuxQuickLook, 2> aux{};     ///< per aux bearing [rig.aux_bearing order]
+};
+
 struct EventRecord {
   EventMetadata meta;
   std::vector<LoopSample> samples;
   bool has_diagnosis = false;
   diag::Diagnosis diagnosis;
+  bool has_analysis = false;   ///< AMBE v2 files always carry it; v1 files never
+  EventAnalysis analysis;
 };
 
 /// Build the record of a frozen window: copies the samples, takes the static metadata from
 /// `board`. `event_number` is the store's number for it.
 EventRecord make_event_record(const FrozenEvent& e, const board::BoardConfig& board, uint64_t event_number);
+
+/// The board-analysis section of a record: the speed source and the trigger sample's speed
+/// quality; the quick-look aux-bearing load from `bearing` (configured; may be unconfigured:
+/// quick_look_valid false). Non-real-time (event thread).
+class BearingTask;
+EventAnalysis event_analysis(const EventRecord& r, const board::BoardConfig& board, BearingTask& bearing);
 
 /// The Phase B input of a record (samples, trigger index, rate, sensor angles).
 diag::DiagnosisInput diagnosis_input(const EventRecord& r);

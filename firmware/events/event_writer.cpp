@@ -2,13 +2,16 @@
 
 #include <chrono>
 
+#include "firmware/analysis/analysis_task.hpp"
 #include "firmware/events/event_codec.hpp"
 
 namespace amb::fw {
 
 EventWriter::EventWriter(FloatingCapture& capture, hal::Storage& storage, const board::BoardConfig& board,
                          WriterOptions options)
-    : capture_(capture), board_(board), o_(options), store_(storage, board.capture) {}
+    : capture_(capture), board_(board), o_(options), store_(storage, board.capture) {
+  if (board.bearing.present) bearing_.configure(bearing_task_config(board));
+}
 
 EventWriter::~EventWriter() { stop(); }
 
@@ -38,6 +41,8 @@ size_t EventWriter::poll() {
       r.diagnosis = diag::diagnose(diagnosis_input(r), o_.diagnosis);
       r.has_diagnosis = true;
     }
+    r.analysis = event_analysis(r, board_, bearing_);
+    r.has_analysis = true;
     const std::vector<uint8_t> bytes = encode_event(r);
     std::string error;
     bool stored = false;

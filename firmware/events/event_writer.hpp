@@ -1,6 +1,7 @@
 #pragma once
-// The non-real-time event thread: takes frozen windows from the capture, runs Phase B on
-// each, encodes it (AMBE v1) and stores it, then gives the buffer back to the loop.
+// The non-real-time event thread: takes frozen windows from the capture, runs Phase B and the
+// bearing task's quick-look aux-bearing load on each, encodes it (AMBE v2) and stores it,
+// then gives the buffer back to the loop.
 // The loop never waits for it: if it falls behind, the capture loses (and counts) events.
 #include <atomic>
 #include <functional>
@@ -8,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "firmware/bearing/bearing_task.hpp"
 #include "firmware/board/board.hpp"
 #include "firmware/capture/floating_capture.hpp"
 #include "firmware/diagnosis/phase_b.hpp"
@@ -51,6 +53,7 @@ class EventWriter {
   const board::BoardConfig& board_;
   WriterOptions o_;
   EventStore store_;
+  BearingTask bearing_;   ///< quick-look load (configured from [bearing]; unconfigured without it)
   mutable std::mutex m_;  ///< guards store_ counters and last_error_ for readers in other threads
   std::string last_error_;
   std::atomic<bool> running_{false};

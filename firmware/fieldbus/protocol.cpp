@@ -153,6 +153,29 @@ hal::CanFrame encode_heartbeat(uint8_t node, uint8_t nmt_state, uint8_t node_sta
   return f;
 }
 
+hal::CanFrame encode_board_status(uint8_t board_node, const BoardStatus& s) {
+  hal::CanFrame f = frame(k_board_status + board_node, 8, false);
+  put32(f, 0, static_cast<uint32_t>(to_i32(s.speed_hz, k_speed_lsb_hz)));
+  const double c = std::isfinite(s.confidence) ? std::clamp(s.confidence, 0.0, 1.0) : 0.0;
+  f.data[4] = static_cast<uint8_t>(std::lround(c * 100.0));
+  f.data[5] = static_cast<uint8_t>(s.flags & 0x7Fu);
+  f.data[6] = s.sequence;
+  f.data[7] = s.tracker_mode;
+  return f;
+}
+
+bool decode_board_status(const hal::CanFrame& f, uint8_t board_node, BoardStatus& out) {
+  if (f.error || f.extended || f.fd || f.id != static_cast<uint32_t>(k_board_status + board_node) || f.len != 8) return false;
+  if (f.data[4] > 100 || (f.data[5] & 0x80u) != 0 || ((f.data[5] >> 3) & 3u) == 3u) return false;
+  const auto mhz = static_cast<int32_t>(get32(f, 0));
+  out.speed_hz = mhz == k_invalid_i32 ? std::numeric_limits<double>::quiet_NaN() : mhz * k_speed_lsb_hz;
+  out.confidence = f.data[4] / 100.0;
+  out.flags = f.data[5];
+  out.sequence = f.data[6];
+  out.tracker_mode = f.data[7];
+  return true;
+}
+
 DecodeResult decode(const hal::CanFrame& f, const NodeIds& ids, Side side, Message& m) {
   if (f.error || f.extended) return DecodeResult::foreign;
   const uint8_t node = static_cast<uint8_t>(f.id & k_node_mask);

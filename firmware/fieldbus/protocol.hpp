@@ -19,7 +19,27 @@ enum Function : uint16_t {
   k_amp_status = 0x380,  ///< amplifier -> board: flags, sequence, DC bus, temperature, fault code
   k_demand_fd = 0x400,   ///< board -> amplifier, CAN FD: sequence, flags, speed, 4 x int32 demand uA (24 bytes)
   k_sample_fd = 0x480,   ///< sensor -> board, CAN FD: sequence, faults, 4 x int32 nm, 4 x int32 uA, tach (48 bytes)
+  k_board_status = 0x500,  ///< board -> anyone, classic: speed estimate, confidence, flags (8 bytes), periodic
   k_heartbeat = 0x700,   ///< every node: NMT state, node-specific state (2 bytes)
+};
+
+/// Flag bits of the board-status frame (byte 5).
+enum BoardStatusFlags : uint8_t {
+  status_speed_lost = 1u << 0,       ///< no valid speed (speed field = INT32_MIN)
+  status_tracker_stale = 1u << 1,    ///< the tracker has not updated within tracker.stale_after_s
+  status_below_min = 1u << 2,        ///< the track went below the tracker's stated minimum speed
+  // bits 3..4: speed source (0 tach, 1 tracker, 2 command)
+  status_defects_valid = 1u << 5,    ///< the bearing task's defect lines are at the tracked speed
+  status_disagreement = 1u << 6,     ///< tracker/tach disagreements were counted since the previous frame
+};
+
+/// The board-status frame's content.
+struct BoardStatus {
+  double speed_hz = 0.0;       ///< board speed estimate, Hz; NaN when lost (encoded INT32_MIN)
+  double confidence = 0.0;     ///< 0..1, 1 % resolution
+  uint8_t flags = 0;           ///< BoardStatusFlags | speed source << 3
+  uint8_t sequence = 0;        ///< increments with every frame
+  uint8_t tracker_mode = 0;    ///< model::signal::TrackMode
 };
 
 inline constexpr uint32_t k_node_mask = 0x7F;
@@ -91,5 +111,10 @@ hal::CanFrame encode_sample_fd(uint8_t sensor_node, uint16_t sequence, const std
 hal::CanFrame encode_demand_fd(uint8_t amplifier_node, uint16_t sequence, bool amplifiers_enabled, double speed_hz,
                                const std::array<double, 4>& demand_a);
 hal::CanFrame encode_heartbeat(uint8_t node, uint8_t nmt_state, uint8_t node_state);
+/// Board status (id k_board_status + board node): i32 speed mHz (INT32_MIN: lost), u8
+/// confidence %, u8 flags, u8 sequence, u8 tracker mode.
+hal::CanFrame encode_board_status(uint8_t board_node, const BoardStatus& s);
+/// Decode a board-status frame of `board_node`; false if it is not one (wrong id, length, type, bits).
+bool decode_board_status(const hal::CanFrame& f, uint8_t board_node, BoardStatus& out);
 
 }  // namespace amb::fieldbus

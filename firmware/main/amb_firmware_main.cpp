@@ -14,13 +14,14 @@ namespace {
 void usage() {
   std::printf(
       "usage: amb-firmware [--board NAME|PATH] [--backend sim|linux] [--duration-s S] [--paced]\n"
-      "                    [--no-spin] [--list-boards]\n"
+      "                    [--no-spin] [--no-analysis] [--list-boards]\n"
       "  --board       board file or embedded board name (default: %s)\n"
       "  --backend     override the board's backend\n"
       "  --duration-s  sim: seconds to hold at speed before landing (default 1.0);\n"
       "                linux: run time, 0 = until SIGTERM (default 0)\n"
       "  --paced       sim: pace the loop to wall time instead of as fast as possible\n"
-      "  --no-spin     sim: levitate and land without spinning up\n",
+      "  --no-spin     sim: levitate and land without spinning up\n"
+      "  --no-analysis do not start the analysis thread (speed tracker, bearing task)\n",
       amb::boards::k_default_board);
 }
 
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
     else if (a == "--duration-s") opt.duration_s = std::atof(value("--duration-s").c_str());
     else if (a == "--paced") opt.paced = true;
     else if (a == "--no-spin") opt.spin = false;
+    else if (a == "--no-analysis") opt.analysis = false;
     else if (a == "--list-boards") {
       for (const auto& n : amb::board::embedded_board_names()) std::printf("%s\n", n.c_str());
       return 0;

@@ -4,8 +4,9 @@
 // directory with power-loss-safe replace. Wiring comes from the board file's [comms] table.
 //
 // Threads: the loop (SCHED_FIFO if permitted, memory locked) runs read -> step -> write; the
-// Modbus server thread and the event-writer thread exchange data with it only through
-// lock-free snapshots and SPSC rings.
+// Modbus server thread, the event-writer thread and the analysis thread (speed tracker,
+// bearing task, CAN board-status frame) exchange data with it only through lock-free
+// snapshots, one atomic word (the tracked speed) and SPSC rings.
 #ifdef AMB_HAVE_LINUX_HAL
 #include <pthread.h>
 #include <sched.h>
@@ -14,13 +15,16 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <thread>
 
+#include "firmware/analysis/analysis_thread.hpp"
 #include "firmware/app/loop_runner.hpp"
+#include "firmware/app/sample_fanout.hpp"
 #include "firmware/capture/floating_capture.hpp"
 #include "firmware/events/event_writer.hpp"
 #include "firmware/fieldbus/field_bus_front_end.hpp"
@@ -156,7 +160,29 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     std::printf("amb-firmware: drop event %s %s\n", name.c_str(), stored ? "stored" : "NOT stored");
     std::fflush(stdout);
   };
-  fw::LoopRunner loop(clock, fe, dio, sup, &capture);
+  // Analysis task (tracker on the [tracker] channel, bearing task): fed from the loop through
+  // its SPSC ring, polled by the analysis thread.
+  auto analysis = std::make_unique<fw::AnalysisTask>();
+  if (std::string aerr = analysis->configure(board, &sup); !aerr.empty()) {
+    std::fprintf(stderr, "amb-firmware: board %s: %s\n", board.name.c_str(), aerr.c_str());
+    return 1;
+  }
+  const bool run_analysis = opt.analysis && analysis->enabled();
+  fw::SampleFanout sinks;
+  sinks.add(&capture);
+  if (run_analysis) sinks.add(analysis.get());
+  // The board-status frame goes out on its own socket from the analysis thread (the loop's
+  // socket stays the loop's); it receives nothing (filter on its own identifier).
+  lx::SocketCanBus status_can;
+  if (run_analysis) {
+    lx::SocketCanOptions so = co;
+    so.filters = {{static_cast<uint32_t>(fieldbus::k_board_status + cm.can.board_node_id), 0x7FF, false}};
+    if (!status_can.open(so, err)) {
+      std::fprintf(stderr, "amb-firmware: board-status socket: %s\n", err.c_str());
+      return 1;
+    }
+  }
+  fw::LoopRunner loop(clock, fe, dio, sup, &sinks);
   fw::SeqLock<fw::LoopStats> loop_stats;
   loop_stats.store(fw::LoopStats{});
 
@@ -176,6 +202,8 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     return fw::LinkCounters{s.requests, s.exceptions, s.bad_frames, s.wrong_unit, s.connections};
   };
   src.nodes_alive = [&] { return fe.nodes_alive(); };
+  if (run_analysis) src.analysis = [&] { return analysis->status(); };
+  src.speed_source = static_cast<uint8_t>(board.tracker.speed_source);
   src.events = events_fs.get();
   src.wear = &wear;
   src.wear_corrupt_at_start = wear_report.corrupt_slots;
@@ -188,6 +216,31 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     return 1;
   }
   writer.start();
+  fw::AnalysisThread analysis_thread;
+  std::atomic<uint64_t> status_frames{0};
+  if (run_analysis) {
+    uint64_t last_disagreements = 0;
+    uint8_t status_seq = 0;
+    analysis_thread.start(
+        *analysis, board.tracker.poll_period_s,
+        [&, last_disagreements, status_seq](const fw::AnalysisStatus& a) mutable {
+          const fw::Status st = sup.status();
+          fieldbus::BoardStatus bs;
+          bs.speed_hz = st.speed_lost ? std::nan("") : st.speed_estimate_hz;
+          bs.confidence = st.speed_confidence;
+          bs.flags = static_cast<uint8_t>((st.speed_lost ? fieldbus::status_speed_lost : 0) |
+                                          (st.tracked.stale ? fieldbus::status_tracker_stale : 0) |
+                                          (a.below_min ? fieldbus::status_below_min : 0) |
+                                          (static_cast<unsigned>(board.tracker.speed_source) << 3) |
+                                          (a.defects_valid ? fieldbus::status_defects_valid : 0) |
+                                          (st.counters.speed_disagreements != last_disagreements ? fieldbus::status_disagreement : 0));
+          last_disagreements = st.counters.speed_disagreements;
+          bs.sequence = status_seq++;
+          bs.tracker_mode = a.mode;
+          if (status_can.send(fieldbus::encode_board_status(cm.can.board_node_id, bs))) status_frames.fetch_add(1);
+        },
+        board.tracker.status_frame_period_s);
+  }
 
   struct sigaction sa{};
   sa.sa_handler = on_signal;
@@ -213,12 +266,14 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     fe.write(hal::AnalogOutputs{});
     dio.write(hal::DiscreteOutputs{});
   });
-  std::printf("amb-firmware: ready: board %s, %.0f Hz loop, CAN %s%s, GPIO %s, Modbus TCP %s:%u unit %u\n",
+  std::printf("amb-firmware: ready: board %s, %.0f Hz loop, CAN %s%s, GPIO %s, Modbus TCP %s:%u unit %u, "
+              "analysis thread %s (speed source %s)\n",
               board.name.c_str(), board.rate_hz, cm.can.interface.c_str(), cm.can.fd ? " (FD)" : "",
               gpio ? cm.gpio.chip.c_str() : "none", cm.modbus.bind_address.c_str(), server.bound_port(),
-              cm.modbus.unit_id);
+              cm.modbus.unit_id, run_analysis ? "on" : "off", fw::to_string(board.tracker.speed_source));
   std::fflush(stdout);
   loop_thread.join();
+  analysis_thread.stop();
   writer.stop();
   server.stop();
 
@@ -226,10 +281,11 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
   const hal::CanStats cs = can.stats();
   const fieldbus::FieldBusCounters fc = fe.counters();
   const fw::Status st = sup.status();
-  std::printf("amb-firmware: stopped: %llu periods, %llu overruns, latency mean %.0f us max %.0f us, "
+  std::printf("amb-firmware: stopped: %llu periods, %llu overruns, latency mean %.0f us p99 %.0f us max %.0f us, "
               "memory %s, SCHED_FIFO %s\n",
               static_cast<unsigned long long>(ls.periods), static_cast<unsigned long long>(ls.overruns),
-              ls.mean_latency_ns() * 1e-3, static_cast<double>(ls.max_latency_ns) * 1e-3, locked ? "locked" : "not locked",
+              ls.mean_latency_ns() * 1e-3, static_cast<double>(ls.latency_quantile_ns(0.99)) * 1e-3,
+              static_cast<double>(ls.max_latency_ns) * 1e-3, locked ? "locked" : "not locked",
               fifo ? "yes" : "no (not permitted)");
   std::printf("amb-firmware: CAN tx %llu rx %llu tx_dropped %llu rx_dropped %llu error_frames %llu bus_off %llu; "
               "field bus samples %llu malformed %llu node_timeouts %llu; state %s, fault %s\n",
@@ -238,6 +294,17 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
               static_cast<unsigned long long>(cs.error_frames), static_cast<unsigned long long>(cs.bus_off_events),
               static_cast<unsigned long long>(fc.samples), static_cast<unsigned long long>(fc.malformed),
               static_cast<unsigned long long>(fc.node_timeouts), fw::to_string(st.state), fw::to_string(st.fault));
+  if (run_analysis) {
+    const fw::AnalysisStatus a = analysis->status();
+    std::printf("amb-firmware: analysis: %llu tracker updates, %llu samples, %llu gaps, %llu resets, %llu ring drops, "
+                "%llu status frames; last tracked %.3f Hz (confidence %.2f%s); %llu tach disagreements, %llu lost periods\n",
+                static_cast<unsigned long long>(a.tracker_updates), static_cast<unsigned long long>(a.samples),
+                static_cast<unsigned long long>(a.gaps), static_cast<unsigned long long>(a.resets),
+                static_cast<unsigned long long>(a.ring_drops), static_cast<unsigned long long>(status_frames.load()),
+                a.tracked_speed_hz, a.confidence, a.lost ? ", lost" : "",
+                static_cast<unsigned long long>(st.counters.speed_disagreements),
+                static_cast<unsigned long long>(st.counters.speed_lost_periods));
+  }
   return 0;
 }
 

@@ -11,6 +11,7 @@ struct RunOptions {
   double duration_s = -1.0; ///< <0: mode default
   bool paced = false;       ///< sim: pace to wall time
   bool spin = true;         ///< sim: spin up to the operating speed
+  bool analysis = true;     ///< run the analysis thread (tracker, bearing task) when the board enables the tracker
 };
 
 /// Software in the loop: levitate, spin up, hold, land; prints a summary. Exit code.

@@ -9,6 +9,7 @@ namespace amb::fwmain {
 int run_sim(const board::BoardConfig& board, const RunOptions& opt) {
   sil::SilOptions so;
   so.paced = opt.paced;
+  so.analysis = opt.analysis ? sil::SilAnalysis::thread : sil::SilAnalysis::off;
   sil::SilRig rig(board, so);
   fw::Supervisor& sup = rig.supervisor();
   const double hold_s = opt.duration_s >= 0.0 ? opt.duration_s : 1.0;
@@ -31,6 +32,19 @@ int run_sim(const board::BoardConfig& board, const RunOptions& opt) {
     std::printf("  t=%6.3f s  at speed %.1f Hz\n", rig.time_s(), sup.status().speed_command_hz);
   }
   rig.run_for(hold_s);
+  if (const fw::AnalysisTask* a = rig.analysis()) {
+    const fw::Status s = sup.status();
+    const fw::AnalysisStatus as = a->status();
+    std::printf("  t=%6.3f s  speed source %s: estimate %.3f Hz (confidence %.2f%s), tracked %.3f Hz, plant %.3f Hz; "
+                "tracker updates %llu, ring drops %llu, tach disagreements %llu\n",
+                rig.time_s(), fw::to_string(board.tracker.speed_source), s.speed_estimate_hz, s.speed_confidence,
+                s.speed_lost ? ", LOST" : "", s.tracked.speed_hz, rig.plant().outputs().spin_speed_hz,
+                static_cast<unsigned long long>(as.tracker_updates), static_cast<unsigned long long>(as.ring_drops),
+                static_cast<unsigned long long>(s.counters.speed_disagreements));
+    if (as.defects_valid)
+      std::printf("  bearing %s at the tracked speed: FTF %.2f Hz, BPFO %.2f Hz, BPFI %.2f Hz, BSF %.2f Hz\n",
+                  board.bearing.monitored.c_str(), as.ftf_hz, as.bpfo_hz, as.bpfi_hz, as.bsf_hz);
+  }
   sup.post(fw::Command::land);
   rig.run_until([](const fw::Status& s) { return s.state != fw::State::levitating && s.state != fw::State::running; }, 600.0);
   const fw::Status st = sup.status();

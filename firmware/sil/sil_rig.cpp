@@ -1,6 +1,8 @@
 #include "firmware/sil/sil_rig.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace amb::sil {
 
@@ -13,29 +15,63 @@ SilRig::SilRig(const board::BoardConfig& board, std::unique_ptr<model::Plant> pl
   build(std::move(plant));
 }
 
+SilRig::~SilRig() { analysis_thread_.stop(); }
+
 void SilRig::build(std::unique_ptr<model::Plant> plant) {
   plant->reset(options_.start_levitated, 0.0);
   sim_ = std::make_unique<hal::sim::SimRig>(std::move(plant), options_.tachometer);
   sup_.configure(board_);
-  loop_ = std::make_unique<fw::LoopRunner>(sim_->clock(), sim_->analog(), sim_->discrete(), sup_, sink_);
+  if (options_.analysis != SilAnalysis::off && board_.tracker.enabled) {
+    analysis_ = std::make_unique<fw::AnalysisTask>();
+    if (std::string err = analysis_->configure(board_, &sup_); !err.empty())
+      throw std::invalid_argument("board " + board_.name + ": analysis task: " + err);
+    poll_every_ = std::max<uint64_t>(1, static_cast<uint64_t>(std::llround(board_.tracker.poll_period_s * board_.rate_hz)));
+    if (options_.analysis == SilAnalysis::thread) analysis_thread_.start(*analysis_, board_.tracker.poll_period_s);
+  }
+  rebind();
   sim_->set_paced(options_.paced);
+}
+
+void SilRig::rebind() {
+  fanout_ = fw::SampleFanout{};
+  fanout_.add(sink_);
+  fanout_.add(analysis_.get());
+  fw::SampleSink* s = fanout_.size() == 0 ? nullptr : (fanout_.size() == 1 && !analysis_ ? sink_ : &fanout_);
+  loop_ = std::make_unique<fw::LoopRunner>(sim_->clock(), sim_->analog(), sim_->discrete(), sup_, s);
 }
 
 void SilRig::set_sink(fw::SampleSink* sink) {
   sink_ = sink;
-  // The runner keeps its deadline; rebuild only the sink binding.
-  auto next = std::make_unique<fw::LoopRunner>(sim_->clock(), sim_->analog(), sim_->discrete(), sup_, sink_);
-  loop_ = std::move(next);
+  // Rebuild only the sink binding (the runner starts from the clock's present time).
+  rebind();
+}
+
+void SilRig::periods(uint64_t n) {
+  if (!analysis_ || options_.analysis != SilAnalysis::lockstep) {
+    loop_->run_periods(n);
+    return;
+  }
+  // Lock-step analysis: the same poll() the thread makes, every poll_period_s of simulated time.
+  while (n > 0) {
+    const uint64_t k = std::min(n, poll_every_ - since_poll_);
+    loop_->run_periods(k);
+    n -= k;
+    since_poll_ += k;
+    if (since_poll_ >= poll_every_) {
+      since_poll_ = 0;
+      analysis_->poll();
+    }
+  }
 }
 
 void SilRig::run_for(double seconds) {
   const auto n = static_cast<uint64_t>(std::llround(seconds / sup_.period_s()));
   if (!on_period) {
-    loop_->run_periods(n);
+    periods(n);
     return;
   }
   for (uint64_t i = 0; i < n; ++i) {
-    loop_->run_periods(1);
+    periods(1);
     on_period(sup_.status());
   }
 }
@@ -43,7 +79,7 @@ void SilRig::run_for(double seconds) {
 bool SilRig::run_until(const std::function<bool(const fw::Status&)>& done, double timeout_s) {
   const double end = time_s() + timeout_s;
   while (time_s() < end) {
-    loop_->run_periods(1);
+    periods(1);
     const fw::Status st = sup_.status();
     if (on_period) on_period(st);
     if (done(st)) return true;

@@ -4,7 +4,9 @@
 #include <functional>
 #include <memory>
 
+#include "firmware/analysis/analysis_thread.hpp"
 #include "firmware/app/loop_runner.hpp"
+#include "firmware/app/sample_fanout.hpp"
 #include "firmware/app/supervisor.hpp"
 #include "firmware/board/board.hpp"
 #include "hal/sim/sim_rig.hpp"
@@ -12,11 +14,19 @@
 
 namespace amb::sil {
 
+/// How the board's analysis task (tracker, bearing task) runs in the simulation.
+enum class SilAnalysis : uint8_t {
+  off = 0,       ///< not at all (the speed source falls back as on a board without it)
+  lockstep = 1,  ///< polled between loop periods every tracker.poll_period_s of simulated time (deterministic)
+  thread = 2,    ///< its own thread, as on the board (amb-firmware --backend sim)
+};
+
 struct SilOptions {
   bool paced = false;          ///< pace to wall time instead of as fast as possible
   bool tachometer = false;     ///< give the firmware a tachometer reading
   uint64_t noise_seed = 1;     ///< seed of the plant's sensor noise
   bool start_levitated = false;///< start centred instead of resting on the touchdown bearings
+  SilAnalysis analysis = SilAnalysis::off;  ///< run the analysis task (board [tracker]/[bearing])
 };
 
 /// The plant the board describes (the penalty-contact rotor-AMB plant).
@@ -33,6 +43,8 @@ class SilRig {
   hal::sim::SimRig& sim() { return *sim_; }
   model::Plant& plant() { return sim_->plant(); }
   const board::BoardConfig& board() const { return board_; }
+  /// The analysis task (nullptr with SilAnalysis::off).
+  fw::AnalysisTask* analysis() { return analysis_.get(); }
   /// Route every loop sample to `sink` (nullptr: none).
   void set_sink(fw::SampleSink* sink);
   /// Called after every period (for scenario recording); may be empty.
@@ -46,12 +58,22 @@ class SilRig {
 
  private:
   void build(std::unique_ptr<model::Plant> plant);
+  void rebind();
+  void periods(uint64_t n);
   board::BoardConfig board_;
   SilOptions options_;
   std::unique_ptr<hal::sim::SimRig> sim_;
   fw::Supervisor sup_;
   std::unique_ptr<fw::LoopRunner> loop_;
   fw::SampleSink* sink_ = nullptr;
+  std::unique_ptr<fw::AnalysisTask> analysis_;
+  fw::AnalysisThread analysis_thread_;
+  fw::SampleFanout fanout_;
+  uint64_t poll_every_ = 0;        ///< lockstep: periods between polls
+  uint64_t since_poll_ = 0;
+
+ public:
+  ~SilRig();
 };
 
 }  // namespace amb::sil

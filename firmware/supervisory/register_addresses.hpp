@@ -40,9 +40,19 @@ inline constexpr uint16_t faults = 0x0200;             ///< read_failures, senso
 inline constexpr uint16_t faults_end = 0x020A;
 
 // ---- speed (RO) ------------------------------------------------------------------------
-inline constexpr uint16_t speed_estimate_mhz = 0x0300; ///< i32, mHz
+/// i32 values of a speed that is not valid (lost, stale, none) read 0x8000 0x0000 (INT32_MIN).
+inline constexpr int32_t k_speed_invalid = INT32_MIN;
+inline constexpr uint16_t speed_estimate_mhz = 0x0300; ///< i32, mHz, per tracker.speed_source; k_speed_invalid when lost
 inline constexpr uint16_t speed_command_mhz = 0x0302;  ///< i32, mHz
-inline constexpr uint16_t speed_end = 0x0304;
+inline constexpr uint16_t speed_confidence_pct = 0x0304; ///< u16, confidence of the estimate, % (0..100)
+inline constexpr uint16_t speed_flags = 0x0305;        ///< bit0 estimate lost, bit1 tracker stale, bit2 tracker below its minimum, bits 3..4 speed source (0 tach, 1 tracker, 2 command), bit5 defect lines valid, bit6 tracker running
+inline constexpr uint16_t tracked_speed_mhz = 0x0306;  ///< i32, mHz, the tracker's speed as the loop sees it; k_speed_invalid when lost or stale
+inline constexpr uint16_t tracked_confidence_pct = 0x0308; ///< u16, %
+inline constexpr uint16_t tracked_age_ms = 0x0309;     ///< u16, ms since the tracker's last update (saturates at 65535)
+inline constexpr uint16_t tach_speed_mhz = 0x030A;     ///< i32, mHz; k_speed_invalid: no tachometer
+inline constexpr uint16_t speed_disagreements = 0x030C; ///< u32, tracker updates off the tachometer by more than tracker.tach_disagreement_fraction
+inline constexpr uint16_t speed_lost_periods = 0x030E; ///< u32, loop periods whose estimate was lost
+inline constexpr uint16_t speed_end = 0x0310;
 
 // ---- orbit (RO) ------------------------------------------------------------------------
 inline constexpr uint16_t orbit_radius_nm = 0x0310;    ///< 2 x u32, per sensor plane, nm
@@ -64,6 +74,19 @@ inline constexpr uint16_t can_stats = 0x0500;          ///< tx, rx, tx_dropped, 
 inline constexpr uint16_t fieldbus_stats = 0x0510;     ///< samples, stale_periods, malformed, node_timeouts, amp_faults, tx_failures (6 x u32)
 inline constexpr uint16_t modbus_stats = 0x0520;       ///< requests, exceptions, bad_frames, wrong_unit, connections, refused_unsafe, illegal_address (7 x u32)
 inline constexpr uint16_t stats_end = 0x052E;
+
+// ---- board analysis (RO): tracker task and bearing task ---------------------------------------
+inline constexpr uint16_t analysis = 0x0600;
+inline constexpr uint16_t analysis_updates = 0x0600;   ///< u32, tracker updates
+inline constexpr uint16_t analysis_samples = 0x0602;   ///< u32, samples run through the tracker
+inline constexpr uint16_t analysis_gaps = 0x0604;      ///< u32, gaps in the channel's sample sequence
+inline constexpr uint16_t analysis_resets = 0x0606;    ///< u32, tracker restarts after long gaps
+inline constexpr uint16_t analysis_ring_drops = 0x0608;///< u32, samples the loop could not hand over (ring full)
+inline constexpr uint16_t defect_ftf_mhz = 0x060A;     ///< i32, monitored bearing's cage line at the tracked speed, mHz (k_speed_invalid: none)
+inline constexpr uint16_t defect_bpfo_mhz = 0x060C;    ///< i32, outer-race line, mHz
+inline constexpr uint16_t defect_bpfi_mhz = 0x060E;    ///< i32, inner-race line, mHz
+inline constexpr uint16_t defect_bsf_mhz = 0x0610;     ///< i32, ball-spin line, mHz
+inline constexpr uint16_t analysis_end = 0x0612;
 
 // ---- command (RW) ------------------------------------------------------------------------
 inline constexpr uint16_t command = 0x1000;            ///< write fw::Command (1 levitate .. 5 emergency stop); read: last result (0 none, 1 posted, 2 busy)

@@ -22,7 +22,7 @@ constexpr Range k_readable[] = {
     {regs::can_stats, regs::stats_end},         {regs::command, regs::command + 1},
     {regs::event_count, regs::event_entry_end}, {regs::dl_select, regs::dl_select + 5},
     {regs::dl_status, regs::dl_end},            {regs::wear_present, regs::wear_end},
-    {regs::wb_control, regs::wb_status_end},
+    {regs::wb_control, regs::wb_status_end},    {regs::analysis, regs::analysis_end},
 };
 
 void put16(std::vector<uint16_t>& b, size_t at, uint16_t v) { b[at] = v; }
@@ -47,6 +47,18 @@ void put_string(std::vector<uint16_t>& b, size_t at, const std::string& s, size_
     b[at + i] = static_cast<uint16_t>(hi << 8 | lo);
   }
 }
+// A speed register: mHz, or k_speed_invalid when the value is not a valid speed.
+void put_speed(std::vector<uint16_t>& b, size_t at, double hz, bool valid) {
+  if (!valid || !std::isfinite(hz)) {
+    const auto u = static_cast<uint32_t>(regs::k_speed_invalid);
+    b[at] = static_cast<uint16_t>(u >> 16);
+    b[at + 1] = static_cast<uint16_t>(u);
+    return;
+  }
+  put_i32(b, at, hz * 1e3);
+}
+uint16_t pct(double x) { return static_cast<uint16_t>(std::lround(std::clamp(std::isfinite(x) ? x : 0.0, 0.0, 1.0) * 100.0)); }
+
 uint32_t get32(std::span<const uint16_t> v, size_t at) { return static_cast<uint32_t>(v[at]) << 16 | v[at + 1]; }
 
 }  // namespace
@@ -121,10 +133,40 @@ bool RegisterMap::render(uint16_t start, uint16_t end, Block& b) {
       put32(b, 6, st.counters.rejected_commands);
       put32(b, 8, st.counters.safe_state_entries);
       return true;
-    case regs::speed_estimate_mhz:
-      put_i32(b, 0, st.speed_estimate_hz * 1e3);
+    case regs::speed_estimate_mhz: {
+      const AnalysisStatus a = src_.analysis ? src_.analysis() : AnalysisStatus{};
+      put_speed(b, 0, st.speed_estimate_hz, !st.speed_lost);
       put_i32(b, 2, st.speed_command_hz * 1e3);
+      put16(b, 4, st.speed_lost ? 0 : pct(st.speed_confidence));
+      uint16_t flags = static_cast<uint16_t>(src_.speed_source & 3u) << 3;
+      if (st.speed_lost) flags |= 1;
+      if (st.tracked.stale) flags |= 2;
+      if (a.below_min) flags |= 4;
+      if (a.defects_valid) flags |= 32;
+      if (src_.analysis) flags |= 64;
+      put16(b, 5, flags);
+      put_speed(b, 6, st.tracked.speed_hz, !st.tracked.lost);
+      put16(b, 8, pct(st.tracked.confidence));
+      put16(b, 9, static_cast<uint16_t>(std::min(65535.0, st.tracked.age_s * 1e3)));
+      put_speed(b, 10, st.tach_speed_hz, st.tach_speed_hz >= 0.0);
+      put32(b, 12, st.counters.speed_disagreements);
+      put32(b, 14, st.counters.speed_lost_periods);
       return true;
+    }
+    case regs::analysis: {
+      const AnalysisStatus a = src_.analysis ? src_.analysis() : AnalysisStatus{};
+      put32(b, 0, a.tracker_updates);
+      put32(b, 2, a.samples);
+      put32(b, 4, a.gaps);
+      put32(b, 6, a.resets);
+      put32(b, 8, a.ring_drops);
+      const bool d = a.defects_valid != 0;
+      put_speed(b, 10, a.ftf_hz, d);
+      put_speed(b, 12, a.bpfo_hz, d);
+      put_speed(b, 14, a.bpfi_hz, d);
+      put_speed(b, 16, a.bsf_hz, d);
+      return true;
+    }
     case regs::orbit_radius_nm:
       for (size_t i = 0; i < 2; ++i) put32(b, 2 * i, static_cast<uint64_t>(std::max(0.0, st.orbit_radius_m[i] * 1e9)));
       for (size_t i = 0; i < 4; ++i) put_i32(b, 4 + 2 * i, st.xy_m[i] * 1e9);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "firmware/analysis/analysis_task.hpp"
 #include "firmware/app/loop_runner.hpp"
 #include "firmware/app/supervisor.hpp"
 #include "firmware/fieldbus/field_bus_front_end.hpp"
@@ -34,6 +35,8 @@ struct RegisterSources {
   std::function<fieldbus::FieldBusCounters()> fieldbus;
   std::function<LinkCounters()> link;
   std::function<bool()> nodes_alive;                      ///< field-bus nodes heard within the timeout
+  std::function<AnalysisStatus()> analysis;               ///< analysis task results (absent: tracker not running)
+  uint8_t speed_source = 0;                               ///< fw::SpeedSource of the board
   hal::Storage* events = nullptr;                         ///< event files (opaque blobs), listed sorted
   WearStore* wear = nullptr;                              ///< opened wear-record store
   int wear_corrupt_at_start = 0;                          ///< from WearStore::open()

@@ -1,4 +1,5 @@
 // amb-host scenario: the end-to-end drop scenario on the simulated rig (the main job).
+#include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -19,6 +20,13 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
     j["liftoff_s"] = s.liftoff_s;
     j["reached_speed"] = s.reached_speed;
     j["speed_at_cut_hz"] = s.speed_at_cut_hz;
+    auto num_or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    j["speed_source"] = s.speed_source;
+    j["tracked_speed_at_cut_hz"] = num_or_null(s.tracked_speed_at_cut_hz);
+    j["tracked_speed_confidence_at_cut"] = s.tracked_confidence_at_cut;
+    j["tracked_speed_lost_at_cut"] = s.tracked_lost_at_cut;
+    j["tracked_speed_error_at_cut"] = num_or_null((s.tracked_speed_at_cut_hz - s.speed_at_cut_hz) / s.speed_at_cut_hz);
+    j["speed_disagreements"] = s.speed_disagreements;
     j["steady_orbit_max_m"] = s.steady_orbit_max_m;
     j["aux_clearance_m"] = s.aux_clearance_m;
     j["fault_detected"] = s.fault_detected;
@@ -34,6 +42,8 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
     j["wall_s"] = s.wall_s;
     j["event"] = {{"captured", s.event_captured}, {"path", s.event_path}, {"export", s.event_export_stem},
                   {"trigger_cause", s.trigger_cause}, {"trigger_delay_ms", s.trigger_delay_ms},
+                  {"speed_at_trigger_hz", num_or_null(s.event_speed_at_trigger_hz)},
+                  {"speed_confidence", s.event_speed_confidence}, {"speed_lost", s.event_speed_lost},
                   {"phase_b", {{"fault", s.phase_b_fault}, {"confidence", s.phase_b_confidence}, {"summary", s.phase_b_summary}}}};
     j["fit"] = {{"ran", s.fitted}, {"friction_coefficient", s.friction_coefficient}, {"cost", s.fit_cost},
                 {"evaluations", s.fit_evaluations}, {"wall_s", s.fit_wall_s}, {"converged", s.fit_converged},
@@ -64,6 +74,10 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
     std::printf("  lift-off           : %s in %.3f s\n", s.levitated ? "levitated" : "FAILED", s.liftoff_s);
     std::printf("  spin-up            : %s, %.1f Hz (%.0f rpm) at the cut\n", s.reached_speed ? "reached" : "FAILED",
                 s.speed_at_cut_hz, s.speed_at_cut_hz * 60.0);
+    std::printf("  speed at the cut   : plant %.3f Hz, board tracker %.3f Hz (%+.2f %%, confidence %.2f%s); speed source %s\n",
+                s.speed_at_cut_hz, s.tracked_speed_at_cut_hz,
+                100.0 * (s.tracked_speed_at_cut_hz - s.speed_at_cut_hz) / s.speed_at_cut_hz, s.tracked_confidence_at_cut,
+                s.tracked_lost_at_cut ? ", LOST" : "", s.speed_source.c_str());
     std::printf("  steady orbit       : max %.1f um at the sensor planes (aux clearance %.0f um)\n",
                 s.steady_orbit_max_m * 1e6, s.aux_clearance_m * 1e6);
     std::printf("  AMB cut            : t = %.3f s; firmware %s after %.1f ms (%s)\n", s.cut_time_s,
@@ -76,6 +90,8 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
     if (s.event_captured) {
       std::printf("  Phase A capture    : event %s, trigger %s %.1f ms after the cut\n", s.event_path.c_str(),
                   s.trigger_cause.c_str(), s.trigger_delay_ms);
+      std::printf("  event speed stamp  : %.3f Hz, confidence %.2f%s\n", s.event_speed_at_trigger_hz,
+                  s.event_speed_confidence, s.event_speed_lost ? ", LOST" : "");
       std::printf("  Phase B verdict    : %s (confidence %.2f) %s\n", s.phase_b_fault.c_str(), s.phase_b_confidence,
                   s.phase_b_summary.c_str());
       std::printf("  exchange format    : %s.csv / .json\n", s.event_export_stem.c_str());
@@ -131,6 +147,9 @@ const amb::host::Registration reg{
       sub.add_option("--hold-s", opt->hold_s, "time at speed before the AMBs are cut, s")->check(CLI::Range(0.0, 60.0));
       sub.add_option("--after-cut-s", opt->after_cut_s, "simulated time after the cut, s")->check(CLI::Range(0.0, 60.0));
       sub.add_option("--seed", opt->noise_seed, "sensor-noise seed");
+      sub.add_option("--speed-source", opt->speed_source,
+                     "board speed source: tracker (tachless, default), tach, command; empty: the board file's")
+          ->check(CLI::IsMember({"tracker", "tach", "command", ""}));
       sub.add_option("--out", opt->out_dir, "directory for the event, its export and the report (default amb-out)");
       sub.add_flag("!--no-fit", opt->fit, "skip the Phase C fit");
       sub.add_flag("!--no-residual", opt->residual, "skip the steady run with an undeclared effect");

@@ -18,7 +18,9 @@
 namespace {
 
 std::atomic<bool> g_stop{false};
+std::atomic<bool> g_report{false};
 void on_signal(int) { g_stop.store(true); }
+void on_report(int) { g_report.store(true); }
 
 void usage() {
   std::printf(
@@ -27,7 +29,9 @@ void usage() {
       "  --can IFACE     SocketCAN interface (default: the board file's comms.can.interface)\n"
       "  --seed N        sensor-noise seed (default 1)\n"
       "  --levitated     start with the rotor centred instead of on the touchdown bearings\n"
-      "  --duration-s S  stop after S seconds (default: until SIGTERM)\n");
+      "  --duration-s S  stop after S seconds (default: until SIGTERM)\n"
+      "  SIGUSR1 prints the plant's true rotor speed and its time (the HIL reference for the\n"
+      "  board's tracked speed).\n");
 }
 
 }  // namespace
@@ -92,6 +96,9 @@ int main(int argc, char** argv) {
   sa.sa_handler = on_signal;
   ::sigaction(SIGTERM, &sa, nullptr);
   ::sigaction(SIGINT, &sa, nullptr);
+  struct sigaction su{};
+  su.sa_handler = on_report;
+  ::sigaction(SIGUSR1, &su, nullptr);
   std::printf("amb-plant: ready: board %s, CAN %s%s, nodes sensor %u amplifier %u, %.0f Hz period lock\n",
               board.name.c_str(), iface.c_str(), c.fd ? " (FD)" : "", c.sensor_node_id, c.amplifier_node_id,
               board.rate_hz);
@@ -105,6 +112,12 @@ int main(int argc, char** argv) {
     // Bounded: a plant slower than the board (e.g. under emulation) must still see SIGTERM.
     for (int k = 0; k < 64 && !g_stop.load() && bus.receive(f); ++k) nodes.on_frame(f, now);
     nodes.tick(now);
+    if (g_report.exchange(false)) {
+      std::printf("amb-plant: true speed %.4f Hz at plant time %.3f s (%llu periods stepped)\n",
+                  plant->outputs().spin_speed_hz, static_cast<double>(nodes.counters().demands) / board.rate_hz,
+                  static_cast<unsigned long long>(nodes.counters().demands));
+      std::fflush(stdout);
+    }
     if (duration_s > 0 && now - t0 > static_cast<int64_t>(duration_s * 1e9)) break;
   }
   const auto& n = nodes.counters();

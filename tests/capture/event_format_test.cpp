@@ -1,4 +1,4 @@
-// AMBE v1 event files: round trip, refusal of truncated / corrupted / wrong-version files
+// AMBE event files (v2, and v1 still read): round trip, refusal of truncated / corrupted / wrong-version files
 // with a message saying what is wrong, and the event store's full-storage policy.
 #include <gtest/gtest.h>
 
@@ -32,6 +32,12 @@ EventRecord sample_record(size_t n = 300, bool with_diag = true) {
     r.diagnosis.misalignment_plane = 1;
     r.diagnosis.summary = "misalignment towards 30 deg";
   }
+  r.has_analysis = true;
+  r.analysis.speed_source = 1;
+  r.analysis.speed_confidence_at_trigger = 0.87;
+  r.analysis.quick_look_valid = true;
+  r.analysis.quick_look_spin_hz = 45.0;
+  r.analysis.aux[1] = {true, 1234, 812.5, 271.0, 3.5e-7, 0.1234};
   return r;
 }
 
@@ -39,7 +45,7 @@ TEST(EventFormat, RoundTripKeepsEverything) {
   const EventRecord r = sample_record();
   const auto bytes = encode_event(r);
   EXPECT_EQ(bytes.size(), k_event_preamble_bytes + k_event_meta_bytes_v1 + 300 * k_event_sample_bytes_v1 +
-                              k_event_diagnosis_bytes_v1 + 4);
+                              k_event_diagnosis_bytes_v1 + k_event_analysis_bytes_v2 + 4);
   EventRecord back;
   std::string err;
   ASSERT_TRUE(decode_event(bytes, back, err)) << err;
@@ -64,6 +70,34 @@ TEST(EventFormat, RoundTripKeepsEverything) {
   ASSERT_TRUE(back.has_diagnosis);
   EXPECT_EQ(back.diagnosis.type, diag::FaultType::misalignment);
   EXPECT_EQ(back.diagnosis.misalignment_plane, 1);
+  EXPECT_EQ(back.diagnosis.summary, "misalignment towards 30 deg");
+  ASSERT_TRUE(back.has_analysis);
+  EXPECT_EQ(back.analysis.speed_source, r.analysis.speed_source);
+  EXPECT_EQ(back.analysis.speed_confidence_at_trigger, r.analysis.speed_confidence_at_trigger);
+  EXPECT_EQ(back.analysis.speed_lost_at_trigger, r.analysis.speed_lost_at_trigger);
+  EXPECT_EQ(back.analysis.quick_look_valid, r.analysis.quick_look_valid);
+  for (size_t b = 0; b < 2; ++b) {
+    EXPECT_EQ(back.analysis.aux[b].peak_force_n, r.analysis.aux[b].peak_force_n);
+    EXPECT_EQ(back.analysis.aux[b].peak_angle_deg, r.analysis.aux[b].peak_angle_deg);
+    EXPECT_EQ(back.analysis.aux[b].life_fraction, r.analysis.aux[b].life_fraction);
+    EXPECT_EQ(back.analysis.aux[b].samples_in_contact, r.analysis.aux[b].samples_in_contact);
+  }
+}
+
+// Files written before the analysis section (AMBE v1) are still read, without one.
+TEST(EventFormat, Version1FilesAreStillRead) {
+  const EventRecord r = sample_record();
+  const auto bytes = encode_event_v1(r);
+  EXPECT_EQ(bytes[4], 1);
+  EXPECT_EQ(bytes.size(), k_event_preamble_bytes + k_event_meta_bytes_v1 + 300 * k_event_sample_bytes_v1 +
+                              k_event_diagnosis_bytes_v1 + 4);
+  EventRecord back;
+  std::string err;
+  ASSERT_TRUE(decode_event(bytes, back, err)) << err;
+  EXPECT_FALSE(back.has_analysis);
+  ASSERT_EQ(back.samples.size(), 300u);
+  EXPECT_TRUE(amb::test::is_intact(back.samples[299]));
+  ASSERT_TRUE(back.has_diagnosis);
   EXPECT_EQ(back.diagnosis.summary, "misalignment towards 30 deg");
 }
 
@@ -98,13 +132,13 @@ TEST(EventFormat, CorruptedByteIsRefusedAsBadChecksum) {
 
 TEST(EventFormat, WrongVersionIsRefusedAsSuch) {
   auto bytes = encode_event(sample_record());
-  bytes[4] = 2;  // version 2, with a valid checksum
+  bytes[4] = 3;  // version 3 (newer than this reader), with a valid checksum
   const uint32_t crc = crc32(std::span(bytes).first(bytes.size() - 4));
   for (int i = 0; i < 4; ++i) bytes[bytes.size() - 4 + static_cast<size_t>(i)] = static_cast<uint8_t>(crc >> (8 * i));
   EventRecord out;
   std::string err;
   EXPECT_FALSE(decode_event(bytes, out, err));
-  EXPECT_NE(err.find("unsupported version 2"), std::string::npos) << err;
+  EXPECT_NE(err.find("unsupported version 3"), std::string::npos) << err;
 }
 
 TEST(EventFormat, NotAnEventFile) {

@@ -26,7 +26,7 @@ inline fw::LoopSample synthetic_sample(uint64_t seq, uint32_t extra_flags = 0, d
   s.state = static_cast<uint8_t>(fw::State::running);
   s.phase = static_cast<uint8_t>(fw::Phase::at_speed);
   s.fault = 0;
-  s.reserved = static_cast<uint8_t>(seq & 0xFF);
+  s.speed_quality = static_cast<uint8_t>(seq & 0xFF);
   s.flags = fw::flag_amplifiers_enabled | fw::flag_levitated | extra_flags;
   return s;
 }
@@ -37,7 +37,7 @@ inline bool is_intact(const fw::LoopSample& s) {
   return s.t_ns == r.t_ns && s.displacement_m == r.displacement_m && s.coil_current_a == r.coil_current_a &&
          s.current_demand_a == r.current_demand_a && s.speed_hz == r.speed_hz &&
          s.speed_command_hz == r.speed_command_hz && s.state == r.state && s.phase == r.phase &&
-         s.reserved == r.reserved && (s.flags & r.flags) == r.flags;
+         s.speed_quality == r.speed_quality && (s.flags & r.flags) == r.flags;
 }
 
 }  // namespace amb::test

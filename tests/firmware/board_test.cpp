@@ -155,3 +155,26 @@ TEST(Board, BathAssumptionsAreRecorded) {
   const auto b = load_board("bath-amb-rig");
   EXPECT_TRUE(b.assumed.count("controller.kp_n_per_m"));
 }
+
+// The speed source and the [bearing] table go through the same strict loader.
+TEST(Board, SpeedSourceAndBearingTableAreChecked) {
+  const std::string text = bath_text();
+  EXPECT_EQ(parse_board(text, "t").tracker.speed_source, amb::fw::SpeedSource::tach) << "default";
+  const std::string tracked = set_key(text, "[tracker]", "enabled", "true\nspeed_source = \"tracker\"");
+  EXPECT_EQ(parse_board(tracked, "t").tracker.speed_source, amb::fw::SpeedSource::tracker);
+  const std::string bad = set_key(text, "[tracker]", "enabled", "true\nspeed_source = \"radar\"");
+  EXPECT_NE(error_of(bad).find("tracker.speed_source"), std::string::npos) << error_of(bad);
+  const std::string off = set_key(text, "[tracker]", "enabled", "false\nspeed_source = \"tracker\"");
+  EXPECT_NE(error_of(off).find("needs the tracker enabled"), std::string::npos) << error_of(off);
+  const std::string frac = set_key(text, "[tracker]", "enabled", "true\ntach_disagreement_fraction = 2.0");
+  EXPECT_NE(error_of(frac).find("tach_disagreement_fraction"), std::string::npos) << error_of(frac);
+  const auto b = parse_board(text, "t");
+  EXPECT_TRUE(b.bearing.present);
+  EXPECT_FALSE(b.bearing.monitored.empty());
+  const std::string unknown = set_key(text, "[bearing]", "monitored", "\"SKF 9999\"");
+  EXPECT_NE(error_of(unknown).find("bearing.monitored"), std::string::npos) << error_of(unknown);
+  const std::string extra = set_key(text, "[bearing]", "monitored", "\"SKF 6206\"\ncolour = \"red\"");
+  EXPECT_NE(error_of(extra).find("colour"), std::string::npos) << error_of(extra);
+  const std::string k = set_key(text, "[bearing]", "aux_contact_constant_n_per_m1p5", "-1.0");
+  EXPECT_NE(error_of(k).find("aux_contact_constant_n_per_m1p5"), std::string::npos) << error_of(k);
+}

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "firmware/board/board.hpp"
@@ -233,3 +234,38 @@ TEST(FieldBusFrontEnd, ReadAndWriteDoNotAllocate) {
 }
 
 }  // namespace
+
+// The analysis thread's board-status frame: speed, confidence, flags survive the codec; a
+// lost speed is INT32_MIN on the wire and NaN after decoding, never a number.
+TEST(FieldBusCodec, BoardStatusFrameRoundTripsAndALostSpeedStaysLost) {
+  using namespace amb::fieldbus;
+  BoardStatus s;
+  s.speed_hz = 45.0;
+  s.confidence = 0.98;
+  s.flags = static_cast<uint8_t>(1u << 3);  // source tracker
+  s.sequence = 5;
+  s.tracker_mode = 2;
+  const amb::hal::CanFrame f = encode_board_status(1, s);
+  EXPECT_EQ(f.id, 0x501u);
+  EXPECT_EQ(f.len, 8);
+  const uint8_t expect[8] = {0xC8, 0xAF, 0x00, 0x00, 0x62, 0x08, 0x05, 0x02};  // docs/fieldbus.md example
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(f.data[static_cast<size_t>(i)], expect[i]) << i;
+  BoardStatus d;
+  ASSERT_TRUE(decode_board_status(f, 1, d));
+  EXPECT_DOUBLE_EQ(d.speed_hz, 45.0);
+  EXPECT_DOUBLE_EQ(d.confidence, 0.98);
+  EXPECT_EQ(d.flags, s.flags);
+  s.speed_hz = std::nan("");
+  s.flags |= status_speed_lost;
+  const amb::hal::CanFrame g = encode_board_status(1, s);
+  EXPECT_EQ(g.data[3], 0x80);
+  ASSERT_TRUE(decode_board_status(g, 1, d));
+  EXPECT_TRUE(std::isnan(d.speed_hz));
+  EXPECT_FALSE(decode_board_status(g, 2, d)) << "another board's id";
+  amb::hal::CanFrame bad = f;
+  bad.data[4] = 101;
+  EXPECT_FALSE(decode_board_status(bad, 1, d)) << "confidence above 100 %";
+  bad = f;
+  bad.len = 7;
+  EXPECT_FALSE(decode_board_status(bad, 1, d));
+}

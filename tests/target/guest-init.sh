@@ -23,13 +23,18 @@ while [ ! -b /dev/vda ] && [ $i -lt 50 ]; do sleep 0.1; i=$((i+1)); done
 mount -t ext4 -o sync /dev/vda /data || echo "GUEST: FAILED to mount /data"
 ls /dev/gpiochip* >/dev/null 2>&1 && echo "GUEST: $(ls /dev/gpiochip*) present"
 MODE=$(sed -n 's/.*amb\.mode=\([a-z0-9]*\).*/\1/p' /proc/cmdline)
-echo "GUEST: mode $MODE"
+BOARD=$(sed -n 's/.*amb\.board=\([a-z0-9-]*\).*/\1/p' /proc/cmdline)
+[ -n "$BOARD" ] || BOARD=arm-virt-hil
+ANALYSIS=$(sed -n 's/.*amb\.analysis=\([a-z]*\).*/\1/p' /proc/cmdline)
+FWOPT=""
+[ "$ANALYSIS" = off ] && FWOPT="--no-analysis"
+echo "GUEST: mode $MODE, board $BOARD, analysis ${ANALYSIS:-on}"
 
 candump -L -n 3000 vcan0 > /tmp/candump.log 2>&1 &
 CANDUMP=$!
-amb-plant --board /etc/amb/arm-virt-hil.toml > /tmp/plant.log 2>&1 &
+amb-plant --board /etc/amb/$BOARD.toml > /tmp/plant.log 2>&1 &
 PLANT=$!
-AMB_DATA_DIR=/data/amb amb-firmware --board /etc/amb/arm-virt-hil.toml --backend linux > /tmp/firmware.log 2>&1 &
+AMB_DATA_DIR=/data/amb amb-firmware --board /etc/amb/$BOARD.toml --backend linux $FWOPT > /tmp/firmware.log 2>&1 &
 FW=$!
 i=0
 while ! grep -q "ready" /tmp/firmware.log && [ $i -lt 1200 ] && kill -0 $FW 2>/dev/null; do sleep 0.1; i=$((i+1)); done
@@ -50,6 +55,14 @@ while read -r cmd; do
       cansend vcan0 702#33
       cansend vcan0 185#0000000000000000
       echo "INJECT_DONE";;
+    plantspeed)
+      # The plant's true rotor speed (amb-plant prints it on SIGUSR1) and a few board-status
+      # frames (0x501: the board's speed estimate, confidence, flags) seen with candump.
+      kill -USR1 $PLANT
+      sleep 0.5
+      grep 'true speed' /tmp/plant.log | tail -1 | sed 's/^/GUEST-PLANT: /'
+      timeout 3 candump -L -n 3 vcan0,501:7FF 2>&1 | sed 's/^/STATUSFRAME: /'
+      echo "PLANT_SPEED_DONE";;
     killplant)
       kill $PLANT
       i=0; while kill -0 $PLANT 2>/dev/null && [ $i -lt 100 ]; do sleep 0.1; i=$((i+1)); done

@@ -81,7 +81,10 @@ for a in $("$BBDIR/bin/busybox" --list 2>/dev/null || qemu-aarch64 "$BBDIR/bin/b
   [ -e "$R/bin/$a" ] || ln -s busybox "$R/bin/$a"
 done
 cp "$FW" "$PLANT" "$CUDIR/usr/bin/candump" "$CUDIR/usr/bin/cansend" "$R/usr/bin/"
-cp "$ROOT/boards/arm-virt-hil.toml" "$R/etc/amb/"
+cp "$ROOT/boards/arm-virt-hil.toml" "$HERE/arm-virt-tracker.toml" "$R/etc/amb/"
+# The board of this run: the tracker board (tachless speed source, a plant TCG can step in
+# real time; see its header). AMB_TARGET_BOARD=arm-virt-hil runs the older board.
+BOARD=${AMB_TARGET_BOARD:-arm-virt-tracker}
 cp "$HERE/guest-init.sh" "$R/init" && chmod +x "$R/init"
 # Shared libraries: the NEEDED closure, from the multiarch arm64 install.
 libdirs="/usr/lib/aarch64-linux-gnu /lib/aarch64-linux-gnu"
@@ -125,13 +128,14 @@ mkfs.ext4 -q -F -L ambdata "$DISK" 64M || die "mkfs.ext4 failed"
 PORT=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
 LOG=""
 
-boot() {  # boot MODE: start qemu with the serial console on a fifo (commands) and a log
+boot() {  # boot MODE [ANALYSIS]: start qemu with the serial console on a fifo (commands) and a log
   LOG=$WORK/console-$1.log
+  local analysis=${2:-on}
   rm -f "$WORK/cmd"
   mkfifo "$WORK/cmd"
   timeout 900 qemu-system-aarch64 -M virt -cpu cortex-a57 -smp 2 -m 1024 -accel tcg \
     -kernel "$KIMG" -initrd "$WORK/initrd.gz" \
-    -append "console=ttyAMA0 panic=-1 quiet amb.mode=$1" \
+    -append "console=ttyAMA0 panic=-1 quiet amb.mode=$1 amb.board=$BOARD amb.analysis=$analysis" \
     -drive file="$DISK",format=raw,if=none,id=d0 -device virtio-blk-device,drive=d0 \
     -netdev user,id=n0,hostfwd=tcp:127.0.0.1:$PORT-:502 -device virtio-net-device,netdev=n0 \
     -display none -monitor none -serial stdio -no-reboot < "$WORK/cmd" > "$LOG" 2>&1 &
@@ -219,6 +223,43 @@ if [ "$S" = 2 ]; then
     pass "write-back commit refused while levitating (exception 6)"
   else fail "write-back commit not refused while levitating"; fi
 fi
+# Tachless speed on the board: spin up (run command), wait for the tracker's lock, then read the
+# tracked-speed register with mbpoll and compare it with the HIL plant's true speed.
+T_SPIN=$(date +%s)
+spin_and_settle() {  # levitated -> run -> at speed, then 6 s for the tracker's 1 s windows
+  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 4096 127.0.0.1 2 >/dev/null 2>&1
+  local i=0
+  while [ $i -lt 40 ] && [ "$(reg 257)" != 5 ]; do sleep 1; i=$((i + 1)); done
+  sleep 6
+}
+loop_figures() {  # loop_figures LABEL: cumulative loop statistics from the registers
+  echo "loop $1: periods $(reg32 $((0x402))), overruns $(reg32 $((0x406))), p99 $(reg32 $((0x40C))) ns, max $(reg32 $((0x408))) ns, mean $(reg32 $((0x40A))) ns (state $(reg 256), phase $(reg 257))"
+}
+if [ "$S" = 2 ] && [ "$BOARD" = arm-virt-tracker ]; then
+  spin_and_settle
+  TS=2147483648; i=0
+  while [ $i -lt 20 ]; do
+    TS=$(reg32 $((0x306)))
+    [ "${TS:-2147483648}" != 2147483648 ] && [ "${TS:-0}" -gt 0 ] && break
+    sleep 1; i=$((i + 1))
+  done
+  send plantspeed
+  wait_for PLANT_SPEED_DONE 30 || fail "plant speed query"
+  TS=$(reg32 $((0x306))); TC=$(reg $((0x308))); FL=$(reg $((0x305))); EST=$(reg32 $((0x300)))
+  PS=$(grep 'GUEST-PLANT: amb-plant: true speed' "$LOG" | tail -1 | sed 's/.*true speed \([0-9.]*\).*/\1/')
+  grep '^STATUSFRAME' "$LOG" | head -3
+  echo "tracked speed register 0x0306: $TS mHz (confidence $TC %, flags $FL, estimate 0x0300 $EST mHz); plant true speed ${PS:-?} Hz; phase $(reg 257)"
+  if python3 -c "import sys; t=int(sys.argv[1]); p=float(sys.argv[2]); sys.exit(0 if t != 2147483648 and p > 1 and abs(t*1e-3 - p)/p < 0.01 else 1)" "${TS:-2147483648}" "${PS:-0}"; then
+    pass "mbpoll reads the board's tracked speed $(python3 -c "print('%.3f' % (int('$TS')*1e-3))") Hz within 1 % of the HIL plant's $PS Hz ($(( $(date +%s) - T_SPIN )) s after the run command)"
+  else fail "tracked speed register ($TS mHz, flags $FL) not within 1 % of the plant's ${PS:-?} Hz"; fi
+  grep -q '^STATUSFRAME:.* vcan0 501#' "$LOG" && pass "candump sees the board-status frame 0x501 (speed, confidence, flags)" \
+    || fail "no board-status frame 0x501 on vcan0"
+  loop_figures "with the analysis thread ON"
+  LOOP_ON=$(loop_figures on)
+elif [ "$BOARD" = arm-virt-tracker ]; then
+  echo "SKIP: tracked-speed mbpoll check: the board is not levitated (state $S, fault $F): the emulator did not hold the 1 kHz loop"
+  loop_figures "with the analysis thread ON (not levitated)"
+fi
 send killplant
 wait_for PLANT_KILLED 60 || fail "could not stop amb-plant"
 grep 'GUEST-PLANT' "$LOG" | tail -1
@@ -240,7 +281,7 @@ else fail "amb-host fetch: $FJ"; fi
 
 # Write a wear record back (encoded by an independent Python encoder of AMBW v1).
 SEQ=$(( $(reg32 $((0x4001))) + 1 ))
-python3 "$HERE/make_wear_record.py" "$WORK/wear.ambw" arm-virt-hil "$SEQ" "${n:-1}" >/dev/null
+python3 "$HERE/make_wear_record.py" "$WORK/wear.ambw" "$BOARD" "$SEQ" "${n:-1}" >/dev/null
 WJ=$("$HOST" writeback "$WORK/wear.ambw" --host 127.0.0.1 --port "$PORT" --json 2>&1)
 if echo "$WJ" | grep -q '"verified": true'; then
   pass "amb-host writeback: record sequence $SEQ accepted, validated and persisted by the board"
@@ -260,7 +301,8 @@ shutdown_vm
 grep 'GUEST-FW: amb-firmware: stopped\|GUEST-FW: amb-firmware: CAN' "$LOG" | sed 's/^/  /'
 
 # ---- second boot: the wear record must still be there -------------------------------------------
-boot second
+# (and, on the tracker board, the same spin with the analysis thread off, for the latency figures)
+boot second off
 wait_for GUEST_READY 300 || die "board did not come up the second time"
 i=0; until $MB -r 0 -c 1 127.0.0.1 >/dev/null 2>&1 || [ $i -ge 60 ]; do sleep 1; i=$((i + 1)); done
 grep 'GUEST-FW: amb-firmware: storage' "$LOG" | sed 's/^/  /'
@@ -268,5 +310,17 @@ grep 'GUEST-FW: amb-firmware: storage' "$LOG" | sed 's/^/  /'
 if [ "$(reg32 $((0x4001)))" = "$SEQ" ] && cmp -s "$WORK/wear.ambw" "$WORK/after.ambw"; then
   pass "after a restart the board serves the same wear record (sequence $SEQ, byte-identical, crc32c $WCRC)"
 else fail "wear record lost or changed across the restart: $(cat "$WORK/after.json")"; fi
+if [ "$BOARD" = arm-virt-tracker ] && [ -n "${LOOP_ON:-}" ]; then
+  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 4096 127.0.0.1 1 >/dev/null 2>&1
+  sleep 3
+  if [ "$(reg 256)" = 2 ]; then
+    spin_and_settle
+    sleep 4   # the on-run spent about this long reading the tracker and the plant
+    echo "$LOOP_ON"
+    loop_figures "with the analysis thread OFF"
+    [ "$(reg $((0x305)))" -lt 64 ] && pass "analysis thread off (--no-analysis): speed flags say no tracker running" \
+      || fail "analysis thread still reported running with --no-analysis"
+  else echo "second boot: not levitated (state $(reg 256)), no OFF figures"; fi
+fi
 shutdown_vm
 echo "target test runtime: $(( $(date +%s) - T_START )) s"

@@ -1,8 +1,11 @@
 #include "host-tools/core/events/board_event_file.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 
+#include "firmware/board/board.hpp"
 #include "firmware/events/event_codec.hpp"
 
 namespace amb::host {
@@ -28,13 +31,14 @@ LoadedEvent to_loaded_event(const fw::EventRecord& r, const std::string& source)
   LoadedEvent e;
   const auto& m = r.meta;
   e.source = source;
-  e.format = "AMBE/1";
+  e.format = r.has_analysis ? "AMBE/2" : "AMBE/1";
   e.rig = m.rig_name;
   e.board = m.board_name;
   e.sample_rate_hz = m.rate_hz;
   e.trigger_index = m.trigger_index;
   e.trigger_cause = fw::to_string(m.cause);
-  e.speed_at_trigger_hz = m.speed_at_trigger_hz;
+  // A lost speed (NaN) stays absent: never presented as a value.
+  if (std::isfinite(m.speed_at_trigger_hz)) e.speed_at_trigger_hz = m.speed_at_trigger_hz;
   const size_t n = r.samples.size();
   static const char* names[4] = {"A1", "A2", "B1", "B2"};
   for (size_t k = 0; k < 4; ++k) {
@@ -61,9 +65,20 @@ LoadedEvent to_loaded_event(const fw::EventRecord& r, const std::string& source)
     e.speed_hz[i] = r.samples[i].speed_hz;
   }
   if (r.has_diagnosis) e.phase_b = r.diagnosis;
+  if (r.has_analysis && r.analysis.speed_lost_at_trigger)
+    e.warnings.push_back(std::string("the board's speed estimate (source ") +
+                         fw::to_string(static_cast<fw::SpeedSource>(r.analysis.speed_source)) + ") was lost at the trigger");
   if (m.seq_gaps) e.warnings.push_back(std::to_string(m.seq_gaps) + " gaps in the sample sequence");
   e.notes = "board " + m.board_name + ", " + m.firmware_version + ", event " + std::to_string(m.event_number) +
             ", trigger " + fw::to_string(m.cause);
+  if (r.has_analysis) {
+    const fw::EventAnalysis& a = r.analysis;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, ", speed source %s (confidence %.2f at the trigger%s)",
+                  fw::to_string(static_cast<fw::SpeedSource>(a.speed_source)), a.speed_confidence_at_trigger,
+                  a.speed_lost_at_trigger ? ", lost" : "");
+    e.notes += buf;
+  }
   return e;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Board event files (AMBE v1) on the host: read with full checks, convert to LoadedEvent.
+// Board event files (AMBE v1 and v2) on the host: read with full checks, convert to LoadedEvent.
 #include <string>
 
 #include "firmware/events/event_record.hpp"

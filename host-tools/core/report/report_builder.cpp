@@ -38,6 +38,7 @@ ReportData new_report_data(const std::string& title) {
   d.drop_residual.unavailable("no drop-event residual result was given (amb-host residual on a drop event's "
                               "measured-event export)");
   d.wear.unavailable("no wear record given: pass --wear FILE (AMBW, e.g. downloaded with `amb-host fetch`)");
+  d.quick_look.unavailable("no board event given");
   return d;
 }
 
@@ -54,7 +55,38 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
   f.emplace_back("event number", std::to_string(m.event_number));
   f.emplace_back("trigger cause", std::string(fw::to_string(m.cause)));
   f.emplace_back("trigger time", fmt("%.4f s (HAL clock)", static_cast<double>(m.trigger_t_ns) * 1e-9));
-  f.emplace_back("speed at trigger", fmt("%.2f Hz", m.speed_at_trigger_hz) + fmt(" (%.0f rpm)", m.speed_at_trigger_hz * 60.0));
+  if (std::isfinite(m.speed_at_trigger_hz))
+    f.emplace_back("speed at trigger", fmt("%.2f Hz", m.speed_at_trigger_hz) + fmt(" (%.0f rpm)", m.speed_at_trigger_hz * 60.0));
+  else
+    f.emplace_back("speed at trigger", "none: the board's speed estimate was lost");
+  if (e.has_analysis) {
+    const fw::EventAnalysis& a = e.analysis;
+    f.emplace_back("speed source", std::string(fw::to_string(static_cast<fw::SpeedSource>(a.speed_source))) +
+                                       (a.speed_lost_at_trigger ? " (LOST at the trigger)"
+                                                                : fmt(" (confidence %.2f at the trigger)", a.speed_confidence_at_trigger)));
+    QuickLookSummary q;
+    q.rows = {{"model", "Hertz contact K d^1.5 on the rotor displacement at the aux-bearing plane (rigid rotor between the sensor planes), post-trigger window"},
+              {"contact constant K", fmt("%.3g N/m^1.5", a.aux_contact_constant_n_per_m1p5)},
+              {"load rating C", fmt("%.0f N", a.aux_dynamic_load_rating_n)},
+              {"inner-race spin for the life fraction", fmt("%.2f Hz", a.quick_look_spin_hz)}};
+    for (size_t b = 0; b < 2; ++b) {
+      const fw::AuxQuickLook& x = a.aux[b];
+      if (!x.valid) {
+        q.bearing[b] = {{"quick-look", "not computed"}};
+        continue;
+      }
+      q.bearing[b] = {{"peak force", fmt("%.0f N", x.peak_force_n)},
+                      {"peak angle", fmt("%.1f deg from +x towards +y", x.peak_angle_deg)},
+                      {"life fraction", fmt("%.3g", x.life_fraction)},
+                      {"contact time", fmt("%.3f s", x.contact_time_s)}};
+    }
+    if (a.quick_look_valid)
+      d.quick_look.set(std::move(q), source + ": the board's bearing task after the drop (AMBE v2 analysis section)");
+    else
+      d.quick_look.unavailable("the board computed no quick-look load (no [bearing] table in its board file)");
+  } else {
+    d.quick_look.unavailable("the event file is AMBE v1: written before the board computed a quick-look load");
+  }
   f.emplace_back("window", std::to_string(n) + " samples at " + fmt("%.0f Hz", rate) + fmt(" (%.3f s before, ", trig / rate) +
                                fmt("%.3f s after the trigger)", (static_cast<double>(n - trig)) / rate));
   f.emplace_back("lost samples (seq gaps)", std::to_string(m.seq_gaps));
@@ -213,6 +245,9 @@ void add_wear_record(ReportData& d, const fw::WearRecord& w, const std::string& 
     }
   }
   d.wear.set(std::move(s), source);
+  // The host's fitted wear record, once written back, supersedes the board's quick-look.
+  if (d.quick_look.available())
+    d.quick_look.data->superseded_by = "the fitted wear record (AMBW sequence " + std::to_string(w.sequence) + ", " + source + ")";
   const std::string src = source + ": wear record (AMBW) cumulative load";
   d.load.set(std::move(m), d.load.source.empty() ? src : d.load.source + "; " + src);
 }

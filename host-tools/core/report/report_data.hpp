@@ -104,6 +104,14 @@ struct WearSummary {
   std::array<std::vector<std::pair<std::string, std::string>>, 2> bearing;  ///< per bearing facts
 };
 
+/// The board's quick-look aux-bearing load of a drop (bearing task, AMBE v2), and whether the
+/// host's fitted wear record supersedes it.
+struct QuickLookSummary {
+  std::vector<std::pair<std::string, std::string>> rows;                    ///< speed source, constants used
+  std::array<std::vector<std::pair<std::string, std::string>>, 2> bearing;  ///< per aux bearing: peak force, angle, life fraction
+  std::string superseded_by;   ///< empty: the quick-look is the newest estimate; else what replaces it
+};
+
 struct ReplayVerdict {
   std::vector<std::pair<std::string, std::string>> rows;
   bool reproduced = false;
@@ -123,6 +131,7 @@ struct ReportData {
   Section<std::vector<ResidualSpectra>> residual;
   Section<DropResidualSummary> drop_residual;
   Section<WearSummary> wear;
+  Section<QuickLookSummary> quick_look;  ///< board quick-look load (AMBE v2 events)
   Section<ReplayVerdict> replay;
   std::vector<std::string> notes;        ///< shown at the end
 };

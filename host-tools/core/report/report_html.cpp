@@ -273,6 +273,18 @@ std::string section_wear(const ReportData& d) {
   return s + "</div>\n" + source_line(d.wear.source) + "</section>\n";
 }
 
+std::string section_quick_look(const ReportData& d) {
+  std::string s = "<section id=\"quick-look\"><h2>Board quick-look aux-bearing load</h2>\n";
+  if (!d.quick_look.available()) return s + not_available("quick-look-na", d.quick_look.why_not) + "</section>\n";
+  const QuickLookSummary& q = *d.quick_look.data;
+  if (!q.superseded_by.empty())
+    s += "<p class=\"src\">Superseded by " + escape_xml(q.superseded_by) + ": the host's fit is the wear estimate of record.</p>\n";
+  s += table(q.rows) + "<div class=\"row\">\n";
+  for (size_t b = 0; b < 2; ++b)
+    if (!q.bearing[b].empty()) s += std::string("<div><h3>Aux bearing ") + (b ? "B" : "A") + "</h3>" + table(q.bearing[b]) + "</div>\n";
+  return s + "</div>\n" + source_line(d.quick_look.source) + "</section>\n";
+}
+
 std::string section_replay(const ReportData& d) {
   std::string s = "<section id=\"replay\"><h2>Replay through the firmware</h2>\n";
   if (!d.replay.available()) return s + not_available("replay-na", d.replay.why_not) + "</section>\n";
@@ -309,6 +321,7 @@ std::string render_event_report(const ReportData& d) {
   s += section_residual(d);
   s += section_drop_residual(d);
   s += section_wear(d);
+  s += section_quick_look(d);
   if (!d.notes.empty()) {
     s += "<section id=\"notes\"><h2>Notes</h2>\n<ul>\n";
     for (const auto& n : d.notes) s += "<li>" + escape_xml(n) + "</li>\n";

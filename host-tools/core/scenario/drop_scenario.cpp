@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include "firmware/capture/floating_capture.hpp"
 #include "firmware/events/event_writer.hpp"
@@ -39,14 +40,22 @@ std::string fmt(const char* f, double a, double b = 0.0) {
 DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   const auto wall0 = std::chrono::steady_clock::now();
   auto say = [&](const std::string& s) { if (o.progress) o.progress(s); };
-  const board::BoardConfig board = board::load_board(o.board);
+  board::BoardConfig board = board::load_board(o.board);
+  if (o.speed_source == "tracker") board.tracker.speed_source = fw::SpeedSource::tracker;
+  else if (o.speed_source == "tach") board.tracker.speed_source = fw::SpeedSource::tach;
+  else if (o.speed_source == "command") board.tracker.speed_source = fw::SpeedSource::command;
+  else if (!o.speed_source.empty()) throw std::runtime_error("speed source '" + o.speed_source + "': must be tracker, tach or command");
+  if (board.tracker.speed_source == fw::SpeedSource::tracker && !board.tracker.enabled)
+    throw std::runtime_error("board " + board.name + ": speed source tracker needs an enabled [tracker] table");
   DropScenarioSummary sum;
+  sum.speed_source = fw::to_string(board.tracker.speed_source);
   sum.board = board.name;
   sum.aux_clearance_m = std::min(board.plant.aux[0].clearance_m, board.plant.aux[1].clearance_m);
 
   sil::SilOptions so;
   so.noise_seed = o.noise_seed;
   so.tachometer = true;  // the Bath rig measures rotor speed (seed 000, Fig. 9)
+  so.analysis = sil::SilAnalysis::lockstep;  // the board's tracker and bearing task, deterministic
   sil::SilRig rig(board, so);
   fw::Supervisor& sup = rig.supervisor();
   // Phase A: the floating capture sees every loop sample; its event thread's work (Phase B,
@@ -107,6 +116,12 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   }
   // The cut: all amplifier channels lose their output (seed 000: "AMBs switched off").
   sum.speed_at_cut_hz = rig.plant().outputs().spin_speed_hz;
+  {
+    const fw::Status cs = sup.status();
+    sum.tracked_speed_at_cut_hz = cs.tracked.speed_hz;
+    sum.tracked_confidence_at_cut = cs.tracked.confidence;
+    sum.tracked_lost_at_cut = cs.tracked.lost;
+  }
   sum.cut_time_s = rig.time_s();
   model::PlantFaults cut;
   cut.current_factor = {0.0, 0.0, 0.0, 0.0};
@@ -129,6 +144,12 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   sum.friction_energy_j = rig.plant().truth().friction_dissipated_j;
   sum.loop_periods = rig.loop().stats().periods;
   sum.loop_overruns = rig.loop().stats().overruns;
+  sum.speed_disagreements = st.counters.speed_disagreements;
+  if (!event_name.empty()) {
+    sum.event_speed_at_trigger_hz = event.meta.speed_at_trigger_hz;
+    sum.event_speed_lost = event.has_analysis ? event.analysis.speed_lost_at_trigger : true;
+    sum.event_speed_confidence = event.has_analysis ? event.analysis.speed_confidence_at_trigger : 0.0;
+  }
   sum.simulated_s = rig.time_s();
 
   // The stored event: write it out, export it to the exchange format, report Phase B.
@@ -271,7 +292,9 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       report::add_event(d, event, board, sum.event_path);
       // Replay the stored event through a fresh firmware: the report shows whether the
       // controller outputs, triggers and Phase B are reproduced bit for bit.
-      report::add_replay(d, replay::replay_event(event, board));
+      // The event names its board file (tach source there): the replay feeds the recorded
+      // speed as the tachometer, so a tracker-stamped event replays bit for bit too.
+      report::add_replay(d, replay::replay_event(event, board::load_board(o.board)));
       report::add_scenario_trace(d, sum);
       if (fitted) report::add_fit(d, *fitted, sum.event_export_stem + ".json");
       if (sum.wear_written) report::add_wear_record(d, wear, sum.wear_path);

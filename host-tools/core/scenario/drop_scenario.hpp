@@ -20,6 +20,10 @@ struct DropScenarioOptions {
   std::string out_dir = "amb-out";     ///< where the event, its export and the fit go
   bool fit = true;                     ///< run the Phase C fit on the captured drop
   bool residual = true;                ///< steady run with an undeclared effect + the residual loop
+  /// The board's speed source for the run ("tracker": tachless, the board's STFT tracker;
+  /// "tach", "command"; empty: the board file's). The tachometer stays wired either way (it
+  /// feeds the tracker/tach disagreement diagnostic only when the source is "tracker").
+  std::string speed_source = "tracker";
   std::function<void(const std::string&)> progress;  ///< optional progress lines
 };
 
@@ -37,6 +41,14 @@ struct DropScenarioSummary {
   double liftoff_s = 0.0;                 ///< time from the levitate command to "levitated", s
   bool reached_speed = false;
   double speed_at_cut_hz = 0.0;           ///< true rotor speed when the AMBs were cut, Hz
+  std::string speed_source;               ///< the board's speed source in the run
+  double tracked_speed_at_cut_hz = 0.0;   ///< board tracker's speed at the cut, Hz (NaN: lost or not running)
+  double tracked_confidence_at_cut = 0.0; ///< its confidence, 0..1
+  bool tracked_lost_at_cut = true;        ///< the tracker had no valid (fresh) speed at the cut
+  uint64_t speed_disagreements = 0;       ///< tracker updates off the tachometer beyond the board's threshold
+  double event_speed_at_trigger_hz = 0.0; ///< the stored event's speed stamp, Hz (NaN: lost)
+  double event_speed_confidence = 0.0;    ///< its confidence as stored, 0..1
+  bool event_speed_lost = true;           ///< the stored event says the speed was lost at the trigger
   double steady_orbit_max_m = 0.0;        ///< largest orbit radius at a sensor plane while at speed, m
   double aux_clearance_m = 0.0;           ///< smallest aux-bearing clearance, m
   double cut_time_s = 0.0;                ///< simulated time of the cut, s
