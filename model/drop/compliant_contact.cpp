@@ -63,15 +63,7 @@ ContactSolution solve_compliant_contacts(const CompliantContactProblem& p, const
       change = std::max(change, std::abs(t_new - s.impulse(t)) * dtt);
       s.impulse(t) = t_new;
     }
-    for (int k = 0; k < 2; ++k) {
-      const int d = 4 + k;
-      const double bound = p.drag_bound_n_m_s[static_cast<size_t>(k)];
-      const double ddd = p.delassus(d, d);
-      const double yd = p.free_velocity(d) + p.delassus.row(d).dot(s.impulse);
-      const double d_new = std::clamp(s.impulse(d) - (yd + p.pre_velocity(d)) / ddd, -bound, bound);
-      change = std::max(change, std::abs(d_new - s.impulse(d)) * ddd);
-      s.impulse(d) = d_new;
-    }
+    change = std::max(change, sweep_ring_drags(p, s.impulse));
     if (change <= o.tolerance_m_s) {
       s.converged = true;
       break;

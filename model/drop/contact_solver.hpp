@@ -18,6 +18,8 @@
 // is the work the energy-conserving (midpoint) smooth step sees: the solver cannot create
 // energy (proof in docs/drop-model.md; test in tests/drop).
 // Real time: fixed-size, no allocation, bounded iterations.
+#include <algorithm>
+#include <cmath>
 #include <array>
 
 #include <Eigen/Core>
@@ -49,6 +51,26 @@ struct ContactSolution {
   int iterations = 0;              ///< sweeps done
   bool converged = false;          ///< tolerance met within the cap
 };
+
+/// One Gauss-Seidel sweep over the two ring-drag rows (4, 5) of a local problem (rigid or
+/// compliant: any type with `delassus`, `free_velocity`, `pre_velocity` and
+/// `drag_bound_n_m_s` as in ContactProblem): each drag impulse is the zero of its ring's
+/// average velocity, projected on [-bound, bound]. Returns the largest change of a local
+/// velocity it caused, m/s (the solvers' stopping measure).
+template <class Problem>
+double sweep_ring_drags(const Problem& p, LocalVec& impulse) {
+  double change = 0.0;
+  for (int k = 0; k < 2; ++k) {
+    const int d = 4 + k;
+    const double bound = p.drag_bound_n_m_s[static_cast<size_t>(k)];
+    const double ddd = p.delassus(d, d);
+    const double yd = p.free_velocity(d) + p.delassus.row(d).dot(impulse);
+    const double d_new = std::clamp(impulse(d) - (yd + p.pre_velocity(d)) / ddd, -bound, bound);
+    change = std::max(change, std::abs(d_new - impulse(d)) * ddd);
+    impulse(d) = d_new;
+  }
+  return change;
+}
 
 /// Solve one step's contact problem (see file comment). `warm` is the starting guess
 /// (e.g. last step's impulses); inactive contacts get zero impulse whatever it says.
