@@ -102,7 +102,7 @@ std::string refusal(const std::string& file) {
 
 TEST_F(Import, BoardEventFileLoadsWithSiChannelsAndPhaseB) {
   const host::LoadedEvent e = host::load_event(board_event_file());
-  EXPECT_EQ(e.format, "AMBE/1");
+  EXPECT_EQ(e.format, "AMBE/2");  // written by the current firmware (v2: board-analysis section)
   EXPECT_EQ(e.rig, "bath-amb-rig");
   EXPECT_EQ(e.sample_rate_hz, 10000.0);
   EXPECT_EQ(e.samples(), 400u);
