@@ -1,5 +1,7 @@
 #include "firmware/persistence/generation_store.hpp"
 
+#include <limits>
+
 #include "firmware/common/byte_codec.hpp"
 #include "firmware/persistence/crc32c.hpp"
 
@@ -108,6 +110,13 @@ GenerationReport GenerationStore::open(std::vector<uint8_t>& payload) {
 
 bool GenerationStore::store(std::span<const uint8_t> payload, std::string& error) {
   const int target = newest_slot_ == 0 ? 1 : 0;
+  // A slot may carry any generation number (found by fuzzing: a stored generation of 2^64-1
+  // made the next one wrap to 0, older than the record it replaced, so it was lost at the
+  // next open). Refuse instead of wrapping; the previous record stays the newest.
+  if (generation_ == std::numeric_limits<uint64_t>::max()) {
+    error = "generation counter exhausted (newest generation is 2^64-1)";
+    return false;
+  }
   const uint64_t gen = generation_ + 1;
   const auto bytes = encode(gen, payload);
   if (!storage_.write_atomic(names_[static_cast<size_t>(target)], bytes, error)) return false;

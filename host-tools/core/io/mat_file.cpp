@@ -2,6 +2,7 @@
 
 #include <matio.h>
 
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -29,7 +30,11 @@ MatPtr open_or_throw(const std::string& file) {
 }
 
 template <typename T>
-void convert(const matvar_t* v, size_t n, std::vector<double>& out) {
+void convert(const matvar_t* v, size_t n, std::vector<double>& out, const std::string& file, const std::string& path) {
+  // The dimensions come from the file: they must fit the data the file actually holds
+  // (found by fuzzing: a header declaring 10^12 elements over a few bytes of data).
+  if (n > v->nbytes / sizeof(T))
+    fail(file, path, std::to_string(n) + " elements declared but only " + std::to_string(v->nbytes) + " bytes of data");
   const T* p = static_cast<const T*>(v->data);
   out.resize(n);
   for (size_t i = 0; i < n; ++i) out[i] = static_cast<double>(p[i]);
@@ -67,19 +72,21 @@ MatMatrix read_mat_matrix(const std::string& file, const std::string& path) {
   MatMatrix m;
   m.rows = v->dims[0];
   m.cols = v->dims[1];
+  if (m.rows != 0 && m.cols > std::numeric_limits<size_t>::max() / m.rows)
+    fail(file, path, "dimensions overflow");
   const size_t n = m.rows * m.cols;
   if (n == 0) fail(file, path, "is empty");
   switch (v->data_type) {
-    case MAT_T_DOUBLE: convert<double>(v, n, m.values); break;
-    case MAT_T_SINGLE: convert<float>(v, n, m.values); break;
-    case MAT_T_INT8: convert<int8_t>(v, n, m.values); break;
-    case MAT_T_UINT8: convert<uint8_t>(v, n, m.values); break;
-    case MAT_T_INT16: convert<int16_t>(v, n, m.values); break;
-    case MAT_T_UINT16: convert<uint16_t>(v, n, m.values); break;
-    case MAT_T_INT32: convert<int32_t>(v, n, m.values); break;
-    case MAT_T_UINT32: convert<uint32_t>(v, n, m.values); break;
-    case MAT_T_INT64: convert<int64_t>(v, n, m.values); break;
-    case MAT_T_UINT64: convert<uint64_t>(v, n, m.values); break;
+    case MAT_T_DOUBLE: convert<double>(v, n, m.values, file, path); break;
+    case MAT_T_SINGLE: convert<float>(v, n, m.values, file, path); break;
+    case MAT_T_INT8: convert<int8_t>(v, n, m.values, file, path); break;
+    case MAT_T_UINT8: convert<uint8_t>(v, n, m.values, file, path); break;
+    case MAT_T_INT16: convert<int16_t>(v, n, m.values, file, path); break;
+    case MAT_T_UINT16: convert<uint16_t>(v, n, m.values, file, path); break;
+    case MAT_T_INT32: convert<int32_t>(v, n, m.values, file, path); break;
+    case MAT_T_UINT32: convert<uint32_t>(v, n, m.values, file, path); break;
+    case MAT_T_INT64: convert<int64_t>(v, n, m.values, file, path); break;
+    case MAT_T_UINT64: convert<uint64_t>(v, n, m.values, file, path); break;
     default: fail(file, path, "is not numeric");
   }
   return m;
