@@ -1,5 +1,6 @@
 #include "host-tools/core/events/measured_event.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -405,7 +406,7 @@ void export_measured_event(const LoadedEvent& e, const std::string& stem) {
   out.rig = e.rig;
   out.sample_rate_hz = e.sample_rate_hz;
   out.trigger_index = e.trigger_index;
-  if (e.speed_at_trigger_hz) out.speed_rpm = *e.speed_at_trigger_hz * 60.0;
+  if (e.speed_at_trigger_hz && std::isfinite(*e.speed_at_trigger_hz)) out.speed_rpm = *e.speed_at_trigger_hz * 60.0;
   out.declared_faults = e.declared_faults;
   out.notes = e.notes;
   if (e.phase_b)
@@ -420,7 +421,13 @@ void export_measured_event(const LoadedEvent& e, const std::string& stem) {
   for (const auto& c : e.current) out.columns.push_back({"i_" + c.name, "current", "A", true, c.axial_m, c.angle_deg, &c.values, true});
   for (const auto& c : e.other)
     out.columns.push_back({c.name, c.quantity, c.quantity == "acceleration" ? "m/s^2" : "V", true, c.axial_m, c.angle_deg, &c.values, true});
-  if (!e.speed_hz.empty()) out.columns.push_back({"speed_hz", "speed", "Hz", false, 0, 0, &e.speed_hz, true});
+  // A board without a tachometer loses its tracked speed once the rotor drops (the estimate is
+  // NaN + lost, never a stale value): such a speed stream is not a measured channel of the
+  // exchange format (finite numbers only), so it is kept as an extra, undeclared CSV column.
+  const bool speed_measured =
+      std::all_of(e.speed_hz.begin(), e.speed_hz.end(), [](double v) { return std::isfinite(v); });
+  if (!e.speed_hz.empty())
+    out.columns.push_back({"speed_hz", "speed", "Hz", false, 0, 0, &e.speed_hz, speed_measured});
   for (const auto& c : e.current_demand) out.columns.push_back({"demand_" + c.name, "current", "A", false, 0, 0, &c.values, false});
   out.columns.push_back({"t_clock_s", "time", "s", false, 0, 0, &e.t_s, false});
   write_measured_event(stem, out);

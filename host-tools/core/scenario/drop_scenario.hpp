@@ -14,7 +14,7 @@ namespace amb::host {
 
 struct DropScenarioOptions {
   std::string board = "bath-amb-rig";  ///< board name or path
-  double hold_s = 0.5;                 ///< time at speed before the cut, s
+  double hold_s = 1.5;                 ///< time at speed before the cut, s (longer than the board tracker's window, so its estimate at the cut is not a ramp average)
   double after_cut_s = 1.5;            ///< simulated time after the cut, s
   uint64_t noise_seed = 1;
   std::string out_dir = "amb-out";     ///< where the event, its export and the fit go
