@@ -25,6 +25,7 @@ HOST_PKGS=(
   nlohmann-json3-dev       # JSON (header-only)
   libfftw3-dev             # FFT
   libmatio-dev             # MATLAB v5 .mat reader for measured data
+  zlib1g-dev               # inflating compressed .mat variables for the structure check
   libnlopt-cxx-dev         # maintained optimisers (local bounded polish, model updating)
   clang libclang-rt-14-dev # libFuzzer + ASan/UBSan runtimes for scripts/fuzz.sh
   can-utils mbpoll         # interop tools nobody here wrote

@@ -2,6 +2,10 @@
 
 #include <matio.h>
 
+#include "host-tools/core/io/mat_v5_check.hpp"
+
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -24,6 +28,13 @@ using VarPtr = std::unique_ptr<matvar_t, VarFreer>;
 }
 
 MatPtr open_or_throw(const std::string& file) {
+  // libmatio trusts the sizes a file declares; the structure is checked first (mat_v5_check.hpp).
+  {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw std::runtime_error(file + ": cannot open for reading");
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    check_mat_structure(bytes, file);
+  }
   MatPtr mat(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
   if (!mat) throw std::runtime_error(file + ": cannot open as a MATLAB .mat file");
   return mat;
