@@ -1,0 +1,449 @@
+#include "host-tools/core/hybrid/hybrid_model.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <tuple>
+
+#include <nlohmann/json.hpp>
+
+#include "host-tools/core/io/mat_file.hpp"
+
+namespace amb::host::hybrid {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Run f(i) for i in [0, n) on `threads` workers (deterministic results: each i writes its own slot).
+void parallel_for(size_t n, int threads, const std::function<void(size_t)>& f) {
+  const auto workers = static_cast<size_t>(std::max(1, std::min<int>(threads, static_cast<int>(n))));
+  if (workers <= 1) {
+    for (size_t i = 0; i < n; ++i) f(i);
+    return;
+  }
+  std::atomic<size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  std::vector<std::thread> pool;
+  for (size_t w = 0; w < workers; ++w)
+    pool.emplace_back([&] {
+      for (size_t i = next++; i < n; i = next++) {
+        try {
+          f(i);
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(error_mutex);
+          if (!error) error = std::current_exception();
+        }
+      }
+    });
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+// Seed of the simulated sensor noise of one (state, operating point): a fixed function of the
+// model seed and the case, so a prediction repeats the training simulation of the same case.
+uint64_t case_seed(uint64_t seed, BearingState s, const OperatingPoint& op) {
+  uint64_t h = seed * 0x9E3779B97F4A7C15ULL;
+  h ^= static_cast<uint64_t>(s) + 0x632BE59BD9B4E019ULL + (h << 6) + (h >> 2);
+  h ^= static_cast<uint64_t>(std::llround(op.speed_rpm * 1000.0)) + (h << 6) + (h >> 2);
+  h ^= static_cast<uint64_t>(std::llround(op.load * 1000.0)) + (h << 6) + (h >> 2);
+  return h;
+}
+
+Spectra physics_spectra(const TrainOptions& o, BearingState s, const OperatingPoint& op) {
+  const auto x = simulate_drive_end(o.rig, s, op, o.sim_fs_hz, o.sim_duration_s, case_seed(o.seed, s, op));
+  return compute_spectra(x, o.sim_fs_hz, o.spectra, speed_scales(o.speed_uncertainty, o.speed_points));
+}
+
+std::vector<double> power(const std::vector<double>& amp, double scale) {
+  std::vector<double> p(amp.size());
+  for (size_t i = 0; i < amp.size(); ++i) p[i] = amp[i] * amp[i] / scale;
+  return p;
+}
+
+std::vector<double> centres(const Grid& g) {
+  std::vector<double> c(g.bins());
+  for (size_t i = 0; i < c.size(); ++i) c[i] = g.centre_hz(i);
+  return c;
+}
+
+nlohmann::json spectra_json(const SpectralOptions& s) {
+  return {{"psd_df_hz", s.psd_df_hz},         {"psd_min_hz", s.psd_min_hz},
+          {"psd_max_hz", s.psd_max_hz},       {"psd_bin_min_hz", s.psd_bin_min_hz},
+          {"env_band_low_hz", s.env_band_low_hz}, {"env_band_high_hz", s.env_band_high_hz},
+          {"env_df_hz", s.env_df_hz},         {"env_min_hz", s.env_min_hz},
+          {"env_max_hz", s.env_max_hz},       {"env_bin_min_hz", s.env_bin_min_hz},
+          {"rel_bin_width", s.rel_bin_width}, {"psd_floor_rel", s.psd_floor_rel}};
+}
+SpectralOptions spectra_from(const nlohmann::json& j) {
+  SpectralOptions s;
+  s.psd_df_hz = j.at("psd_df_hz");
+  s.psd_min_hz = j.at("psd_min_hz");
+  s.psd_max_hz = j.at("psd_max_hz");
+  s.psd_bin_min_hz = j.at("psd_bin_min_hz");
+  s.env_band_low_hz = j.at("env_band_low_hz");
+  s.env_band_high_hz = j.at("env_band_high_hz");
+  s.env_df_hz = j.at("env_df_hz");
+  s.env_min_hz = j.at("env_min_hz");
+  s.env_max_hz = j.at("env_max_hz");
+  s.env_bin_min_hz = j.at("env_bin_min_hz");
+  s.rel_bin_width = j.at("rel_bin_width");
+  s.psd_floor_rel = j.at("psd_floor_rel");
+  return s;
+}
+nlohmann::json rig_json(const RigParams& r) {
+  return {{"drive_end_bearing", r.drive_end_bearing},
+          {"fan_end_bearing", r.fan_end_bearing},
+          {"drive_end_contact_angle_rad", r.drive_end_contact_angle_rad},
+          {"bearing_mass_kg", r.bearing_mass_kg},
+          {"disc_mass_kg", r.disc_mass_kg},
+          {"shaft_stiffness_n_per_m", r.shaft_stiffness_n_per_m},
+          {"bearing_damping_n_s_per_m", r.bearing_damping_n_s_per_m},
+          {"disc_damping_n_s_per_m", r.disc_damping_n_s_per_m},
+          {"radial_clearance_m", r.radial_clearance_m},
+          {"defect_width_m", r.defect_width_m},
+          {"unbalance_eccentricity_m", r.unbalance_eccentricity_m},
+          {"housing_mass_kg", r.housing_mass_kg},
+          {"sensor_angle_rad", r.sensor_angle_rad},
+          {"outer_defect_angle_rad", r.outer_defect_angle_rad},
+          {"sensor_noise_rel", r.sensor_noise_rel},
+          {"settle_s", r.settle_s},
+          {"steps_per_sample", r.steps_per_sample}};
+}
+RigParams rig_from(const nlohmann::json& j) {
+  RigParams r;
+  r.drive_end_bearing = j.at("drive_end_bearing");
+  r.fan_end_bearing = j.at("fan_end_bearing");
+  r.drive_end_contact_angle_rad = j.at("drive_end_contact_angle_rad");
+  r.bearing_mass_kg = j.at("bearing_mass_kg");
+  r.disc_mass_kg = j.at("disc_mass_kg");
+  r.shaft_stiffness_n_per_m = j.at("shaft_stiffness_n_per_m");
+  r.bearing_damping_n_s_per_m = j.at("bearing_damping_n_s_per_m");
+  r.disc_damping_n_s_per_m = j.at("disc_damping_n_s_per_m");
+  r.radial_clearance_m = j.at("radial_clearance_m");
+  r.defect_width_m = j.at("defect_width_m");
+  r.unbalance_eccentricity_m = j.at("unbalance_eccentricity_m");
+  r.housing_mass_kg = j.at("housing_mass_kg");
+  r.sensor_angle_rad = j.at("sensor_angle_rad");
+  r.outer_defect_angle_rad = j.at("outer_defect_angle_rad");
+  r.sensor_noise_rel = j.at("sensor_noise_rel");
+  r.settle_s = j.at("settle_s");
+  r.steps_per_sample = j.at("steps_per_sample");
+  return r;
+}
+
+}  // namespace
+
+TrainOptions::TrainOptions() {
+  // Log PSD: narrow transfer hats (6 grid bins = 6 % above 400 Hz: the width of a damped
+  // housing resonance), physics split into broadband level and lines.
+  psd_map.transfer_spacing_bins = 6;
+  psd_map.split_local = true;
+  psd_map.lambda_transfer = 0.01;
+  psd_map.lambda_physics = 0.1;
+  // Envelope: almost all of it is speed-locked lines, so the transfer part is kept coarse
+  // (32 bins) so that it cannot memorise the training lines; the physics spectrum itself is
+  // the feature (power domain: a line's measured power ~ gain x its simulated power).
+  env_map.transfer_spacing_bins = 32;
+  env_map.split_local = false;
+  env_map.lambda_transfer = 0.01;
+  env_map.lambda_physics = 0.1;
+}
+
+bool TrainOptions::valid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  std::string w;
+  if (!spectra.valid(&w)) return fail("spectra: " + w);
+  if (!psd_map.valid(&w)) return fail("psd map: " + w);
+  if (!env_map.valid(&w)) return fail("envelope map: " + w);
+  if (!rig.valid(&w)) return fail("rig: " + w);
+  if (!(segment_s >= spectra.min_record_s())) return fail("segment_s must be >= " + std::to_string(spectra.min_record_s()) + " s");
+  if (!(sim_duration_s >= spectra.min_record_s()) || sim_duration_s > 60) return fail("sim_duration_s out of range");
+  if (!(sim_fs_hz / 2 > std::max(spectra.psd_max_hz, spectra.env_band_high_hz))) return fail("sim_fs_hz too low for the grids");
+  if (!(speed_uncertainty >= 0) || !(speed_uncertainty < 0.1)) return fail("speed_uncertainty in [0, 0.1)");
+  if (speed_points < 1 || speed_points > 101) return fail("speed_points in [1, 101]");
+  if (threads < 1 || threads > 64) return fail("threads in [1, 64]");
+  return true;
+}
+
+void load_record(Record& r) {
+  r.signal = read_mat_vector(r.path, r.var);
+  if (!(r.fs_hz > 0)) {
+    try {
+      r.fs_hz = read_mat_scalar(r.path, "fs");
+    } catch (const std::exception&) {
+      throw std::invalid_argument(r.path + ": no sample rate given and no 'fs' variable in the file");
+    }
+  }
+  if (!(r.fs_hz > 0)) throw std::invalid_argument(r.path + ": sample rate must be > 0");
+  for (double v : r.signal)
+    if (!std::isfinite(v)) throw std::invalid_argument(r.path + ": signal holds a non-finite value");
+}
+
+HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o_in) {
+  const auto t0 = Clock::now();
+  std::string why;
+  if (!o_in.valid(&why)) throw std::invalid_argument("train options: " + why);
+  if (records.empty()) throw std::invalid_argument("no training record");
+  HybridModel m;
+  m.options = o_in;
+  TrainOptions& o = m.options;
+  for (const auto& r : records) {
+    if (r.signal.empty()) throw std::invalid_argument(r.path + ": signal not loaded");
+    if (!(r.op.speed_rpm > 0) || !(r.op.load >= 0)) throw std::invalid_argument(r.path + ": speed must be > 0 and load >= 0");
+    if (static_cast<double>(r.signal.size()) / r.fs_hz < o.segment_s)
+      throw std::invalid_argument(r.path + ": shorter than one training segment");
+  }
+
+  // 1. Kinematic calibration from the training records only.
+  if (o.calibrate_kinematics) {
+    std::vector<CalibrationRecord> cal;
+    for (const auto& r : records) cal.push_back({&r.signal, r.fs_hz, r.state, r.op.speed_rpm});
+    m.calibration = calibrate_kinematics(cal, o.spectra.env_band_low_hz, o.spectra.env_band_high_hz, o.rig);
+  } else {
+    m.calibration.note = "kinematic calibration off: catalogue geometry";
+  }
+
+  // 2. Physics at every distinct (state, operating point) of the training set.
+  using Key = std::tuple<int, double, double>;
+  std::map<Key, size_t> case_index;
+  std::vector<std::pair<BearingState, OperatingPoint>> cases;
+  for (const auto& r : records) {
+    const Key k{static_cast<int>(r.state), r.op.speed_rpm, r.op.load};
+    if (case_index.emplace(k, cases.size()).second) cases.emplace_back(r.state, r.op);
+  }
+  std::vector<Spectra> phys(cases.size());
+  // 3. Measured spectra of every segment.
+  std::vector<std::pair<size_t, std::vector<double>>> segments;  // (record, samples)
+  for (size_t i = 0; i < records.size(); ++i)
+    for (auto& s : split_segments(records[i].signal, records[i].fs_hz, o.segment_s)) segments.emplace_back(i, std::move(s));
+  std::vector<Spectra> meas(segments.size());
+  parallel_for(cases.size() + segments.size(), o.threads, [&](size_t i) {
+    if (i < cases.size()) {
+      phys[i] = physics_spectra(o, cases[i].first, cases[i].second);
+    } else {
+      const auto& [ri, x] = segments[i - cases.size()];
+      meas[i - cases.size()] = compute_spectra(x, records[ri].fs_hz, o.spectra);
+    }
+  });
+
+  // Envelope power normalisations (training means), so the map's numbers are O(1).
+  auto mean_power = [](const std::vector<Spectra>& v) {
+    double s = 0;
+    size_t n = 0;
+    for (const auto& sp : v)
+      for (double a : sp.env) {
+        s += a * a;
+        ++n;
+      }
+    return n > 0 && s > 0 ? s / static_cast<double>(n) : 1.0;
+  };
+  m.physics_env_scale = mean_power(phys);
+  m.measured_env_scale = mean_power(meas);
+
+  // 4. The maps.
+  std::vector<MapInput> in_psd, in_env, in_data;
+  std::vector<std::vector<double>> y_psd, y_env;
+  std::vector<size_t> seg_count(records.size(), 0);
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const Record& r = records[segments[i].first];
+    ++seg_count[segments[i].first];
+    const Spectra& p = phys[case_index.at(Key{static_cast<int>(r.state), r.op.speed_rpm, r.op.load})];
+    MapInput d;
+    d.state = static_cast<int>(r.state);
+    d.op = {r.op.speed_rpm, r.op.load};
+    MapInput hp = d, he = d;
+    hp.physics = {p.log_psd};
+    he.physics = {power(p.env, m.physics_env_scale)};
+    in_data.push_back(d);
+    in_psd.push_back(std::move(hp));
+    in_env.push_back(std::move(he));
+    y_psd.push_back(meas[i].log_psd);
+    y_env.push_back(power(meas[i].env, m.measured_env_scale));
+  }
+  const auto psd_c = centres(psd_grid(o.spectra));
+  const auto env_c = centres(env_grid(o.spectra));
+  SpectralMapOptions po = o.psd_map, eo = o.env_map;
+  po.use_physics = eo.use_physics = true;
+  po.physics_channels = eo.physics_channels = 1;
+  SpectralMapOptions pd = po, ed = eo;
+  pd.use_physics = ed.use_physics = false;
+  o.psd_map = po;
+  o.env_map = eo;
+  m.psd_hybrid.train(in_psd, y_psd, psd_c, po);
+  m.psd_data_only.train(in_data, y_psd, psd_c, pd);
+  m.env_hybrid.train(in_env, y_env, env_c, eo);
+  m.env_data_only.train(in_data, y_env, env_c, ed);
+
+  for (size_t i = 0; i < records.size(); ++i) {
+    const auto& r = records[i];
+    m.records.push_back({{"path", r.path},
+                         {"var", r.var},
+                         {"fs_hz", r.fs_hz},
+                         {"state", state_name(r.state)},
+                         {"speed_rpm", r.op.speed_rpm},
+                         {"load", r.op.load},
+                         {"segments", seg_count[i]}});
+  }
+  m.train_wall_s = seconds_since(t0);
+  return m;
+}
+
+Prediction predict_hybrid(const HybridModel& m, BearingState state, const OperatingPoint& op) {
+  if (!(op.speed_rpm > 0) || !(op.load >= 0)) throw std::invalid_argument("speed must be > 0 rpm and load >= 0");
+  Prediction p;
+  const auto t0 = Clock::now();
+  const Spectra phys = physics_spectra(m.options, state, op);
+  p.physics_s = seconds_since(t0);
+  p.psd_hz = centres(psd_grid(m.options.spectra));
+  p.env_hz = centres(env_grid(m.options.spectra));
+  MapInput d;
+  d.state = static_cast<int>(state);
+  d.op = {op.speed_rpm, op.load};
+  MapInput hp = d, he = d;
+  hp.physics = {phys.log_psd};
+  he.physics = {power(phys.env, m.physics_env_scale)};
+  p.log_psd_physics = phys.log_psd;
+  p.log_psd_hybrid = m.psd_hybrid.predict(hp);
+  p.log_psd_data_only = m.psd_data_only.predict(d);
+  p.env_physics = phys.env;
+  auto amp = [&](const std::vector<double>& pw) {
+    std::vector<double> a(pw.size());
+    for (size_t i = 0; i < pw.size(); ++i) a[i] = std::sqrt(std::max(0.0, pw[i]) * m.measured_env_scale);
+    return a;
+  };
+  p.env_hybrid = amp(m.env_hybrid.predict(he));
+  p.env_data_only = amp(m.env_data_only.predict(d));
+  return p;
+}
+
+Spectra measured_spectra(const HybridModel& m, const Record& r) {
+  return compute_spectra(r.signal, r.fs_hz, m.options.spectra);
+}
+
+Scores score(const Prediction& p, const Spectra& s) {
+  Scores c;
+  c.log_psd_hybrid = pearson(p.log_psd_hybrid, s.log_psd);
+  c.log_psd_physics = pearson(p.log_psd_physics, s.log_psd);
+  c.log_psd_data_only = pearson(p.log_psd_data_only, s.log_psd);
+  c.env_hybrid = pearson(p.env_hybrid, s.env);
+  c.env_physics = pearson(p.env_physics, s.env);
+  c.env_data_only = pearson(p.env_data_only, s.env);
+  return c;
+}
+
+nlohmann::json HybridModel::training_summary() const {
+  nlohmann::json j;
+  j["records"] = records;
+  j["calibration"] = {{"lines_used", calibration.lines_used},
+                      {"gamma_catalogue", calibration.gamma_catalogue},
+                      {"gamma_effective", calibration.gamma_effective},
+                      {"contact_angle_deg", calibration.contact_angle_rad * 180.0 / M_PI},
+                      {"note", calibration.note}};
+  j["training_rms"] = {{"log_psd_hybrid", psd_hybrid.training_rms()},
+                       {"log_psd_data_only", psd_data_only.training_rms()},
+                       {"env_power_hybrid", env_hybrid.training_rms()},
+                       {"env_power_data_only", env_data_only.training_rms()}};
+  j["train_wall_s"] = train_wall_s;
+  return j;
+}
+
+void save_model(const HybridModel& m, const std::string& path) {
+  const auto& o = m.options;
+  nlohmann::json j;
+  j["format"] = k_model_format;
+  j["version"] = k_model_version;
+  j["options"] = {{"spectra", spectra_json(o.spectra)},
+                  {"rig", rig_json(o.rig)},
+                  {"segment_s", o.segment_s},
+                  {"sim_duration_s", o.sim_duration_s},
+                  {"sim_fs_hz", o.sim_fs_hz},
+                  {"speed_uncertainty", o.speed_uncertainty},
+                  {"speed_points", o.speed_points},
+                  {"calibrate_kinematics", o.calibrate_kinematics},
+                  {"seed", o.seed},
+                  {"threads", o.threads}};
+  j["training"] = m.training_summary();
+  j["physics_env_scale"] = m.physics_env_scale;
+  j["measured_env_scale"] = m.measured_env_scale;
+  j["maps"] = {{"psd_hybrid", m.psd_hybrid.to_json()},
+               {"psd_data_only", m.psd_data_only.to_json()},
+               {"env_hybrid", m.env_hybrid.to_json()},
+               {"env_data_only", m.env_data_only.to_json()}};
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write model file '" + path + "'");
+  f << j.dump(1) << '\n';
+  if (!f) throw std::runtime_error("error writing model file '" + path + "'");
+}
+
+HybridModel load_model(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("cannot open model file '" + path + "'");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(f);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument("model file '" + path + "': not JSON (" + e.what() + ")");
+  }
+  if (!j.is_object() || j.value("format", std::string()) != k_model_format)
+    throw std::invalid_argument("model file '" + path + "': not an " + std::string(k_model_format) + " file");
+  const int v = j.value("version", -1);
+  if (v != k_model_version)
+    throw std::invalid_argument("model file '" + path + "': version " + std::to_string(v) + " (this amb-host reads " +
+                                std::to_string(k_model_version) + ")");
+  HybridModel m;
+  try {
+    const auto& o = j.at("options");
+    m.options.spectra = spectra_from(o.at("spectra"));
+    m.options.rig = rig_from(o.at("rig"));
+    m.options.segment_s = o.at("segment_s");
+    m.options.sim_duration_s = o.at("sim_duration_s");
+    m.options.sim_fs_hz = o.at("sim_fs_hz");
+    m.options.speed_uncertainty = o.at("speed_uncertainty");
+    m.options.speed_points = o.at("speed_points");
+    m.options.calibrate_kinematics = o.at("calibrate_kinematics");
+    m.options.seed = o.at("seed");
+    m.options.threads = o.at("threads");
+    m.physics_env_scale = j.at("physics_env_scale");
+    m.measured_env_scale = j.at("measured_env_scale");
+    const auto& maps = j.at("maps");
+    m.psd_hybrid = SpectralMap::from_json(maps.at("psd_hybrid"));
+    m.psd_data_only = SpectralMap::from_json(maps.at("psd_data_only"));
+    m.env_hybrid = SpectralMap::from_json(maps.at("env_hybrid"));
+    m.env_data_only = SpectralMap::from_json(maps.at("env_data_only"));
+    m.options.psd_map = m.psd_hybrid.options();
+    m.options.env_map = m.env_hybrid.options();
+    const auto& t = j.at("training");
+    for (const auto& r : t.at("records")) m.records.push_back(r);
+    const auto& c = t.at("calibration");
+    m.calibration.lines_used = c.at("lines_used");
+    m.calibration.gamma_catalogue = c.at("gamma_catalogue");
+    m.calibration.gamma_effective = c.at("gamma_effective");
+    m.calibration.contact_angle_rad = c.at("contact_angle_deg").get<double>() * M_PI / 180.0;
+    m.calibration.note = c.at("note");
+    m.train_wall_s = t.value("train_wall_s", 0.0);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument("model file '" + path + "': " + e.what());
+  }
+  std::string why;
+  if (!m.options.valid(&why)) throw std::invalid_argument("model file '" + path + "': " + why);
+  if (m.psd_hybrid.bins() != psd_grid(m.options.spectra).bins() || m.env_hybrid.bins() != env_grid(m.options.spectra).bins() ||
+      m.psd_data_only.bins() != m.psd_hybrid.bins() || m.env_data_only.bins() != m.env_hybrid.bins())
+    throw std::invalid_argument("model file '" + path + "': map grids do not match the spectral options");
+  if (!(m.physics_env_scale > 0) || !(m.measured_env_scale > 0))
+    throw std::invalid_argument("model file '" + path + "': envelope scales must be > 0");
+  return m;
+}
+
+}  // namespace amb::host::hybrid

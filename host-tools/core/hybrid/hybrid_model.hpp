@@ -1,0 +1,105 @@
+#pragma once
+// Physics-informed hybrid model (seed 001, issue 18): train on measured records at some
+// operating points, predict the measured log spectrum and envelope spectrum of a bearing state
+// at another operating point; side by side with the physics model alone and with the same
+// learner without the physics input (data only).
+//
+// Pipeline (docs/hybrid.md):
+//  1. kinematic calibration of the drive-end bearing from the training records' defect lines
+//     (effective contact angle; physics.hpp);
+//  2. physics: the 8-DOF model simulates the drive-end acceleration of each (state, operating
+//     point); its spectra are the expected spectra over the nominal speed's uncertainty;
+//  3. the learned map (spectral_map.hpp), trained on segments of the measured records, per
+//     spectrum: log PSD in the log domain, envelope spectrum in the power domain;
+//  4. prediction at any operating point: physics at that point, then the map.
+// Deterministic: the only randomness is the simulated sensor noise, seeded from `seed`.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "host-tools/core/hybrid/physics.hpp"
+#include "host-tools/core/hybrid/spectra.hpp"
+#include "host-tools/core/hybrid/spectral_map.hpp"
+
+namespace amb::host::hybrid {
+
+/// Model-file format name and version written by save_model(); load_model() refuses others.
+inline constexpr const char* k_model_format = "amb-hybrid-model";
+inline constexpr int k_model_version = 1;
+
+/// One measured record and its condition.
+struct Record {
+  std::string path;           ///< .mat file
+  std::string var = "DE_time";  ///< variable holding the acceleration (g)
+  double fs_hz = 0.0;         ///< sample rate, Hz (> 0)
+  BearingState state = BearingState::healthy;
+  OperatingPoint op;          ///< nominal speed (rpm) and load
+  std::vector<double> signal;  ///< filled by load_record()
+};
+
+/// Read the record's signal; if fs_hz is 0, the file's scalar 'fs' is used. Throws
+/// std::runtime_error / std::invalid_argument naming the file.
+void load_record(Record& r);
+
+struct TrainOptions {
+  SpectralOptions spectra;           ///< grids (stored in the model; prediction uses them)
+  SpectralMapOptions psd_map;        ///< log-PSD map (log domain)
+  SpectralMapOptions env_map;        ///< envelope map (power domain)
+  RigParams rig;                     ///< physics model of the rig (ASSUMED values)
+  double segment_s = 2.0;            ///< training samples: consecutive segments of each record, s
+  double sim_duration_s = 4.0;       ///< simulated record per (state, operating point), s
+  double sim_fs_hz = 12000.0;        ///< simulation output rate, Hz (>= 2 x the spectral grids)
+  double speed_uncertainty = 0.005;  ///< relative uncertainty of a nominal speed (CWRU README: +-0.5 %)
+  int speed_points = 9;              ///< speed scales averaged over the uncertainty (odd, >= 1)
+  bool calibrate_kinematics = true;  ///< fit the drive-end bearing's effective contact angle
+  uint64_t seed = 1;                 ///< seed of the simulated sensor noise
+  int threads = 2;                   ///< worker threads for simulation and spectra (>= 1)
+  TrainOptions();                    ///< the defaults of docs/hybrid.md
+  bool valid(std::string* why = nullptr) const;
+};
+
+/// The three predictions of one case, on the model's grids.
+struct Prediction {
+  std::vector<double> psd_hz, env_hz;  ///< bin centres, Hz
+  std::vector<double> log_psd_hybrid, log_psd_physics, log_psd_data_only;  ///< log10 PSD (g^2/Hz)
+  std::vector<double> env_hybrid, env_physics, env_data_only;              ///< envelope amplitude (g^2)
+  double physics_s = 0.0;  ///< time spent simulating, s
+};
+
+/// Pearson correlations of one prediction against one measured record.
+struct Scores {
+  double log_psd_hybrid = 0, log_psd_physics = 0, log_psd_data_only = 0;
+  double env_hybrid = 0, env_physics = 0, env_data_only = 0;
+};
+
+/// A trained hybrid model (with its two baselines).
+struct HybridModel {
+  TrainOptions options;            ///< as trained (spectral grids, rig incl. calibrated contact angle)
+  KinematicCalibration calibration;
+  SpectralMap psd_hybrid, psd_data_only, env_hybrid, env_data_only;
+  double physics_env_scale = 1.0;  ///< normalisation of the physics envelope power (training mean)
+  double measured_env_scale = 1.0;  ///< normalisation of the measured envelope power (training mean)
+  nlohmann::json training_summary() const;  ///< records, cases, calibration, timings
+  std::vector<nlohmann::json> records;      ///< what was trained on (path, state, speed, load, segments)
+  double train_wall_s = 0.0;
+};
+
+/// Train. `records` must have their signals loaded. Throws std::invalid_argument on bad input.
+HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o);
+
+/// Predict the spectra of `state` at `op` with the three models.
+Prediction predict_hybrid(const HybridModel& m, BearingState state, const OperatingPoint& op);
+
+/// Spectra of a measured record on the model's grids.
+Spectra measured_spectra(const HybridModel& m, const Record& r);
+
+/// Score a prediction against measured spectra.
+Scores score(const Prediction& p, const Spectra& measured);
+
+/// Versioned model file (JSON).
+void save_model(const HybridModel& m, const std::string& path);
+HybridModel load_model(const std::string& path);
+
+}  // namespace amb::host::hybrid
