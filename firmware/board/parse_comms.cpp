@@ -46,10 +46,14 @@ void parse_modbus(TableReader r, comms::ModbusParams& m) {
     if (ch == '.') ++dots;
     else if (ch < '0' || ch > '9') digits_only = false;
   }
-  if (!digits_only || dots != 3) r.fail("bind_address", "must be a dotted IPv4 address such as \"0.0.0.0\"");
+  if (!digits_only || dots != 3) r.fail("bind_address", "must be a dotted IPv4 address such as \"127.0.0.1\" (loopback) or \"0.0.0.0\" (every interface)");
   m.port = static_cast<uint16_t>(r.integer_or("port", m.port, 1, 65535));
   m.unit_id = static_cast<uint8_t>(r.integer_or("unit_id", m.unit_id, 1, 247));
   m.max_clients = static_cast<int>(r.integer_or("max_clients", m.max_clients, 1, 16));
+  // The arm key is a guard against accidental command writes (a stray client, a wrong
+  // register), not a password: Modbus TCP carries it in clear text.
+  m.arm_key = static_cast<uint32_t>(r.integer_or("arm_key", m.arm_key, 1, 0xFFFFFFFFll));
+  m.arm_window_ms = static_cast<uint32_t>(r.integer_or("arm_window_ms", m.arm_window_ms, 100, 60000));
   r.finish();
 }
 

@@ -47,7 +47,18 @@ class SpscRing {
 };
 
 /// Single-writer sequence lock: the loop publishes a snapshot without blocking; readers in
-/// other threads retry until they get an untorn copy.
+/// other threads retry until they get an untorn copy. Lock-free and allocation-free on both
+/// sides; the writer never waits.
+///
+/// Data-race-free by the C++ memory model without fences (ThreadSanitizer does not model
+/// atomic_thread_fence, so a fence-based seqlock cannot be checked by it): the payload is an
+/// array of 64-bit atomics, stored with release and loaded with acquire.
+///  - writer: seq = s+1 (odd, relaxed); each word stored with release, so a reader that sees
+///    any new word also sees seq >= s+1; seq = s+2 (release).
+///  - reader: s0 = seq (acquire; s0 even, so every word of generation s0 is visible); words
+///    (acquire: the final seq load cannot move above them); s1 = seq (relaxed). If a word came
+///    from a later store than generation s0, s1 >= s0+1 and the copy is discarded.
+/// On x86-64 acquire/release loads and stores are plain moves; on AArch64 they are LDAR/STLR.
 template <typename T>
 class SeqLock {
   static_assert(std::is_trivially_copyable_v<T>);
@@ -57,36 +68,27 @@ class SeqLock {
   void store(const T& v) {
     const uint32_t s = seq_.load(std::memory_order_relaxed);
     seq_.store(s + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
-    copy_words(v);
+    std::array<uint64_t, k_words> w{};
+    std::memcpy(static_cast<void*>(w.data()), static_cast<const void*>(&v), sizeof(T));
+    for (size_t i = 0; i < k_words; ++i) data_[i].store(w[i], std::memory_order_release);
     seq_.store(s + 2, std::memory_order_release);
   }
-  /// Any thread.
+  /// Any thread. Spins only while a store is in progress (bounded by the writer's copy).
   T load() const {
-    T out;
+    std::array<uint64_t, k_words> w{};
     for (;;) {
       const uint32_t s0 = seq_.load(std::memory_order_acquire);
       if (s0 & 1u) continue;
-      read_words(out);
-      std::atomic_thread_fence(std::memory_order_acquire);
-      if (seq_.load(std::memory_order_relaxed) == s0) return out;
+      for (size_t i = 0; i < k_words; ++i) w[i] = data_[i].load(std::memory_order_acquire);
+      if (seq_.load(std::memory_order_relaxed) == s0) break;
     }
+    T out;
+    std::memcpy(static_cast<void*>(&out), static_cast<const void*>(w.data()), sizeof(T));
+    return out;
   }
 
  private:
   static constexpr size_t k_words = (sizeof(T) + 7) / 8;
-  // Word-wise relaxed atomics avoid a data race on the payload (the C++ memory model forbids
-  // plain concurrent read/write even when the sequence check discards torn copies).
-  void copy_words(const T& v) {
-    std::array<uint64_t, k_words> w{};
-    std::memcpy(static_cast<void*>(w.data()), static_cast<const void*>(&v), sizeof(T));
-    for (size_t i = 0; i < k_words; ++i) data_[i].store(w[i], std::memory_order_relaxed);
-  }
-  void read_words(T& v) const {
-    std::array<uint64_t, k_words> w{};
-    for (size_t i = 0; i < k_words; ++i) w[i] = data_[i].load(std::memory_order_relaxed);
-    std::memcpy(static_cast<void*>(&v), static_cast<const void*>(w.data()), sizeof(T));
-  }
   std::atomic<uint32_t> seq_{0};
   std::array<std::atomic<uint64_t>, k_words> data_{};
 };

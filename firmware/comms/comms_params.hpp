@@ -31,12 +31,16 @@ struct GpioParams {
   bool enabled = true;                ///< false: no GPIO chip (discrete lines read as idle)
 };
 
-/// Supervisory link (Modbus TCP server).
+/// Supervisory link (Modbus TCP server) and its write access (docs/register-map.md).
 struct ModbusParams {
-  std::string bind_address = "0.0.0.0"; ///< IPv4 address the server listens on
+  std::string bind_address = "127.0.0.1"; ///< IPv4 address the server listens on (default: loopback only)
   uint16_t port = 502;                  ///< TCP port, 1..65535
   uint8_t unit_id = 1;                  ///< Modbus unit identifier answered (also 0 and 255), 1..247
   int max_clients = 4;                  ///< simultaneous TCP connections served, 1..16
+  /// Key of the arm sequence (register 0x0F00) that every command write needs, 1..2^32-1.
+  /// 0 (absent from the board file): the board takes no commands over Modbus at all.
+  uint32_t arm_key = 0;
+  uint32_t arm_window_ms = 5000;        ///< an arm expires this long after it was written, ms (100..60000)
 };
 
 struct CommsParams {

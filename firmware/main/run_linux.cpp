@@ -199,8 +199,13 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
   src.fieldbus = [&] { return fe.counters(); };
   src.link = [&] {
     const auto s = server.stats();
-    return fw::LinkCounters{s.requests, s.exceptions, s.bad_frames, s.wrong_unit, s.connections};
+    return fw::LinkCounters{s.requests, s.exceptions, s.bad_frames, s.wrong_unit, s.connections, s.refused_connections};
   };
+  src.storage = [&] { return writer.store_counters(); };
+  src.manual_capture = [&] { return capture.request_manual_trigger(); };
+  src.now_ns = [] { return lx::monotonic_ns(); };
+  src.arm_key = cm.modbus.arm_key;
+  src.arm_window_ns = static_cast<int64_t>(cm.modbus.arm_window_ms) * 1'000'000;
   src.nodes_alive = [&] { return fe.nodes_alive(); };
   if (run_analysis) src.analysis = [&] { return analysis->status(); };
   src.speed_source = static_cast<uint8_t>(board.tracker.speed_source);
@@ -267,10 +272,11 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     dio.write(hal::DiscreteOutputs{});
   });
   std::printf("amb-firmware: ready: board %s, %.0f Hz loop, CAN %s%s, GPIO %s, Modbus TCP %s:%u unit %u, "
-              "analysis thread %s (speed source %s)\n",
+              "analysis thread %s (speed source %s), Modbus commands %s\n",
               board.name.c_str(), board.rate_hz, cm.can.interface.c_str(), cm.can.fd ? " (FD)" : "",
               gpio ? cm.gpio.chip.c_str() : "none", cm.modbus.bind_address.c_str(), server.bound_port(),
-              cm.modbus.unit_id, run_analysis ? "on" : "off", fw::to_string(board.tracker.speed_source));
+              cm.modbus.unit_id, run_analysis ? "on" : "off", fw::to_string(board.tracker.speed_source),
+              cm.modbus.arm_key != 0 ? "armed by key ([comms.modbus] arm_key)" : "disabled (no arm_key)");
   std::fflush(stdout);
   loop_thread.join();
   analysis_thread.stop();
@@ -294,6 +300,13 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
               static_cast<unsigned long long>(cs.error_frames), static_cast<unsigned long long>(cs.bus_off_events),
               static_cast<unsigned long long>(fc.samples), static_cast<unsigned long long>(fc.malformed),
               static_cast<unsigned long long>(fc.node_timeouts), fw::to_string(st.state), fw::to_string(st.fault));
+  const fw::StoreCounters sc = writer.store_counters();
+  std::printf("amb-firmware: storage: events written %llu, refused %llu, dropped oldest %llu, write errors %llu, "
+              "retries %llu, lost %llu; wear-record commits failed in storage %llu\n",
+              static_cast<unsigned long long>(sc.written), static_cast<unsigned long long>(sc.refused),
+              static_cast<unsigned long long>(sc.dropped_oldest), static_cast<unsigned long long>(sc.write_errors),
+              static_cast<unsigned long long>(sc.retries), static_cast<unsigned long long>(sc.lost),
+              static_cast<unsigned long long>(map.wear_store_failures()));
   if (run_analysis) {
     const fw::AnalysisStatus a = analysis->status();
     std::printf("amb-firmware: analysis: %llu tracker updates, %llu samples, %llu gaps, %llu resets, %llu ring drops, "

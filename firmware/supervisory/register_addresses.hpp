@@ -6,6 +6,9 @@
 // RO: read-only (writes answered with exception 2). RW: readable and writable.
 // Checksums on the link are CRC-32C (firmware/persistence/crc32c.hpp).
 // UNSAFE: writable only while the rotor rests (not levitating/running): exception 6 otherwise.
+// ARMED: a command register; every write needs the arm sequence first (write [key, operation]
+// to `arm`, then the command within [comms.modbus] arm_window_ms; single use): exception 1
+// without it, 6 in the wrong lifecycle state, 3 for a bad value (docs/register-map.md).
 #include <cstdint>
 
 namespace amb::fw::regs {
@@ -72,8 +75,19 @@ inline constexpr uint16_t loop_end = 0x0410;
 // ---- link statistics (RO, u32 each) -------------------------------------------------------
 inline constexpr uint16_t can_stats = 0x0500;          ///< tx, rx, tx_dropped, rx_dropped, error_frames, bus_off_events, malformed (7 x u32)
 inline constexpr uint16_t fieldbus_stats = 0x0510;     ///< samples, stale_periods, malformed, node_timeouts, amp_faults, tx_failures (6 x u32)
-inline constexpr uint16_t modbus_stats = 0x0520;       ///< requests, exceptions, bad_frames, wrong_unit, connections, refused_unsafe, illegal_address (7 x u32)
+inline constexpr uint16_t modbus_stats = 0x0520;       ///< requests, exceptions, bad_frames, wrong_unit, connections, refused_unsafe (wrong state), illegal_address (7 x u32)
 inline constexpr uint16_t stats_end = 0x052E;
+/// Write access (u32 each): arms accepted, arm key mismatches, commands accepted, commands
+/// refused not armed, refused in the wrong state, writes refused for a bad value, connections
+/// refused (over max_clients).
+inline constexpr uint16_t access_stats = 0x0530;
+inline constexpr uint16_t access_end = 0x053E;
+/// Event storage (u32 each): events written, refused by the storage policy, older events
+/// dropped by the policy, write attempts failed, attempts that found the storage full, retries,
+/// events waiting for a retry now, events lost (retry queue full), wear-record commits that
+/// failed in storage.
+inline constexpr uint16_t storage_stats = 0x0540;
+inline constexpr uint16_t storage_end = 0x0552;
 
 // ---- board analysis (RO): tracker task and bearing task ---------------------------------------
 inline constexpr uint16_t analysis = 0x0600;
@@ -88,8 +102,23 @@ inline constexpr uint16_t defect_bpfi_mhz = 0x060E;    ///< i32, inner-race line
 inline constexpr uint16_t defect_bsf_mhz = 0x0610;     ///< i32, ball-spin line, mHz
 inline constexpr uint16_t analysis_end = 0x0612;
 
-// ---- command (RW) ------------------------------------------------------------------------
-inline constexpr uint16_t command = 0x1000;            ///< write fw::Command (1 levitate .. 5 emergency stop); read: last result (0 none, 1 posted, 2 busy)
+// ---- arm (write access) --------------------------------------------------------------------
+/// Write [key hi, key lo, operation] (3 registers, key = [comms.modbus] arm_key): arms that one
+/// operation for arm_window_ms; the next write to a command register consumes it (accepted or
+/// not). Wrong key: exception 3. Read: [armed operation (0 none), ms left (saturates), 0]; the
+/// key never reads back.
+inline constexpr uint16_t arm = 0x0F00;
+inline constexpr uint16_t arm_end = 0x0F03;
+/// Operations an arm names: 1..6 are the values of the command register, 16 event delete,
+/// 17 wear-record commit.
+enum ArmOperation : uint16_t {
+  op_none = 0, op_levitate = 1, op_run = 2, op_land = 3, op_reset_fault = 4, op_emergency_stop = 5,
+  op_capture = 6, op_event_delete = 16, op_wear_commit = 17,
+};
+
+// ---- command (ARMED) ---------------------------------------------------------------------
+inline constexpr uint16_t command = 0x1000;            ///< write 1 levitate, 2 run, 3 land, 4 reset fault, 5 emergency stop (fw::Command), 6 manual capture; read: last result (0 none, 1 posted, 2 busy)
+inline constexpr uint16_t k_command_capture = 6;       ///< command value: manual capture trigger
 
 // ---- event list -----------------------------------------------------------------------------
 inline constexpr uint16_t event_count = 0x2000;        ///< RO, stored events
@@ -99,7 +128,7 @@ inline constexpr uint16_t event_entry_size = 0x2003;   ///< RO, u32 bytes (0 if 
 inline constexpr uint16_t event_entry_crc = 0x2005;    ///< RO, u32 CRC-32C of the file
 inline constexpr uint16_t event_entry_name = 0x2007;   ///< RO, 16 registers, 32 characters
 inline constexpr uint16_t event_entry_end = 0x2017;
-inline constexpr uint16_t event_delete = 0x2020;       ///< UNSAFE, write [index, crc hi, crc lo]: remove that event
+inline constexpr uint16_t event_delete = 0x2020;       ///< ARMED (op 16), UNSAFE, write [index, crc hi, crc lo]: remove that event
 
 // ---- event download window ------------------------------------------------------------------
 inline constexpr uint16_t dl_select = 0x3000;          ///< RW, [index, crc hi, crc lo, block hi, block lo] (5 regs)
@@ -129,7 +158,7 @@ inline constexpr uint16_t wear_corrupt_at_start = 0x4017; ///< slots found torn/
 inline constexpr uint16_t wear_end = 0x4018;
 
 // ---- write-back area ----------------------------------------------------------------------------
-inline constexpr uint16_t wb_control = 0x5000;         ///< RW: write [1 begin, size hi, size lo, crc hi, crc lo] | [2 commit] (UNSAFE) | [3 abort]; read: WbSession
+inline constexpr uint16_t wb_control = 0x5000;         ///< RW: write [1 begin, size hi, size lo, crc hi, crc lo] | [2 commit] (ARMED op 17, UNSAFE) | [3 abort]; read: WbSession
 inline constexpr uint16_t wb_size = 0x5001;            ///< RO (set by begin), u32 bytes announced
 inline constexpr uint16_t wb_crc = 0x5003;             ///< RO (set by begin), u32 CRC-32C announced
 inline constexpr uint16_t wb_received = 0x5005;        ///< RO, u32 contiguous bytes received

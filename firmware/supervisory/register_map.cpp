@@ -1,6 +1,7 @@
 #include "firmware/supervisory/register_map.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "firmware/persistence/crc32c.hpp"
@@ -23,6 +24,8 @@ constexpr Range k_readable[] = {
     {regs::event_count, regs::event_entry_end}, {regs::dl_select, regs::dl_select + 5},
     {regs::dl_status, regs::dl_end},            {regs::wear_present, regs::wear_end},
     {regs::wb_control, regs::wb_status_end},    {regs::analysis, regs::analysis_end},
+    {regs::access_stats, regs::access_end},     {regs::storage_stats, regs::storage_end},
+    {regs::arm, regs::arm_end},
 };
 
 void put16(std::vector<uint16_t>& b, size_t at, uint16_t v) { b[at] = v; }
@@ -71,6 +74,44 @@ bool RegisterMap::unsafe_now() const {
   if (!src_.supervisor) return false;
   const State s = src_.supervisor->status().state;
   return s == State::levitating || s == State::running;
+}
+
+int64_t RegisterMap::now_ns() const {
+  if (src_.now_ns) return src_.now_ns();
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+bool RegisterMap::take_arm(uint16_t op) {
+  const bool armed = src_.arm_key != 0 && armed_op_ != regs::op_none && armed_op_ == op &&
+                     now_ns() - armed_at_ns_ <= src_.arm_window_ns;
+  armed_op_ = regs::op_none;  // single use: any write to a command register consumes the arm
+  if (!armed) ++access_.refused_not_armed;
+  return armed;
+}
+
+// Which lifecycle states each command applies in (the same rules the supervisor applies when
+// it takes the command; checked here too so that a refusal is an answer, not a silent no-op).
+bool RegisterMap::state_allows(uint16_t op) const {
+  const fw::Status st = src_.supervisor ? src_.supervisor->status() : fw::Status{};
+  const bool resting = st.state != State::levitating && st.state != State::running;
+  switch (op) {
+    case regs::op_levitate: return st.state == State::inactive;
+    case regs::op_run: return st.state == State::levitating && st.phase == Phase::levitated;
+    case regs::op_land:
+      return st.state == State::running || (st.state == State::levitating && st.phase != Phase::lowering);
+    case regs::op_reset_fault: return st.state == State::fault;
+    case regs::op_emergency_stop: return !resting;
+    case regs::op_capture: return st.state != State::unconfigured;
+    case regs::op_event_delete:
+    case regs::op_wear_commit: return resting;
+    default: return false;
+  }
+}
+
+hal::RegisterHandler::Status RegisterMap::refuse_value() {
+  ++access_.refused_value;
+  return illegal_value;
 }
 
 void RegisterMap::refresh_events() {
@@ -192,9 +233,31 @@ bool RegisterMap::render(uint16_t start, uint16_t end, Block& b) {
       for (size_t i = 0; i < 7; ++i) put32(b, 2 * i, can[i]);
       const uint64_t fb[] = {f.samples, f.stale_periods, f.malformed, f.node_timeouts, f.amp_faults, f.tx_failures};
       for (size_t i = 0; i < 6; ++i) put32(b, 0x10 + 2 * i, fb[i]);
-      const uint64_t mb[] = {l.requests, l.exceptions, l.bad_frames, l.wrong_unit, l.connections, refused_unsafe_,
-                             illegal_address_};
+      const uint64_t mb[] = {l.requests, l.exceptions, l.bad_frames, l.wrong_unit, l.connections, access_.refused_state,
+                             access_.illegal_address};
       for (size_t i = 0; i < 7; ++i) put32(b, 0x20 + 2 * i, mb[i]);
+      return true;
+    }
+    case regs::access_stats: {
+      const LinkCounters l = src_.link ? src_.link() : LinkCounters{};
+      const uint64_t a[] = {access_.arms,          access_.arm_key_mismatch, access_.commands,
+                            access_.refused_not_armed, access_.refused_state, access_.refused_value,
+                            l.refused_connections};
+      for (size_t i = 0; i < 7; ++i) put32(b, 2 * i, a[i]);
+      return true;
+    }
+    case regs::storage_stats: {
+      const StoreCounters c = src_.storage ? src_.storage() : StoreCounters{};
+      const uint64_t a[] = {c.written, c.refused, c.dropped_oldest, c.write_errors, c.no_space,
+                            c.retries, c.pending,  c.lost,           wear_store_failures_};
+      for (size_t i = 0; i < 9; ++i) put32(b, 2 * i, a[i]);
+      return true;
+    }
+    case regs::arm: {
+      const int64_t left_ns = src_.arm_window_ns - (now_ns() - armed_at_ns_);
+      const bool armed = armed_op_ != regs::op_none && left_ns >= 0;
+      put16(b, 0, armed ? armed_op_ : 0);
+      put16(b, 1, armed ? static_cast<uint16_t>(std::min<int64_t>(65535, left_ns / 1'000'000)) : 0);
       return true;
     }
     case regs::command:
@@ -273,7 +336,7 @@ hal::RegisterHandler::Status RegisterMap::read_registers(uint16_t address, std::
     for (const Range& k : k_readable)
       if (a >= k.start && a < k.end) r = &k;
     if (!r) {
-      ++illegal_address_;
+      ++access_.illegal_address;
       return illegal_address;
     }
     if (!render(r->start, r->end, block)) return device_failure;
@@ -285,42 +348,85 @@ hal::RegisterHandler::Status RegisterMap::read_registers(uint16_t address, std::
 }
 
 hal::RegisterHandler::Status RegisterMap::write_registers(uint16_t address, std::span<const uint16_t> v) {
+  Status st = ok;
   switch (address) {
-    case regs::command: return write_command(v);
+    case regs::arm: st = write_arm(v); break;
+    case regs::command: st = write_command(v); break;
     case regs::event_browse_index:
-      if (v.size() != 1) return illegal_value;
+      if (v.size() != 1) return refuse_value();
       browse_index_ = v[0];
       return ok;
-    case regs::event_delete: return write_delete(v);
-    case regs::dl_select: return write_select(v);
-    case regs::wb_control: return write_wb_control(v);
-    case regs::wb_chunk: return write_wb_chunk(v);
+    case regs::event_delete: st = write_delete(v); break;
+    case regs::dl_select: st = write_select(v); break;
+    case regs::wb_control: st = write_wb_control(v); break;
+    case regs::wb_chunk: st = write_wb_chunk(v); break;
     default:
-      ++illegal_address_;
+      ++access_.illegal_address;
       return illegal_address;
   }
+  if (st == illegal_value) ++access_.refused_value;
+  return st;
+}
+
+hal::RegisterHandler::Status RegisterMap::write_arm(std::span<const uint16_t> v) {
+  armed_op_ = regs::op_none;  // a new arm (good or bad) replaces the old one
+  if (v.size() != 3) return illegal_value;
+  if (src_.arm_key == 0) {  // the board file gives no key: no commands over Modbus
+    ++access_.refused_not_armed;
+    return illegal_function;
+  }
+  const uint16_t op = v[2];
+  const bool known = (op >= regs::op_levitate && op <= regs::op_capture) || op == regs::op_event_delete ||
+                     op == regs::op_wear_commit;
+  if (!known) return illegal_value;
+  if (get32(v, 0) != src_.arm_key) {
+    ++access_.arm_key_mismatch;
+    return illegal_value;
+  }
+  armed_op_ = op;
+  armed_at_ns_ = now_ns();
+  ++access_.arms;
+  return ok;
 }
 
 hal::RegisterHandler::Status RegisterMap::write_command(std::span<const uint16_t> v) {
-  if (v.size() != 1 || v[0] < static_cast<uint16_t>(Command::levitate) ||
-      v[0] > static_cast<uint16_t>(Command::emergency_stop))
+  if (v.size() != 1 || v[0] < regs::op_levitate || v[0] > regs::op_capture) {
+    armed_op_ = regs::op_none;
     return illegal_value;
+  }
+  if (!take_arm(v[0])) return illegal_function;
+  if (!state_allows(v[0])) {
+    ++access_.refused_state;
+    return busy;
+  }
+  if (v[0] == regs::k_command_capture) {
+    if (!src_.manual_capture || !src_.manual_capture()) return device_failure;
+    ++access_.commands;
+    command_result_ = 1;
+    return ok;
+  }
   if (!src_.supervisor) return device_failure;
   const bool posted = src_.supervisor->post(static_cast<Command>(v[0]));
   command_result_ = posted ? 1 : 2;
+  if (posted) ++access_.commands;
   return posted ? ok : busy;
 }
 
 hal::RegisterHandler::Status RegisterMap::write_delete(std::span<const uint16_t> v) {
-  if (v.size() != 3) return illegal_value;
-  if (unsafe_now()) {
-    ++refused_unsafe_;
+  if (v.size() != 3) {
+    armed_op_ = regs::op_none;
+    return illegal_value;
+  }
+  if (!take_arm(regs::op_event_delete)) return illegal_function;
+  if (!state_allows(regs::op_event_delete)) {
+    ++access_.refused_state;
     return busy;
   }
   refresh_events();
   if (!src_.events || v[0] >= events_.size() || events_[v[0]].crc != get32(v, 1)) return illegal_value;
   if (!src_.events->remove(events_[v[0]].name)) return device_failure;
   refresh_events();
+  ++access_.commands;
   return ok;
 }
 
@@ -387,9 +493,13 @@ hal::RegisterHandler::Status RegisterMap::write_wb_control(std::span<const uint1
       return ok;
     }
     case regs::wb_commit: {
-      if (v.size() != 1) return illegal_value;
-      if (unsafe_now()) {
-        ++refused_unsafe_;
+      if (v.size() != 1) {
+        armed_op_ = regs::op_none;
+        return illegal_value;
+      }
+      if (!take_arm(regs::op_wear_commit)) return illegal_function;
+      if (!state_allows(regs::op_wear_commit)) {
+        ++access_.refused_state;
         wb_result_ = WriteBackResult::refused_unsafe;
         return busy;
       }
@@ -406,9 +516,19 @@ hal::RegisterHandler::Status RegisterMap::write_wb_control(std::span<const uint1
       if (!src_.wear) return device_failure;
       std::string detail;
       wb_result_ = src_.wear->accept(bytes, detail);
-      wb_session_ = regs::wb_idle;
-      if (wb_result_ == WriteBackResult::accepted) return ok;
-      return wb_result_ == WriteBackResult::storage_failed ? device_failure : illegal_value;
+      // A storage failure keeps the complete session: the host re-arms and commits again
+      // without resending the bytes.
+      if (wb_result_ != WriteBackResult::storage_failed) wb_session_ = regs::wb_idle;
+      if (wb_result_ == WriteBackResult::accepted) {
+        ++access_.commands;
+        return ok;
+      }
+      if (wb_result_ == WriteBackResult::storage_failed) {
+        // The old record stays the newest generation; the host may commit the same bytes again.
+        ++wear_store_failures_;
+        return device_failure;
+      }
+      return illegal_value;
     }
     case regs::wb_abort:
       if (v.size() != 1) return illegal_value;

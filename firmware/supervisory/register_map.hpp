@@ -6,6 +6,10 @@
 // window from hal::Storage, and takes wear-record write-backs, validated by WearStore before
 // they replace the stored record. Unknown addresses and writes to read-only registers are
 // answered with exception 2, bad values with 3, unsafe writes while levitated with 6.
+// Write access: every command register (command, event delete, wear-record commit) needs the
+// arm sequence (key from the board file, one operation, single use, short window): exception 1
+// without it; and it is refused with exception 6 in a lifecycle state where the command does
+// not apply. Every refusal is counted (AccessCounters).
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -14,6 +18,7 @@
 #include "firmware/analysis/analysis_task.hpp"
 #include "firmware/app/loop_runner.hpp"
 #include "firmware/app/supervisor.hpp"
+#include "firmware/events/event_store.hpp"
 #include "firmware/fieldbus/field_bus_front_end.hpp"
 #include "firmware/persistence/wear_store.hpp"
 #include "firmware/supervisory/register_addresses.hpp"
@@ -24,6 +29,18 @@ namespace amb::fw {
 /// Counters of the Modbus transport, provided by the server backend.
 struct LinkCounters {
   uint64_t requests = 0, exceptions = 0, bad_frames = 0, wrong_unit = 0, connections = 0;
+  uint64_t refused_connections = 0;  ///< connections closed at once: max_clients reached
+};
+
+/// Counters of the write access (registers 0x0520.., 0x0530..).
+struct AccessCounters {
+  uint64_t arms = 0;               ///< arm writes accepted
+  uint64_t arm_key_mismatch = 0;   ///< arm writes with a wrong key (exception 3)
+  uint64_t commands = 0;           ///< command writes accepted
+  uint64_t refused_not_armed = 0;  ///< command writes without a matching, unexpired arm (exception 1)
+  uint64_t refused_state = 0;      ///< command writes in a lifecycle state where they do not apply (exception 6)
+  uint64_t refused_value = 0;      ///< writes refused for a bad value or length (exception 3)
+  uint64_t illegal_address = 0;    ///< reads or writes of addresses outside the map / read-only (exception 2)
 };
 
 /// Where the register map gets its data. Every member is optional (absent: reads as 0).
@@ -36,6 +53,13 @@ struct RegisterSources {
   std::function<LinkCounters()> link;
   std::function<bool()> nodes_alive;                      ///< field-bus nodes heard within the timeout
   std::function<AnalysisStatus()> analysis;               ///< analysis task results (absent: tracker not running)
+  std::function<StoreCounters()> storage;                 ///< event-store counters (the event writer's)
+  std::function<bool()> manual_capture;                   ///< request a manual capture trigger (absent: command 6 refused, exception 4)
+  /// Time for the arm window, ns, any monotonic clock that may be read from the server thread
+  /// (the linux backend passes CLOCK_MONOTONIC). Absent: std::chrono::steady_clock.
+  std::function<int64_t()> now_ns;
+  uint32_t arm_key = 0;                                   ///< [comms.modbus] arm_key; 0: commands refused (exception 1)
+  int64_t arm_window_ns = 5'000'000'000;                  ///< [comms.modbus] arm_window_ms, ns
   uint8_t speed_source = 0;                               ///< fw::SpeedSource of the board
   hal::Storage* events = nullptr;                         ///< event files (opaque blobs), listed sorted
   WearStore* wear = nullptr;                              ///< opened wear-record store
@@ -52,9 +76,11 @@ class RegisterMap final : public hal::RegisterHandler {
   Status read_registers(uint16_t address, std::span<uint16_t> out) override;
   Status write_registers(uint16_t address, std::span<const uint16_t> values) override;
 
-  /// Requests refused because the rotor was levitated (any thread may not call; server thread).
-  uint64_t refused_unsafe() const { return refused_unsafe_; }
-  uint64_t illegal_addresses() const { return illegal_address_; }
+  /// Counters (server thread, or any thread once the server has stopped).
+  uint64_t refused_unsafe() const { return access_.refused_state; }
+  uint64_t illegal_addresses() const { return access_.illegal_address; }
+  const AccessCounters& access_counters() const { return access_; }
+  uint64_t wear_store_failures() const { return wear_store_failures_; }
   WriteBackResult last_writeback() const { return wb_result_; }
 
  private:
@@ -66,6 +92,13 @@ class RegisterMap final : public hal::RegisterHandler {
   using Block = std::vector<uint16_t>;
 
   bool unsafe_now() const;
+  int64_t now_ns() const;
+  /// Consume the arm (single use): true if it names `op` and has not expired.
+  bool take_arm(uint16_t op);
+  /// Whether the lifecycle state allows `op` now (status snapshot of the loop).
+  bool state_allows(uint16_t op) const;
+  Status refuse_value();
+  Status write_arm(std::span<const uint16_t> v);
   void refresh_events();
   bool render(uint16_t start, uint16_t end, Block& b);
   Status write_command(std::span<const uint16_t> v);
@@ -94,7 +127,11 @@ class RegisterMap final : public hal::RegisterHandler {
   std::vector<uint8_t> wb_staging_;
   WriteBackResult wb_result_ = WriteBackResult::none;
   uint16_t command_result_ = 0;
-  uint64_t refused_unsafe_ = 0, illegal_address_ = 0;
+  // Arm: the operation armed (0 none) and when, ns of now_ns().
+  uint16_t armed_op_ = 0;
+  int64_t armed_at_ns_ = 0;
+  AccessCounters access_{};
+  uint64_t wear_store_failures_ = 0;
 };
 
 }  // namespace amb::fw

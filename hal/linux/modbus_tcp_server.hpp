@@ -15,7 +15,7 @@
 namespace amb::hal::linux_hw {
 
 struct ModbusTcpOptions {
-  std::string bind_address = "0.0.0.0";  ///< IPv4 address to listen on
+  std::string bind_address = "127.0.0.1";  ///< IPv4 address to listen on (default: loopback only)
   uint16_t port = 502;                   ///< TCP port (0: ephemeral, see bound_port())
   uint8_t unit_id = 1;                   ///< unit answered; 0 and 255 are accepted too
   int max_clients = 4;                   ///< simultaneous connections, further ones are refused

@@ -1,13 +1,17 @@
 // amb-host writeback: send a wear record (AMBW v1) to a board over Modbus TCP. The board
 // validates format, CRC, board name and sequence number before it replaces its stored record
-// (power-loss safe); the transfer resumes after dropped connections.
+// (power-loss safe); the transfer resumes after dropped connections. The commit is a command:
+// it is armed with the board's key ([comms.modbus] arm_key of its board file: --board, or
+// --arm-key, or the environment variable AMB_ARM_KEY).
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "firmware/board/board.hpp"
 #include "firmware/persistence/crc32c.hpp"
 #include "firmware/persistence/wear_store.hpp"
 #include "firmware/wear/wear_record.hpp"
@@ -23,9 +27,33 @@ struct Args {
   std::string record_path;
   bool renumber = false;
   bool json = false;
+  std::string arm_key;  ///< as given (decimal or 0x hex)
+  std::string board;    ///< board name or file to take the arm key from
 };
 
+/// The arm key: --arm-key, else the board file's [comms.modbus] arm_key, else AMB_ARM_KEY.
+uint32_t arm_key_of(const Args& a) {
+  auto parse = [](const std::string& text, const char* from) {
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(text.c_str(), &end, 0);
+    if (text.empty() || *end != '\0' || v == 0 || v > 0xFFFFFFFFull)
+      throw std::runtime_error(std::string("arm key from ") + from + " must be an integer in [1, 2^32-1], got '" + text + "'");
+    return static_cast<uint32_t>(v);
+  };
+  if (!a.arm_key.empty()) return parse(a.arm_key, "--arm-key");
+  if (!a.board.empty()) {
+    const amb::board::BoardConfig b = amb::board::load_board(a.board);
+    if (b.comms.modbus.arm_key == 0)
+      throw std::runtime_error("board " + b.name + " has no [comms.modbus] arm_key: it takes no commands over Modbus");
+    return b.comms.modbus.arm_key;
+  }
+  if (const char* env = std::getenv("AMB_ARM_KEY"); env && *env) return parse(env, "AMB_ARM_KEY");
+  throw std::runtime_error("the commit needs the board's arm key: --board NAME|FILE (its [comms.modbus] arm_key), "
+                           "--arm-key KEY or AMB_ARM_KEY");
+}
+
 int run(const Args& a) {
+  const uint32_t key = arm_key_of(a);
   std::ifstream in(a.record_path, std::ios::binary);
   if (!in) {
     std::fprintf(stderr, "amb-host writeback: error: cannot open %s\n", a.record_path.c_str());
@@ -57,7 +85,7 @@ int run(const Args& a) {
                  rec.board_name.c_str(), id.board_name.c_str());
     return 1;
   }
-  const lk::WriteBackOutcome o = lk::write_back(link, bytes);
+  const lk::WriteBackOutcome o = lk::write_back(link, bytes, key);
   const lk::WearSummary after = lk::read_wear_summary(link);
   const bool ok = (o.result_name == "accepted" || o.already_stored) && after.present && after.crc32 == amb::fw::crc32c(bytes);
   nlohmann::json j{{"board", id.board_name},
@@ -71,7 +99,8 @@ int run(const Args& a) {
                    {"resumed_from", o.stats.resumed_from},
                    {"wall_s", o.stats.wall_s},
                    {"reconnects", o.stats.reconnects},
-                   {"generation", after.generation}};
+                   {"generation", after.generation},
+                   {"commit_attempts", o.commit_attempts}};
   if (a.json) std::printf("%s\n", j.dump(2).c_str());
   else
     std::printf("writeback %s: %s (sequence %u, crc32c %08x, %zu bytes, %.3f s, %d reconnect(s))\n",
@@ -91,6 +120,8 @@ const amb::host::Registration reg{
       sub.add_option("--timeout", a->link.response_timeout_s, "response timeout per request, s")->capture_default_str();
       sub.add_option("--retries", a->link.max_retries, "reconnect attempts before giving up")->capture_default_str();
       sub.add_flag("--renumber", a->renumber, "set the record's sequence to the one the board expects");
+      sub.add_option("--board", a->board, "board name or file whose [comms.modbus] arm_key arms the commit");
+      sub.add_option("--arm-key", a->arm_key, "the board's arm key (decimal or 0x hex; default: --board, then AMB_ARM_KEY)");
       sub.add_flag("--json", a->json, "print figures as JSON");
       run_fn = [a] { return run(*a); };
     }};

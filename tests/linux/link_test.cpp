@@ -21,6 +21,8 @@ namespace {
 namespace lk = amb::host::link;
 using amb::hal::linux_hw::FileStorage;
 
+constexpr uint32_t k_arm_key = 0x5EC0DE42;  // the test board's [comms.modbus] arm_key
+
 struct Board {
   std::string dir;
   amb::board::BoardConfig board = amb::board::load_board("bath-amb-rig");
@@ -43,6 +45,7 @@ struct Board {
     src.wear = wear.get();
     src.wear_corrupt_at_start = rep.corrupt_slots;
     src.board_name = board.name;
+    src.arm_key = k_arm_key;
     map = std::make_unique<amb::fw::RegisterMap>(src);
     amb::hal::linux_hw::ModbusTcpOptions o;
     o.bind_address = "127.0.0.1";
@@ -150,24 +153,24 @@ TEST(Link, WriteBackIsValidatedPersistedAndSurvivesRestart) {
   {
     Board b(dir);
     lk::ModbusLink link(b.link());
-    auto o = lk::write_back(link, amb::fw::encode_wear_record(record(1)));
+    auto o = lk::write_back(link, amb::fw::encode_wear_record(record(1)), k_arm_key);
     EXPECT_EQ(o.result_name, "accepted");
     // The very same record again: the board already holds it (nothing is written).
-    o = lk::write_back(link, amb::fw::encode_wear_record(record(1)));
+    o = lk::write_back(link, amb::fw::encode_wear_record(record(1)), k_arm_key);
     EXPECT_EQ(o.result_name, "already_stored");
     // A different record with an old sequence, and a foreign record, are refused by the board.
     auto stale = record(1);
     stale.event_count = 77;
-    o = lk::write_back(link, amb::fw::encode_wear_record(stale));
+    o = lk::write_back(link, amb::fw::encode_wear_record(stale), k_arm_key);
     EXPECT_EQ(o.result_name, "stale_sequence");
     auto other = record(2);
     other.board_name = "unicamp-amb-rig";
-    o = lk::write_back(link, amb::fw::encode_wear_record(other));
+    o = lk::write_back(link, amb::fw::encode_wear_record(other), k_arm_key);
     EXPECT_EQ(o.result_name, "wrong_board");
     // Through a connection cut every ~2 KiB: resumed, accepted.
     amb::test::FlakyProxy proxy(b.server->bound_port(), 2000);
     lk::ModbusLink flaky(b.link(proxy.port()));
-    o = lk::write_back(flaky, amb::fw::encode_wear_record(record(2)));
+    o = lk::write_back(flaky, amb::fw::encode_wear_record(record(2)), k_arm_key);
     EXPECT_EQ(o.result_name, "accepted");
     EXPECT_GT(proxy.cuts(), 1);
     const auto w = lk::read_wear_summary(link);
@@ -185,6 +188,51 @@ TEST(Link, WriteBackIsValidatedPersistedAndSurvivesRestart) {
   lk::TransferStats s;
   lk::download(link, amb::fw::regs::k_wear_item_index, w.crc32, static_cast<uint32_t>(amb::fw::wear_record_size()), rec, s);
   EXPECT_EQ(rec, amb::fw::encode_wear_record(record(2)));
+  std::filesystem::remove_all(dir);
+}
+
+// The commit is a command: without the right key it is refused before anything is written;
+// a commit that fails in the board's storage (EIO on fsync) keeps the old record, is counted,
+// and is armed and committed again by the host once the storage recovers.
+TEST(Link, WriteBackNeedsTheArmKeyAndSurvivesAStorageFailure) {
+  const std::string dir = temp_dir("wbfault");
+  {
+    Board b(dir);
+    lk::ModbusLink link(b.link());
+    ASSERT_EQ(lk::write_back(link, amb::fw::encode_wear_record(record(1)), k_arm_key).result_name, "accepted");
+    try {
+      lk::write_back(link, amb::fw::encode_wear_record(record(2)), k_arm_key ^ 1);
+      ADD_FAILURE() << "a wrong arm key was accepted";
+    } catch (const lk::ModbusException& e) {
+      EXPECT_EQ(e.code(), 3);
+      EXPECT_NE(std::string(e.what()).find("wrong arm key"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(lk::read_wear_summary(link).sequence, 1u);
+    // Storage fails every fsync: the board answers exception 4 (storage_failed), keeps record 1.
+    struct FailFsync final : amb::hal::linux_hw::FsFaultHook {
+      int before(amb::hal::linux_hw::FsOp op, std::string_view, uint64_t) override {
+        return op == amb::hal::linux_hw::FsOp::fsync ? EIO : 0;
+      }
+    } eio;
+    b.wear_fs->set_fault_hook(&eio);
+    auto o = lk::write_back(link, amb::fw::encode_wear_record(record(2)), k_arm_key);
+    EXPECT_EQ(o.result_name, "storage_failed");
+    EXPECT_EQ(o.commit_attempts, 3);
+    EXPECT_EQ(lk::read_wear_summary(link).sequence, 1u);
+    uint16_t r[18];
+    lk::ModbusLink raw(b.link());
+    raw.read(amb::fw::regs::storage_stats, std::span<uint16_t>(r, 18));
+    EXPECT_EQ(lk::u32_at(std::span<const uint16_t>(r, 18), 16), 3u) << "wear-record commits failed in storage";
+    b.wear_fs->set_fault_hook(nullptr);
+    o = lk::write_back(link, amb::fw::encode_wear_record(record(2)), k_arm_key);
+    EXPECT_EQ(o.result_name, "accepted");
+    EXPECT_EQ(o.stats.bytes, 0u) << "the complete session was kept: only the commit was repeated";
+  }
+  Board again(dir);
+  lk::ModbusLink link(again.link());
+  const auto w = lk::read_wear_summary(link);
+  EXPECT_EQ(w.sequence, 2u);
+  EXPECT_EQ(w.corrupt_at_start, 0) << "no torn slot after the failed commits";
   std::filesystem::remove_all(dir);
 }
 

@@ -24,6 +24,8 @@ namespace {
 namespace regs = amb::fw::regs;
 using amb::hal::linux_hw::ModbusTcpServer;
 
+constexpr uint32_t k_arm_key = 0x0BADF00D;
+
 struct Fixture {
   amb::board::BoardConfig board = amb::board::load_board("bath-amb-rig");
   amb::fw::Supervisor sup;
@@ -42,9 +44,11 @@ struct Fixture {
     src.wear = &wear;
     src.board_name = board.name;
     src.rate_hz = board.rate_hz;
+    src.arm_key = k_arm_key;
     src.link = [this] {
       const auto s = server->stats();
-      return amb::fw::LinkCounters{s.requests, s.exceptions, s.bad_frames, s.wrong_unit, s.connections};
+      return amb::fw::LinkCounters{s.requests, s.exceptions, s.bad_frames, s.wrong_unit, s.connections,
+                                   s.refused_connections};
     };
     map = std::make_unique<amb::fw::RegisterMap>(src);
     amb::hal::linux_hw::ModbusTcpOptions o;
@@ -69,6 +73,12 @@ struct Fixture {
 };
 
 int exception_of(int rc) { return rc >= 0 ? 0 : errno - MODBUS_ENOBASE; }
+
+/// The arm sequence over the wire: [key hi, key lo, operation] to 0x0F00 (function 16).
+int arm(modbus_t* c, uint16_t op, uint32_t key = k_arm_key) {
+  const uint16_t v[3] = {static_cast<uint16_t>(key >> 16), static_cast<uint16_t>(key), op};
+  return modbus_write_registers(c, regs::arm, 3, v);
+}
 
 TEST(RegisterMap, IdentityAndStateOverModbusTcp) {
   Fixture fx;
@@ -108,18 +118,36 @@ TEST(RegisterMap, AccessRules) {
   EXPECT_EQ(exception_of(modbus_write_register(c, regs::command, 99)), MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
   const uint16_t bad_begin[5] = {regs::wb_begin, 0xFFFF, 0xFFFF, 0, 0};
   EXPECT_EQ(exception_of(modbus_write_registers(c, regs::wb_control, 5, bad_begin)), MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
-  // A command: levitate, then unsafe writes are refused with "busy".
-  ASSERT_EQ(modbus_write_register(c, regs::command, static_cast<uint16_t>(amb::fw::Command::levitate)), 1);
+  // A command without the arm sequence: exception 1, nothing happens; with a wrong key: 3.
+  const uint16_t lev = static_cast<uint16_t>(amb::fw::Command::levitate);
+  EXPECT_EQ(exception_of(modbus_write_register(c, regs::command, lev)), MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+  EXPECT_EQ(exception_of(arm(c, regs::op_levitate, k_arm_key + 1)), MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+  EXPECT_EQ(exception_of(modbus_write_register(c, regs::command, lev)), MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+  fx.step_rest(2);
+  ASSERT_EQ(fx.sup.state(), amb::fw::State::inactive);
+  // Armed: levitate; then the unsafe writes, armed too, are refused with "busy" (wrong state).
+  ASSERT_EQ(arm(c, regs::op_levitate), 3);
+  ASSERT_EQ(modbus_write_register(c, regs::command, lev), 1);
   fx.step_rest(2);
   ASSERT_EQ(fx.sup.state(), amb::fw::State::levitating);
   ASSERT_EQ(modbus_read_registers(c, regs::state_flags, 1, r), 1);
   EXPECT_EQ(r[0] & 1, 1);
+  ASSERT_EQ(arm(c, regs::op_wear_commit), 3);
   EXPECT_EQ(exception_of(modbus_write_register(c, regs::wb_control, regs::wb_commit)), MODBUS_EXCEPTION_SLAVE_OR_SERVER_BUSY);
   const uint16_t del[3] = {0, 0, 0};
+  ASSERT_EQ(arm(c, regs::op_event_delete), 3);
   EXPECT_EQ(exception_of(modbus_write_registers(c, regs::event_delete, 3, del)), MODBUS_EXCEPTION_SLAVE_OR_SERVER_BUSY);
+  // Levitate again while levitating: wrong state.
+  ASSERT_EQ(arm(c, regs::op_levitate), 3);
+  EXPECT_EQ(exception_of(modbus_write_register(c, regs::command, lev)), MODBUS_EXCEPTION_SLAVE_OR_SERVER_BUSY);
   ASSERT_EQ(modbus_read_registers(c, regs::modbus_stats, 14, r), 14);
-  EXPECT_EQ((static_cast<uint32_t>(r[10]) << 16) | r[11], 2u);  // refused_unsafe
-  EXPECT_GE((static_cast<uint32_t>(r[2]) << 16) | r[3], 9u);     // exceptions
+  EXPECT_EQ((static_cast<uint32_t>(r[10]) << 16) | r[11], 3u);  // refused in the wrong state
+  EXPECT_GE((static_cast<uint32_t>(r[2]) << 16) | r[3], 13u);    // exceptions
+  ASSERT_EQ(modbus_read_registers(c, regs::access_stats, 14, r), 14);
+  EXPECT_EQ((static_cast<uint32_t>(r[0]) << 16) | r[1], 4u);    // arms accepted
+  EXPECT_EQ((static_cast<uint32_t>(r[2]) << 16) | r[3], 1u);    // wrong key
+  EXPECT_EQ((static_cast<uint32_t>(r[4]) << 16) | r[5], 1u);    // commands accepted
+  EXPECT_EQ((static_cast<uint32_t>(r[6]) << 16) | r[7], 2u);    // refused, not armed
   modbus_close(c);
   modbus_free(c);
 }

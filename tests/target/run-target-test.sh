@@ -85,6 +85,10 @@ cp "$ROOT/boards/arm-virt-hil.toml" "$HERE/arm-virt-tracker.toml" "$R/etc/amb/"
 # The board of this run: the tracker board (tachless speed source, a plant TCG can step in
 # real time; see its header). AMB_TARGET_BOARD=arm-virt-hil runs the older board.
 BOARD=${AMB_TARGET_BOARD:-arm-virt-tracker}
+BOARD_TOML=$HERE/arm-virt-tracker.toml; [ "$BOARD" = arm-virt-hil ] && BOARD_TOML=$ROOT/boards/arm-virt-hil.toml
+# Commands need the arm sequence (docs/register-map.md, "Write access"): [key hi, key lo,
+# operation] to 0x0F00, then the command; the key is the board file's [comms.modbus] arm_key.
+ARM_KEY=$(( $(sed -n 's/^arm_key *= *\([0-9xXa-fA-F]*\).*/\1/p' "$BOARD_TOML" | head -1) ))
 cp "$HERE/guest-init.sh" "$R/init" && chmod +x "$R/init"
 # Shared libraries: the NEEDED closure, from the multiarch arm64 install.
 libdirs="/usr/lib/aarch64-linux-gnu /lib/aarch64-linux-gnu"
@@ -170,6 +174,10 @@ reg() {  # reg ADDRESS: one holding register (0-based) as a decimal, via mbpoll
   mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r "$1" -c 1 127.0.0.1 2>/dev/null | sed -n 's/^\[[0-9]*\]:[[:space:]]*\([0-9]*\).*/\1/p' | head -1
 }
 reg32() { local hi lo; hi=$(reg "$1"); lo=$(reg $(( $1 + 1 ))); echo $(( (${hi:-0} & 0xFFFF) * 65536 + (${lo:-0} & 0xFFFF) )); }
+mb_arm() {  # mb_arm OPERATION: arm one command (1..6 command values, 16 event delete, 17 wear commit)
+  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r $((0x0F00)) 127.0.0.1 $(( (ARM_KEY >> 16) & 0xFFFF )) $(( ARM_KEY & 0xFFFF )) "$1" >/dev/null 2>&1
+}
+mb_cmd() { mb_arm "$1"; mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 4096 127.0.0.1 "$1" >/dev/null 2>&1; }  # armed command
 
 # ---- first boot ---------------------------------------------------------------------------------
 T_BOOT=$(date +%s)
@@ -214,20 +222,24 @@ echo "loop: periods $(reg32 $((0x402))) (low), overruns $(reg32 $((0x406))) (low
 
 # Levitate, then lose the plant's nodes: the board must go to the safe state (comm_timeout or
 # an earlier fault) and capture a drop event.
-mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 4096 127.0.0.1 1 >/dev/null 2>&1
+if mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 4096 127.0.0.1 1 2>&1 | grep -qi 'illegal function'; then
+  pass "levitate without the arm sequence refused (exception 1), state $(reg 256)"
+else fail "levitate without the arm sequence not refused"; fi
+mb_cmd 1
 sleep 3
 S=$(reg 256); F=$(reg 258)
 echo "after levitate: state $S fault $F (2 levitating, 4 fault)"
 if [ "$S" = 2 ]; then
+  mb_arm 17
   if mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r $((0x5000)) 127.0.0.1 2 2>&1 | grep -qi 'busy'; then
-    pass "write-back commit refused while levitating (exception 6)"
+    pass "armed write-back commit refused while levitating (exception 6)"
   else fail "write-back commit not refused while levitating"; fi
 fi
 # Tachless speed on the board: spin up (run command), wait for the tracker's lock, then read the
 # tracked-speed register with mbpoll and compare it with the HIL plant's true speed.
 T_SPIN=$(date +%s)
 spin_and_settle() {  # levitated -> run -> at speed, then 6 s for the tracker's 1 s windows
-  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 4096 127.0.0.1 2 >/dev/null 2>&1
+  mb_cmd 2
   local i=0
   while [ $i -lt 40 ] && [ "$(reg 257)" != 5 ]; do sleep 1; i=$((i + 1)); done
   sleep 6
@@ -282,13 +294,13 @@ else fail "amb-host fetch: $FJ"; fi
 # Write a wear record back (encoded by an independent Python encoder of AMBW v1).
 SEQ=$(( $(reg32 $((0x4001))) + 1 ))
 python3 "$HERE/make_wear_record.py" "$WORK/wear.ambw" "$BOARD" "$SEQ" "${n:-1}" >/dev/null
-WJ=$("$HOST" writeback "$WORK/wear.ambw" --host 127.0.0.1 --port "$PORT" --json 2>&1)
+WJ=$("$HOST" writeback "$WORK/wear.ambw" --board "$BOARD_TOML" --host 127.0.0.1 --port "$PORT" --json 2>&1)
 if echo "$WJ" | grep -q '"verified": true'; then
   pass "amb-host writeback: record sequence $SEQ accepted, validated and persisted by the board"
 else fail "amb-host writeback: $WJ"; fi
 WCRC=$(echo "$WJ" | python3 -c 'import json,sys; print(json.load(sys.stdin)["crc32c"])' 2>/dev/null)
 BAD=$WORK/bad.ambw; cp "$WORK/wear.ambw" "$BAD"; printf '\x02' | dd of="$BAD" bs=1 seek=4 conv=notrunc 2>/dev/null
-"$HOST" writeback "$BAD" --host 127.0.0.1 --port "$PORT" >/dev/null 2>&1 && fail "a record with a bad version was accepted" \
+"$HOST" writeback "$BAD" --board "$BOARD_TOML" --host 127.0.0.1 --port "$PORT" >/dev/null 2>&1 && fail "a record with a bad version was accepted" \
   || pass "a record with a bad version is refused"
 
 send candump
@@ -311,7 +323,7 @@ if [ "$(reg32 $((0x4001)))" = "$SEQ" ] && cmp -s "$WORK/wear.ambw" "$WORK/after.
   pass "after a restart the board serves the same wear record (sequence $SEQ, byte-identical, crc32c $WCRC)"
 else fail "wear record lost or changed across the restart: $(cat "$WORK/after.json")"; fi
 if [ "$BOARD" = arm-virt-tracker ] && [ -n "${LOOP_ON:-}" ]; then
-  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 4096 127.0.0.1 1 >/dev/null 2>&1
+  mb_cmd 1
   sleep 3
   if [ "$(reg 256)" = 2 ]; then
     spin_and_settle

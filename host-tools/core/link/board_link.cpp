@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
+#include <thread>
 
 #include "firmware/persistence/crc32c.hpp"
 #include "firmware/persistence/wear_store.hpp"
@@ -121,7 +122,23 @@ void download(ModbusLink& link, uint16_t index, uint32_t crc32, uint32_t size, s
     throw std::runtime_error("downloaded item fails its end-to-end CRC-32 (expected " + std::to_string(crc32) + ")");
 }
 
-WriteBackOutcome write_back(ModbusLink& link, const std::vector<uint8_t>& record) {
+void arm(ModbusLink& link, uint32_t arm_key, uint16_t operation) {
+  const std::vector<uint16_t> a{static_cast<uint16_t>(arm_key >> 16), static_cast<uint16_t>(arm_key), operation};
+  try {
+    link.write(regs::arm, a);
+  } catch (const ModbusException& e) {
+    if (e.code() == 3) throw ModbusException(3, "the board refused the arm sequence: wrong arm key (its board file's [comms.modbus] arm_key)");
+    if (e.code() == 1) throw ModbusException(1, "the board takes no commands over Modbus (no [comms.modbus] arm_key in its board file)");
+    throw;
+  }
+}
+
+void send_command(ModbusLink& link, uint32_t arm_key, uint16_t command) {
+  arm(link, arm_key, command);
+  link.write(regs::command, std::vector<uint16_t>{command});
+}
+
+WriteBackOutcome write_back(ModbusLink& link, const std::vector<uint8_t>& record, uint32_t arm_key) {
   WriteBackOutcome out;
   const double t0 = now_s();
   const int reconnects0 = link.reconnects();
@@ -159,12 +176,21 @@ WriteBackOutcome write_back(ModbusLink& link, const std::vector<uint8_t>& record
     }
   }
   int commit_error = 0;
-  try {
-    link.write(regs::wb_control, std::vector<uint16_t>{regs::wb_commit});
-  } catch (const ModbusException& e) {
-    commit_error = e.code();
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    commit_error = 0;
+    ++out.commit_attempts;
+    arm(link, arm_key, regs::op_wear_commit);  // a wrong key is the caller's error: thrown
+    try {
+      link.write(regs::wb_control, std::vector<uint16_t>{regs::wb_commit});
+    } catch (const ModbusException& e) {
+      commit_error = e.code();
+    }
+    read_status();
+    // The board ran the commit unless it refused it before (not armed: 1) or its storage
+    // failed (4: the session stays complete, the old record stays the newest).
+    if (st[0] != regs::wb_complete || (commit_error != 1 && commit_error != 4)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
-  read_status();
   out.result = st[regs::wb_result - regs::wb_control];
   out.stored_sequence = u32_at(st, regs::wb_stored_sequence - regs::wb_control);
   // A commit whose reply was lost and that was retried is refused as stale, and so is a

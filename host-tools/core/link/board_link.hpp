@@ -63,15 +63,26 @@ void download(ModbusLink& link, uint16_t index, uint32_t crc32, uint32_t size, s
 
 struct WriteBackOutcome {
   uint16_t result = 0;        ///< fw::WriteBackResult code from the board
+  int commit_attempts = 0;    ///< armed commits sent
   std::string result_name;    ///< to_string(result), or "already_stored" (board holds these exact bytes)
   bool already_stored = false;
   uint32_t stored_sequence = 0;
   TransferStats stats;
 };
 
+/// Arm one operation (regs::ArmOperation) with the board's key ([comms.modbus] arm_key): the
+/// next command write must follow within the board's arm window. Throws ModbusException
+/// (3: wrong key, 1: the board takes no commands).
+void arm(ModbusLink& link, uint32_t arm_key, uint16_t operation);
+/// Arm and write the command register (1 levitate .. 5 emergency stop, 6 manual capture).
+/// Throws ModbusException (1 not armed, 6 wrong lifecycle state or a command still pending).
+void send_command(ModbusLink& link, uint32_t arm_key, uint16_t command);
+
 /// Send an encoded AMBW record; resumes a session the board already holds for the same bytes.
+/// The commit is armed with `arm_key`; a commit whose arm was lost (expired, or taken by another
+/// client) or that failed in the board's storage is armed and committed again (3 attempts).
 /// Returns the board's verdict (accepted or why not); throws on link failure.
-WriteBackOutcome write_back(ModbusLink& link, const std::vector<uint8_t>& record);
+WriteBackOutcome write_back(ModbusLink& link, const std::vector<uint8_t>& record, uint32_t arm_key);
 
 /// File helpers for resumable downloads: `<dir>/<name>` when complete, `<dir>/.<name>.<crc>.part` meanwhile.
 std::string part_path(const std::string& dir, const EventInfo& e);
