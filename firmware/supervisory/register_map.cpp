@@ -85,7 +85,10 @@ int64_t RegisterMap::now_ns() const {
 bool RegisterMap::take_arm(uint16_t op) {
   const bool armed = src_.arm_key != 0 && armed_op_ != regs::op_none && armed_op_ == op &&
                      now_ns() - armed_at_ns_ <= src_.arm_window_ns;
-  armed_op_ = regs::op_none;  // single use: any write to a command register consumes the arm
+  // Single use: the write of the armed operation consumes the arm, accepted or not. A write of
+  // another operation is refused and leaves the arm alone, so that a stray client cannot
+  // cancel an operator's arm (nor use it: it names its operation).
+  if (armed_op_ == op) armed_op_ = regs::op_none;
   if (!armed) ++access_.refused_not_armed;
   return armed;
 }
@@ -369,7 +372,8 @@ hal::RegisterHandler::Status RegisterMap::write_registers(uint16_t address, std:
 }
 
 hal::RegisterHandler::Status RegisterMap::write_arm(std::span<const uint16_t> v) {
-  armed_op_ = regs::op_none;  // a new arm (good or bad) replaces the old one
+  // Only an accepted arm replaces the one in place: a refused arm (wrong key, bad operation)
+  // leaves it, so that a stray client cannot cancel an operator's arm.
   if (v.size() != 3) return illegal_value;
   if (src_.arm_key == 0) {  // the board file gives no key: no commands over Modbus
     ++access_.refused_not_armed;
@@ -390,10 +394,7 @@ hal::RegisterHandler::Status RegisterMap::write_arm(std::span<const uint16_t> v)
 }
 
 hal::RegisterHandler::Status RegisterMap::write_command(std::span<const uint16_t> v) {
-  if (v.size() != 1 || v[0] < regs::op_levitate || v[0] > regs::op_capture) {
-    armed_op_ = regs::op_none;
-    return illegal_value;
-  }
+  if (v.size() != 1 || v[0] < regs::op_levitate || v[0] > regs::op_capture) return illegal_value;
   if (!take_arm(v[0])) return illegal_function;
   if (!state_allows(v[0])) {
     ++access_.refused_state;
@@ -413,10 +414,7 @@ hal::RegisterHandler::Status RegisterMap::write_command(std::span<const uint16_t
 }
 
 hal::RegisterHandler::Status RegisterMap::write_delete(std::span<const uint16_t> v) {
-  if (v.size() != 3) {
-    armed_op_ = regs::op_none;
-    return illegal_value;
-  }
+  if (v.size() != 3) return illegal_value;
   if (!take_arm(regs::op_event_delete)) return illegal_function;
   if (!state_allows(regs::op_event_delete)) {
     ++access_.refused_state;
@@ -493,10 +491,7 @@ hal::RegisterHandler::Status RegisterMap::write_wb_control(std::span<const uint1
       return ok;
     }
     case regs::wb_commit: {
-      if (v.size() != 1) {
-        armed_op_ = regs::op_none;
-        return illegal_value;
-      }
+      if (v.size() != 1) return illegal_value;
       if (!take_arm(regs::op_wear_commit)) return illegal_function;
       if (!state_allows(regs::op_wear_commit)) {
         ++access_.refused_state;

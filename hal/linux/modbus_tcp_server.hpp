@@ -3,7 +3,10 @@
 // hal::RegisterHandler. Several clients at once (select loop). Function codes served:
 // 3 and 4 (read registers), 6 (write one), 16 (write many), 23 (write then read, one round
 // trip). Anything else is answered with exception 1 (illegal function); bad frames (wrong
-// protocol id, length field disagreeing with the frame) are counted and the connection closed.
+// protocol id, a length field outside the protocol's range, a request not complete within
+// request_timeout_ms of its first byte) are counted and the connection closed. The server never
+// waits on one client: it reads what each connection has sent and answers complete requests,
+// so a slow or hostile client cannot hold up the others.
 // The loop thread is never touched: the handler exchanges data with it lock-free.
 #include <atomic>
 #include <cstdint>

@@ -181,11 +181,11 @@ TEST(WriteAccess, EveryCommandIsRefusedWithoutTheArmSequenceInEveryState) {
       // A wrong key is refused (3) and arms nothing.
       EXPECT_EQ(fx.arm(op.code, k_key ^ 0x0100), St::illegal_value);
       EXPECT_EQ(fx.command(op.code), St::illegal_function);
-      // An arm for another operation does not arm this one, and is used up by the attempt.
+      // An arm for another operation does not arm this one (and is left for its own operation).
       const uint16_t other = op.code == regs::op_levitate ? regs::op_land : regs::op_levitate;
       ASSERT_EQ(fx.arm(other), St::ok);
       EXPECT_EQ(fx.command(op.code), St::illegal_function);
-      EXPECT_EQ(fx.read(regs::arm, 1)[0], 0) << "the arm was consumed by the refused write";
+      EXPECT_EQ(fx.read(regs::arm, 1)[0], other) << "a stray write does not cancel another operation's arm";
       // An arm that expired.
       ASSERT_EQ(fx.arm(op.code), St::ok);
       fx.t_ns += k_window_ns + 1;
@@ -246,11 +246,14 @@ TEST(WriteAccess, ArmedCommandsMoveTheLoop) {
   EXPECT_EQ(fx.read(regs::command, 1)[0], 1) << "posted";
 }
 
-TEST(WriteAccess, BadValuesAndLengthsAreRefusedAndCountedAndConsumeTheArm) {
+TEST(WriteAccess, BadValuesAndLengthsAreRefusedAndCountedAndLeaveTheArm) {
   Fixture fx(Where::inactive);
   ASSERT_EQ(fx.arm(regs::op_levitate), St::ok);
   EXPECT_EQ(fx.write(regs::command, {99}), St::illegal_value);
-  EXPECT_EQ(fx.command(regs::op_levitate), St::illegal_function) << "a bad value used up the arm";
+  EXPECT_EQ(fx.arm(regs::op_levitate, k_key + 1), St::illegal_value) << "a wrong key";
+  EXPECT_EQ(fx.read(regs::arm, 1)[0], regs::op_levitate) << "refused writes leave the arm in place";
+  EXPECT_EQ(fx.command(regs::op_levitate), St::ok);
+  EXPECT_EQ(fx.command(regs::op_levitate), St::illegal_function) << "used once";
   EXPECT_EQ(fx.write(regs::arm, {0, 1}), St::illegal_value) << "arm needs 3 registers";
   EXPECT_EQ(fx.arm(7), St::illegal_value) << "no operation 7";
   EXPECT_EQ(fx.arm(0), St::illegal_value);
@@ -263,7 +266,7 @@ TEST(WriteAccess, BadValuesAndLengthsAreRefusedAndCountedAndConsumeTheArm) {
   EXPECT_EQ(r[0], regs::op_levitate);
   EXPECT_EQ(r[2], 0);
   const auto a = fx.read(regs::access_stats, 14);
-  EXPECT_EQ(u32(a, 10), 7u) << "writes refused for a bad value";
+  EXPECT_EQ(u32(a, 10), 8u) << "writes refused for a bad value (the wrong key too)";
 }
 
 TEST(WriteAccess, ABoardWithoutAnArmKeyTakesNoCommands) {

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <thread>
 
 #include "firmware/board/board.hpp"
@@ -195,6 +196,37 @@ TEST(RegisterMap, MalformedFramesAreCountedAndRefused) {
   modbus_t* c = fx.client();
   uint16_t r[1];
   EXPECT_EQ(modbus_read_registers(c, regs::magic, 1, r), 1);
+  modbus_close(c);
+  modbus_free(c);
+}
+
+// A client that sends part of a request and waits (slow or hostile) does not hold up the
+// others: the server never waits on one connection; the partial request is dropped after
+// request_timeout_ms (1 s), counted as a bad frame.
+TEST(RegisterMap, ASlowClientDoesNotHoldUpTheOthers) {
+  Fixture fx;
+  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(fx.server->bound_port());
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  const uint8_t partial[] = {0, 9, 0, 0, 0, 6, 1, 3};  // 8 of 12 bytes
+  ASSERT_EQ(::send(s, partial, sizeof partial, 0), static_cast<ssize_t>(sizeof partial));
+  modbus_t* c = fx.client();
+  uint16_t r[1];
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < 20; ++i) ASSERT_EQ(modbus_read_registers(c, regs::magic, 1, r), 1);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(ms, 500.0) << "20 requests while another client holds a partial frame";
+  std::printf("[ figures ] 20 requests in %.1f ms while another client held a partial frame\n", ms);
+  // The slow client is closed after the request timeout.
+  timeval tv{3, 0};
+  setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  uint8_t buf[16];
+  EXPECT_EQ(::recv(s, buf, sizeof buf, 0), 0) << "closed by the server";
+  ::close(s);
+  EXPECT_EQ(fx.server->stats().bad_frames, 1u);
   modbus_close(c);
   modbus_free(c);
 }
