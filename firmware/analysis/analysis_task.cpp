@@ -3,11 +3,38 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "firmware/board/board.hpp"
 #include "model/bearing/catalogue.hpp"
 
 namespace amb::fw {
+
+RigidRotorProperties rigid_rotor_properties(const model::RotorParams& r) {
+  // Beam elements (solid or hollow cylinders, left to right) and rigid disks; first moments
+  // for the centre of mass, then transverse inertias about it (parallel axes).
+  RigidRotorProperties p;
+  double z = 0.0, m = 0.0, mz = 0.0;
+  struct Part { double m, z, i_own; };
+  std::vector<Part> parts;
+  parts.reserve(r.elements.size() + r.disks.size());
+  for (const model::BeamElement& e : r.elements) {
+    const double ro = 0.5 * e.outer_diameter_m, ri = 0.5 * e.inner_diameter_m, l = e.length_m;
+    const double me = e.density_kg_m3 * M_PI * (ro * ro - ri * ri) * l;
+    parts.push_back({me, z + 0.5 * l, me * (3.0 * (ro * ro + ri * ri) + l * l) / 12.0});
+    z += l;
+  }
+  for (const model::RigidDisk& d : r.disks) parts.push_back({d.mass_kg, d.axial_m, d.transverse_inertia_kg_m2});
+  for (const Part& q : parts) {
+    m += q.m;
+    mz += q.m * q.z;
+  }
+  if (!(m > 0)) return p;
+  p.mass_kg = m;
+  p.cm_axial_m = mz / m;
+  for (const Part& q : parts) p.transverse_inertia_kg_m2 += q.i_own + q.m * (q.z - p.cm_axial_m) * (q.z - p.cm_axial_m);
+  return p;
+}
 
 BearingTaskConfig bearing_task_config(const board::BoardConfig& b) {
   BearingTaskConfig c;
@@ -20,6 +47,12 @@ BearingTaskConfig bearing_task_config(const board::BoardConfig& b) {
   c.aux_contact_constant_n_per_m1p5 = p.aux_contact_constant_n_per_m1p5;
   c.aux_dynamic_load_rating_n = p.aux_dynamic_load_rating_n;
   c.aux_spin_speed_hz = p.aux_spin_speed_hz;
+  c.aux_axial_m = {b.plant.aux[0].axial_m, b.plant.aux[1].axial_m};
+  const RigidRotorProperties rr = rigid_rotor_properties(b.plant.rotor);
+  c.rotor_mass_kg = rr.mass_kg;
+  c.rotor_transverse_inertia_kg_m2 = rr.transverse_inertia_kg_m2;
+  c.rotor_cm_axial_m = rr.cm_axial_m;
+  c.gravity_m_s2 = b.plant.gravity_m_s2;
   return c;
 }
 
@@ -27,6 +60,7 @@ std::string AnalysisTask::configure(const board::BoardConfig& b, Supervisor* sup
   sup_ = sup;
   enabled_ = false;
   channel_ = b.tracker.channel;
+  min_confidence_ = b.tracker.min_confidence;
   st_ = AnalysisStatus{};
   st_.tracked_speed_hz = std::numeric_limits<double>::quiet_NaN();
   seen_updates_ = 0;
@@ -63,7 +97,9 @@ size_t AnalysisTask::poll() {
   const TrackedSpeed t = tracker_.latest();
   if (t.update_seq != seen_updates_) {
     seen_updates_ = t.update_seq;
-    const bool lost = t.lost != 0 || !std::isfinite(t.speed_hz);
+    // Lost: the tracker says so, or has nothing, or is not sure enough (coasting on noise
+    // once the line has left its range): never a guess presented as a speed.
+    const bool lost = t.lost != 0 || !std::isfinite(t.speed_hz) || !(t.confidence >= min_confidence_);
     st_.update_t_ns = t.t_ns;
     st_.tracked_speed_hz = lost ? std::numeric_limits<double>::quiet_NaN() : t.speed_hz;
     st_.confidence = t.confidence;

@@ -18,6 +18,7 @@
 #include "firmware/tracking/speed_tracker_task.hpp"
 
 namespace amb::board { struct BoardConfig; }
+namespace amb::model { struct RotorParams; }
 
 namespace amb::fw {
 
@@ -26,7 +27,7 @@ struct AnalysisStatus {
   int64_t update_t_ns = 0;        ///< HAL time of the centre of the newest tracker window, ns
   double tracked_speed_hz = 0.0;  ///< newest tracker speed, Hz; NaN when lost or below the minimum
   double confidence = 0.0;        ///< its confidence, 0..1
-  uint8_t lost = 1;               ///< 1: the newest update carries no speed
+  uint8_t lost = 1;               ///< 1: the newest update carries no speed (tracker lost, below its minimum, or confidence < min_confidence)
   uint8_t below_min = 0;          ///< 1: the track went below the tracker's stated minimum speed
   uint8_t mode = 0;               ///< model::signal::TrackMode
   uint8_t defects_valid = 0;      ///< 1: the defect lines below are at the newest tracked speed
@@ -39,7 +40,17 @@ struct AnalysisStatus {
   uint64_t polls = 0;             ///< poll() calls
 };
 
-/// The bearing task's settings from a board's [bearing] table and rig (aux clearance).
+/// The rotor as one rigid body (the bearing task's quick-look momentum balance).
+struct RigidRotorProperties {
+  double mass_kg = 0.0;                   ///< total mass, kg
+  double cm_axial_m = 0.0;                ///< centre of mass, m from the left end
+  double transverse_inertia_kg_m2 = 0.0;  ///< about a diameter through the centre of mass, kg m^2
+};
+/// Mass properties of a board's rotor (beam elements and rigid disks). Configure time (allocates).
+RigidRotorProperties rigid_rotor_properties(const model::RotorParams& rotor);
+
+/// The bearing task's settings from a board's [bearing] table and rig (aux clearance and
+/// planes, the rigid rotor's mass properties, gravity).
 BearingTaskConfig bearing_task_config(const board::BoardConfig& board);
 
 class AnalysisTask final : public SampleSink {
@@ -69,6 +80,7 @@ class AnalysisTask final : public SampleSink {
  private:
   bool enabled_ = false;
   int channel_ = 0;
+  double min_confidence_ = 0.0;
   Supervisor* sup_ = nullptr;
   SpeedTrackerTask tracker_;
   BearingTask bearing_;

@@ -2,15 +2,34 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace amb::fw {
+
+int LoopStats::bin_of(int64_t latency_ns) {
+  if (latency_ns < k_linear_top_ns) return static_cast<int>(std::max<int64_t>(0, latency_ns) / k_bin_ns);
+  int64_t lo = k_linear_top_ns;
+  for (int o = 0; o < k_octaves; ++o, lo *= 2) {
+    if (latency_ns < 2 * lo) return k_linear_bins + o * k_sub_bins + static_cast<int>((latency_ns - lo) * k_sub_bins / lo);
+  }
+  return k_bins - 1;
+}
+
+int64_t LoopStats::bin_upper_ns(int bin) {
+  if (bin < k_linear_bins) return static_cast<int64_t>(bin + 1) * k_bin_ns;
+  if (bin >= k_bins - 1) return std::numeric_limits<int64_t>::max();
+  const int o = (bin - k_linear_bins) / k_sub_bins;
+  const int s = (bin - k_linear_bins) % k_sub_bins;
+  const int64_t lo = k_linear_top_ns << o;
+  return lo + lo * (s + 1) / k_sub_bins;
+}
 
 int64_t LoopStats::latency_quantile_ns(double q) const {
   const double target = q * static_cast<double>(periods);
   double acc = 0.0;
   for (int i = 0; i < k_bins; ++i) {
     acc += static_cast<double>(latency_hist[static_cast<size_t>(i)]);
-    if (acc >= target) return (i + 1) * k_bin_ns;
+    if (acc >= target) return std::min(bin_upper_ns(i), max_latency_ns);
   }
   return max_latency_ns;
 }
@@ -35,8 +54,7 @@ int64_t LoopRunner::run_one(int64_t deadline_ns) {
   stats_.sum_latency_ns += static_cast<double>(latency);
   stats_.max_latency_ns = std::max(stats_.max_latency_ns, latency);
   stats_.max_work_ns = std::max(stats_.max_work_ns, done - woke);
-  const int64_t bin = std::min<int64_t>(LoopStats::k_bins - 1, latency / LoopStats::k_bin_ns);
-  ++stats_.latency_hist[static_cast<size_t>(bin)];
+  ++stats_.latency_hist[static_cast<size_t>(LoopStats::bin_of(latency))];
   int64_t next = deadline_ns + period_ns_;
   if (done > next) {
     // Overrun: count it and skip the missed deadlines instead of bursting to catch up.

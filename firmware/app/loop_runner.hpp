@@ -19,18 +19,31 @@ class SampleSink {
 };
 
 /// Wake-up latency statistics (lateness of the wake-up against the absolute deadline).
+/// The histogram is log-linear and fixed-size (no allocation, trivially copyable): 64 bins of
+/// 2 us up to 128 us, then 16 bins per octave (6.25 % of the value or finer) up to
+/// 128 us x 2^14 = 2.1 s, then one overflow bin. A quantile is the upper edge of its bin, never
+/// above the largest latency seen, so p99 stays a real number on a loaded or emulated machine.
 struct LoopStats {
-  static constexpr int k_bins = 64;
-  static constexpr int64_t k_bin_ns = 2000;      ///< histogram bin width, ns (last bin: overflow)
+  static constexpr int k_linear_bins = 64;
+  static constexpr int64_t k_bin_ns = 2000;      ///< width of the linear bins, ns
+  static constexpr int64_t k_linear_top_ns = k_linear_bins * k_bin_ns;  ///< 128 us
+  static constexpr int k_sub_bins = 16;          ///< bins per octave above the linear range
+  static constexpr int k_octaves = 14;           ///< octaves above it: up to 2.1 s
+  static constexpr int k_bins = k_linear_bins + k_sub_bins * k_octaves + 1;  ///< last: overflow
   uint64_t periods = 0;
   uint64_t overruns = 0;                         ///< periods whose work ended after the next deadline
   int64_t max_latency_ns = 0;
   double sum_latency_ns = 0.0;
   int64_t max_work_ns = 0;                       ///< read+step+write duration, worst
-  std::array<uint64_t, k_bins> latency_hist{};   ///< counts per k_bin_ns bin
+  std::array<uint64_t, k_bins> latency_hist{};   ///< counts per bin (see bin_of)
   double mean_latency_ns() const { return periods ? sum_latency_ns / static_cast<double>(periods) : 0.0; }
-  /// Latency below which fraction `q` (0..1) of the periods woke up, from the histogram, ns.
+  /// Latency below which fraction `q` (0..1) of the periods woke up, from the histogram, ns:
+  /// the upper edge of the bin that holds it, at most max_latency_ns.
   int64_t latency_quantile_ns(double q) const;
+  /// [RT] Histogram bin of a latency (ns, >= 0); bounded time, no allocation.
+  static int bin_of(int64_t latency_ns);
+  /// Upper edge of bin `bin`, ns (the overflow bin: INT64_MAX).
+  static int64_t bin_upper_ns(int bin);
 };
 
 class LoopRunner {

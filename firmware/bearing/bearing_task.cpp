@@ -1,5 +1,6 @@
 #include "firmware/bearing/bearing_task.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace amb::fw {
@@ -12,6 +13,10 @@ bool BearingTask::configure(const BearingTaskConfig& c) {
   if (!(c.radial_clearance_m >= 0) || !(c.min_speed_hz > 0) || !(c.max_speed_hz > c.min_speed_hz)) return false;
   if (!(c.aux_radial_clearance_m > 0) || !(c.aux_contact_constant_n_per_m1p5 >= 0) ||
       !(c.aux_dynamic_load_rating_n >= 0) || !(c.aux_spin_speed_hz >= 0) || !(c.hertz_constant_n_per_m1p5 >= 0))
+    return false;
+  if (!(c.rotor_mass_kg >= 0) || !(c.rotor_transverse_inertia_kg_m2 >= 0) || !std::isfinite(c.rotor_cm_axial_m) ||
+      !(c.aux_axial_m[1] != c.aux_axial_m[0]) || !std::isfinite(c.aux_axial_m[0]) || !std::isfinite(c.aux_axial_m[1]) ||
+      !(c.gravity_m_s2 >= 0) || !(c.contact_fraction > 0 && c.contact_fraction <= 1) || !(c.accel_half_span_s > 0))
     return false;
   cfg_ = c;
   kb_nom_ = c.hertz_constant_n_per_m1p5 > 0 ? c.hertz_constant_n_per_m1p5 : mb::nominal_hertz_constant(c.bearing);
@@ -94,47 +99,111 @@ StiffnessUpdate BearingTask::update_stiffness(double load_n, double cage_angle_r
   return u;
 }
 
-void BearingTask::estimate_drop_load(std::span<const double> x_m, std::span<const double> y_m, double dt_s,
-                                     DropLoadEstimate& out) noexcept {
-  estimate_drop_load_at(x_m, y_m, dt_s, cfg_.aux_radial_clearance_m, cfg_.aux_spin_speed_hz, out);
+double BearingTask::impact_mass_kg(size_t bearing) const noexcept {
+  const double za = cfg_.aux_axial_m[0], zb = cfg_.aux_axial_m[1], zg = cfg_.rotor_cm_axial_m;
+  const double share = bearing == 0 ? (zb - zg) / (zb - za) : (zg - za) / (zb - za);
+  return cfg_.rotor_mass_kg * std::clamp(share, 0.0, 1.0);
 }
 
-void BearingTask::estimate_drop_load_at(std::span<const double> x_m, std::span<const double> y_m, double dt_s,
-                                        double clearance_m, double spin_hz, DropLoadEstimate& out) noexcept {
-  out = DropLoadEstimate{};
-  if (!configured_ || x_m.size() != y_m.size() || x_m.empty() || !(dt_s > 0) ||
-      !(cfg_.aux_contact_constant_n_per_m1p5 > 0) || !(clearance_m > 0) || !(spin_hz >= 0)) {
+void BearingTask::estimate_drop_loads(const DropOrbit& in, std::array<DropLoadEstimate, 2>& out) noexcept {
+  out[0] = DropLoadEstimate{};
+  out[1] = DropLoadEstimate{};
+  const size_t n = in.x_m[0].size();
+  const double spin = in.spin_hz >= 0 ? in.spin_hz : cfg_.aux_spin_speed_hz;
+  std::array<double, 2> c{};
+  for (size_t k = 0; k < 2; ++k) c[k] = in.clearance_m[k] > 0 ? in.clearance_m[k] : cfg_.aux_radial_clearance_m;
+  const bool sizes_ok = in.x_m[1].size() == n && in.y_m[0].size() == n && in.y_m[1].size() == n;
+  if (!configured_ || !sizes_ok || n == 0 || !(in.dt_s > 0) || !(cfg_.rotor_mass_kg > 0) ||
+      !(cfg_.rotor_transverse_inertia_kg_m2 > 0) || !(c[0] > 0) || !(c[1] > 0) || !std::isfinite(spin)) {
     ++counters_.rejected_drops;
     return;
   }
-  const double k = cfg_.aux_contact_constant_n_per_m1p5;
-  const double c = clearance_m;
-  for (size_t i = 0; i < x_m.size(); ++i) {
-    const double x = x_m[i], y = y_m[i];
-    if (!std::isfinite(x) || !std::isfinite(y)) continue;
-    const double pen = std::hypot(x, y) - c;
-    if (pen <= 0) continue;
-    const double f = k * pen * std::sqrt(pen);
-    double ang = std::atan2(y, x) * (180.0 / M_PI);
-    if (ang < 0) ang += 360.0;
-    auto bin = static_cast<int>(ang);
-    if (bin >= DropLoadEstimate::k_bins) bin = 0;
-    const auto b = static_cast<size_t>(bin);
-    out.impulse_n_s[b] += f * dt_s;
-    out.damage_n3_s[b] += f * f * f * dt_s;
-    ++out.samples_in_contact;
-    if (f > out.peak_force_n) {
-      out.peak_force_n = f;
-      out.peak_angle_deg = ang;
+  const double m = cfg_.rotor_mass_kg, inertia = cfg_.rotor_transverse_inertia_kg_m2;
+  const double za = cfg_.aux_axial_m[0], zb = cfg_.aux_axial_m[1], zg = cfg_.rotor_cm_axial_m;
+  const double g = cfg_.gravity_m_s2;
+  const double kh = cfg_.aux_contact_constant_n_per_m1p5;
+  const auto h = static_cast<size_t>(std::max(1.0, std::round(cfg_.accel_half_span_s / in.dt_s)));
+  const double hdt = static_cast<double>(h) * in.dt_s;
+  const std::array<double, 2> m_k{impact_mass_kg(0), impact_mass_kg(1)};
+  auto at = [&](size_t k, size_t i, double& x, double& y) {
+    x = in.x_m[k][i];
+    y = in.y_m[k][i];
+    return std::isfinite(x) && std::isfinite(y);
+  };
+  // A contact under way in the window's first sample is not an impact of this window.
+  auto in_contact_at = [&](size_t k, size_t i) {
+    double x, y;
+    return at(k, i, x, y) && std::hypot(x, y) >= cfg_.contact_fraction * c[k];
+  };
+  std::array<bool, 2> was_in{n > h && in_contact_at(0, h - 1), n > h && in_contact_at(1, h - 1)};
+  for (size_t i = h; i + h < n; ++i) {
+    // Accelerations at both planes (second difference over +-h samples).
+    std::array<double, 2> ax{}, ay{}, px{}, py{}, vr{};
+    bool ok = true;
+    for (size_t k = 0; k < 2 && ok; ++k) {
+      double x0, y0, x1, y1, x2, y2;
+      ok = at(k, i - h, x0, y0) && at(k, i, x1, y1) && at(k, i + h, x2, y2);
+      ax[k] = (x2 - 2.0 * x1 + x0) / (hdt * hdt);
+      ay[k] = (y2 - 2.0 * y1 + y0) / (hdt * hdt);
+      vr[k] = (std::hypot(x1, y1) - std::hypot(x0, y0)) / hdt;
+      px[k] = x1;
+      py[k] = y1;
+    }
+    if (!ok) {
+      was_in = {false, false};
+      continue;
+    }
+    // Rigid rotor: a(z) = a_G + alpha (z - z_G). Sum of the bearing forces S = m (a_G - g),
+    // their moment about G  M = I alpha  =>  F_B = (M - (z_A - z_G) S) / (z_B - z_A), F_A = S - F_B.
+    const double alx = (ax[1] - ax[0]) / (zb - za), aly = (ay[1] - ay[0]) / (zb - za);
+    const double agx = ax[0] + alx * (zg - za), agy = ay[0] + aly * (zg - za);
+    const double sx = m * agx, sy = m * (agy + g);
+    const double fbx = (inertia * alx - (za - zg) * sx) / (zb - za);
+    const double fby = (inertia * aly - (za - zg) * sy) / (zb - za);
+    const std::array<double, 2> fx{sx - fbx, fbx}, fy{sy - fby, fby};
+    for (size_t k = 0; k < 2; ++k) {
+      DropLoadEstimate& e = out[k];
+      const double r = std::hypot(px[k], py[k]);
+      const bool in_contact = r >= cfg_.contact_fraction * c[k] && r > 0;
+      if (!in_contact) {
+        was_in[k] = false;
+        continue;
+      }
+      const double nx = px[k] / r, ny = py[k] / r;
+      double f = std::max(0.0, -(fx[k] * nx + fy[k] * ny));  // inward push of the bearing
+      if (!was_in[k]) {
+        ++e.impacts;
+        const double v = vr[k];  // outward approach speed (radial: a whirl on the circle has none)
+        if (kh > 0 && v > 0 && m_k[k] > 0) {
+          const double f_imp = std::pow(kh, 0.4) * std::pow(1.25 * m_k[k] * v * v, 0.6);
+          e.peak_impact_force_n = std::max(e.peak_impact_force_n, f_imp);
+          f = std::max(f, f_imp);
+        }
+      }
+      was_in[k] = true;
+      double ang = std::atan2(py[k], px[k]) * (180.0 / M_PI);
+      if (ang < 0) ang += 360.0;
+      auto bin = static_cast<int>(ang);
+      if (bin >= DropLoadEstimate::k_bins) bin = 0;
+      const auto b = static_cast<size_t>(bin);
+      e.impulse_n_s[b] += f * in.dt_s;
+      e.damage_n3_s[b] += f * f * f * in.dt_s;
+      ++e.samples_in_contact;
+      if (f > e.peak_force_n) {
+        e.peak_force_n = f;
+        e.peak_angle_deg = ang;
+      }
     }
   }
-  for (double d : out.damage_n3_s) out.damage_total_n3_s += d;
-  out.contact_time_s = out.samples_in_contact * dt_s;
-  if (cfg_.aux_dynamic_load_rating_n > 0 && spin_hz > 0) {
-    const double c3 = cfg_.aux_dynamic_load_rating_n * cfg_.aux_dynamic_load_rating_n * cfg_.aux_dynamic_load_rating_n;
-    out.miner_fraction = out.damage_total_n3_s / c3 * spin_hz / 1e6;
+  for (DropLoadEstimate& e : out) {
+    for (double d : e.damage_n3_s) e.damage_total_n3_s += d;
+    e.contact_time_s = e.samples_in_contact * in.dt_s;
+    if (cfg_.aux_dynamic_load_rating_n > 0 && spin > 0) {
+      const double c3 = cfg_.aux_dynamic_load_rating_n * cfg_.aux_dynamic_load_rating_n * cfg_.aux_dynamic_load_rating_n;
+      e.miner_fraction = e.damage_total_n3_s / c3 * spin / 1e6;
+    }
+    e.valid = true;
   }
-  out.valid = true;
 }
 
 }  // namespace amb::fw

@@ -39,6 +39,7 @@ void parse_tracker(TableReader r, fw::TrackerParams& t, double rate_hz) {
   else r.fail("speed_source", "must be one of \"tach\", \"tracker\", \"command\"");
   if (t.speed_source == fw::SpeedSource::tracker && !t.enabled)
     r.fail("speed_source", "\"tracker\" needs the tracker enabled (enabled = true)");
+  t.min_confidence = r.number_or("min_confidence", t.min_confidence, 0.0, 1.0);
   t.tach_disagreement_fraction = r.number_or("tach_disagreement_fraction", t.tach_disagreement_fraction, 0.001, 1.0);
   t.poll_period_s = r.number_or("poll_period_s", t.poll_period_s, 0.001, 1.0);
   t.status_frame_period_s = r.number_or("status_frame_period_s", t.status_frame_period_s, 0.01, 10.0);

@@ -61,7 +61,7 @@ EventAnalysis event_analysis(const EventRecord& r, const board::BoardConfig& b, 
     a.speed_lost_at_trigger = speed_lost(t) || !std::isfinite(t.speed_hz);
     a.speed_confidence_at_trigger = a.speed_lost_at_trigger ? 0.0 : speed_confidence(t);
   }
-  if (!bearing.configured() || r.samples.empty() || !(r.meta.rate_hz > 0)) return a;
+  if (!bearing.configured() || r.meta.trigger_index >= r.samples.size() || !(r.meta.rate_hz > 0)) return a;
   // Rotor centre at each aux-bearing plane, from the two sensor planes (rigid-rotor straight
   // line between them), relative to the aux bearing's centre, over the post-trigger window.
   std::array<AxisTransform, 2> xf;
@@ -70,33 +70,43 @@ EventAnalysis event_analysis(const EventRecord& r, const board::BoardConfig& b, 
                     {r.meta.actuators[2 * p].angle_deg, r.meta.actuators[2 * p + 1].angle_deg});
   const double za = r.meta.sensors[0].axial_m, zb = r.meta.sensors[2].axial_m;
   const size_t first = r.meta.trigger_index, n = r.samples.size() - first;
-  std::vector<double> x(n), y(n);
-  DropLoadEstimate est;
+  std::array<std::vector<double>, 2> x, y;
   const double spin = b.bearing.aux_spin_speed_hz > 0 ? b.bearing.aux_spin_speed_hz
                                                       : (std::isfinite(r.meta.speed_at_trigger_hz) ? r.meta.speed_at_trigger_hz : 0.0);
   a.quick_look_spin_hz = spin;
   a.aux_contact_constant_n_per_m1p5 = b.bearing.aux_contact_constant_n_per_m1p5;
   a.aux_dynamic_load_rating_n = b.bearing.aux_dynamic_load_rating_n;
-  bool any = false;
+  DropOrbit orbit;
+  orbit.dt_s = 1.0 / r.meta.rate_hz;
+  orbit.spin_hz = spin;
   for (size_t k = 0; k < 2; ++k) {
     const model::AuxBearingParams& aux = b.plant.aux[k];
     const double w = zb != za ? (aux.axial_m - za) / (zb - za) : 0.5;
+    x[k].resize(n);
+    y[k].resize(n);
     for (size_t i = 0; i < n; ++i) {
       const LoopSample& s = r.samples[first + i];
       const auto pa = xf[0].sensors_to_xy({s.displacement_m[0], s.displacement_m[1]});
       const auto pb = xf[1].sensors_to_xy({s.displacement_m[2], s.displacement_m[3]});
-      x[i] = (1.0 - w) * pa[0] + w * pb[0] - aux.centre_offset_x_m;
-      y[i] = (1.0 - w) * pa[1] + w * pb[1] - aux.centre_offset_y_m;
+      x[k][i] = (1.0 - w) * pa[0] + w * pb[0] - aux.centre_offset_x_m;
+      y[k][i] = (1.0 - w) * pa[1] + w * pb[1] - aux.centre_offset_y_m;
     }
-    bearing.estimate_drop_load_at(x, y, 1.0 / r.meta.rate_hz, aux.clearance_m, spin, est);
+    orbit.x_m[k] = x[k];
+    orbit.y_m[k] = y[k];
+    orbit.clearance_m[k] = aux.clearance_m;
+  }
+  std::array<DropLoadEstimate, 2> est;
+  bearing.estimate_drop_loads(orbit, est);
+  bool any = false;
+  for (size_t k = 0; k < 2; ++k) {
     AuxQuickLook& q = a.aux[k];
-    q.valid = est.valid;
-    q.samples_in_contact = est.samples_in_contact;
-    q.peak_force_n = est.peak_force_n;
-    q.peak_angle_deg = est.peak_angle_deg;
-    q.life_fraction = est.miner_fraction;
-    q.contact_time_s = est.contact_time_s;
-    any = any || est.valid;
+    q.valid = est[k].valid;
+    q.samples_in_contact = est[k].samples_in_contact;
+    q.peak_force_n = est[k].peak_force_n;
+    q.peak_angle_deg = est[k].peak_angle_deg;
+    q.life_fraction = est[k].miner_fraction;
+    q.contact_time_s = est[k].contact_time_s;
+    any = any || est[k].valid;
   }
   a.quick_look_valid = any;
   return a;

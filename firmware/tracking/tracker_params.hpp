@@ -32,6 +32,12 @@ struct TrackerParams {
   /// Tracker and tachometer disagree when |tracked - tach| > this fraction of the tach speed
   /// (both valid); each tracker update that disagrees is counted. Key tach_disagreement_fraction.
   double tach_disagreement_fraction = 0.02;
+  /// A tracker update whose confidence is below this is published as lost (no speed), 0..1.
+  /// A tracker left without its line (the speed beyond max_speed_hz, a channel without the
+  /// shaft line) coasts on the strongest noise in its search band, which scores 0.15-0.3
+  /// (the best of a few hundred noise bins over the chirp hypotheses); a real lock scores
+  /// near 1. Key min_confidence.
+  double min_confidence = 0.5;
   /// A tracked speed older than this (loop time since the tracker's last update) is treated as
   /// lost, never presented as fresh, s. Key stale_after_s.
   double stale_after_s = 0.5;

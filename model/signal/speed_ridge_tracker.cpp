@@ -86,6 +86,7 @@ std::string SpeedRidgeTracker::configure(const SpeedTrackerOptions& options) {
   hop_s_ = static_cast<double>(so.hop_samples()) / so.sample_rate_hz;
   const double window_s = static_cast<double>(so.window_samples()) / so.sample_rate_hz;
   const double lobe_hz = main_lobe_half_width_bins(so.window) / window_s;
+  lobe_hz_ = lobe_hz;
   // The lowest comb line must sit two main-lobe half-widths above DC, or it merges with
   // the demeaning residue.
   double o_min = options.orders[0];
@@ -176,6 +177,27 @@ double SpeedRidgeTracker::line_prominence(double f_hz, double half_width_hz) con
   double best = 0.0;
   for (size_t b = b0; b <= b1; ++b) best = std::max(best, prom_db_[b]);
   return best;
+}
+
+double SpeedRidgeTracker::comb_height_db(double f) const {
+  // Each tooth's line is looked for within a main-lobe half-width of it: the best candidate
+  // of a clean line can sit anywhere on the capped top of its main lobe.
+  const SpeedTrackerOptions& o = options_;
+  double s = 0.0, w_sum = 0.0;
+  for (size_t k = 0; k < o.n_orders; ++k) {
+    const double ok = o.orders[k];
+    const double hw = 0.5 * ok * grid_hz_ + lobe_hz_;
+    const double lo = (ok * f - hw) / bin_hz_;
+    const double hi = (ok * f + hw) / bin_hz_;
+    w_sum += o.order_weights[k];
+    if (hi < 1.0) continue;
+    const size_t b0 = static_cast<size_t>(std::max(1.0, std::floor(lo)));
+    const size_t b1 = std::min(n_bins_used_ - 1, static_cast<size_t>(std::ceil(hi)));
+    double best = 0.0;
+    for (size_t b = b0; b <= b1; ++b) best = std::max(best, level_db_[b] - floor_db_[b]);
+    s += o.order_weights[k] * best;
+  }
+  return w_sum > 0.0 ? s / w_sum : 0.0;
 }
 
 double SpeedRidgeTracker::comb_score(double f) const {
@@ -338,8 +360,8 @@ void SpeedRidgeTracker::process_frame() {
   }
   const double half_band = std::min(o.search_half_band_hz, f0 / 3.0);
 
-  // Chirp-rate hypotheses for the frame warp: the predicted rate and one step either side
-  // while tracking (catches the start and end of ramps at once); none, a moderate
+  // Chirp-rate hypotheses for the frame warp: the predicted rate, one and two steps either
+  // side and no warp while tracking (catches the start and end of ramps at once); none, a moderate
   // acceleration and a moderate deceleration while searching. The hypothesis whose best
   // comb candidate scores highest wins the frame (its lines are the sharpest).
   std::array<double, k_max_kappas> kappas{};
@@ -350,6 +372,10 @@ void SpeedRidgeTracker::process_frame() {
       const double k0 = stft_.warp_rate();
       kappas = {k0, k0 - dk, k0 + dk, k0 - 2.0 * dk, k0 + 2.0 * dk, 0.0, 0.0};
       n_kappa = 5;
+      // Steady speed is always a hypothesis: the steps around k0 need not land on 0, and a
+      // warp left over from a ramp biases a steady line (the window's centre in warped time
+      // is not its centre in time).
+      if (k0 != 0.0) n_kappa = 6;
     } else {
       // Relative rates (1/s) of typical run-ups and run-downs, up to the warp limit.
       const double t = o.stft.window_s;
@@ -357,15 +383,22 @@ void SpeedRidgeTracker::process_frame() {
       n_kappa = 7;
     }
   }
-  double best_kappa_score = -std::numeric_limits<double>::infinity();
+  // The hypothesis that focuses the lines best wins: the highest uncapped line height above
+  // the floor at its best comb candidate. (Not the capped comb score: a clean line stands
+  // above line_cap_db in every hypothesis, and a line smeared by a wrong warp is a wide
+  // plateau of capped candidates among which one always finds noise-free anti-comb gaps, so
+  // a warp kept after the end of a ramp won every frame and read a steady line far off.)
+  double best_kappa_height = -std::numeric_limits<double>::infinity();
   double kappa_used = kappas[0];
   for (size_t i = 0; i < n_kappa; ++i) {
     if (i > 0 || stft_.warp_rate() != kappas[0]) stft_.recompute(kappas[i]);
     analyse_spectrum();
     score_candidates(narrow, f0, half_band);
-    const double top = *std::max_element(score_.begin(), score_.end());
-    if (top > best_kappa_score) {
-      best_kappa_score = top;
+    const auto top_it = std::max_element(score_.begin(), score_.end());
+    const double f_top = grid_lo_hz_ + grid_hz_ * static_cast<double>(top_it - score_.begin());
+    const double height = comb_height_db(f_top);
+    if (height > best_kappa_height) {
+      best_kappa_height = height;
       kappa_used = kappas[i];
       // Keep this hypothesis' spectrum and scores (swaps storage, no allocation).
       level_db_.swap(best_level_db_);

@@ -181,6 +181,9 @@ class SpeedRidgeTracker {
   size_t peak_bin(double f_hz, double half_width_hz) const;
   double line_prominence(double f_hz, double half_width_hz) const;
   double comb_score(double f_hz) const;
+  /// Weighted mean uncapped height above the floor of the comb lines of f_hz (each the
+  /// highest bin within a main-lobe half-width of its tooth), dB.
+  double comb_height_db(double f_hz) const;
   bool refine(double f_candidate_hz, double& f_hz, double& prominence_db,
               double& confidence) const;
   double estimate_rate() const;
@@ -190,6 +193,7 @@ class SpeedRidgeTracker {
   StreamingStft stft_{};
   double stated_min_hz_ = 0.0;
   double bin_hz_ = 0.0;
+  double lobe_hz_ = 0.0;          // window main-lobe half-width, Hz
   double grid_hz_ = 0.0;          // candidate spacing
   double grid_lo_hz_ = 0.0;       // first candidate
   size_t n_bins_used_ = 0;        // bins of the spectrum the comb can reach

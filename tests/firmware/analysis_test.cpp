@@ -6,12 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
 #include <vector>
 
 #include "firmware/analysis/analysis_task.hpp"
+#include "firmware/app/loop_runner.hpp"
 #include "firmware/app/supervisor.hpp"
 #include "firmware/board/board.hpp"
 #include "firmware/events/event_codec.hpp"
@@ -134,10 +136,10 @@ TEST_F(AnalysisTest, TrackedSpeedIsTheEstimateAndASilentChannelMakesItLost) {
   run(3.0, 45.0);
   Status st = sup.status();
   ASSERT_FALSE(st.speed_lost) << "tracker did not lock on a 45 Hz line";
-  // The estimate is the tracker's, everywhere it is published. (Its accuracy against a plant
-  // is checked on the SIL rig: docs/target-test.md; on this synthetic tone the tracker reads
-  // low, reported to the tracker's owner.)
-  EXPECT_GT(st.speed_estimate_hz, 5.0);
+  // The estimate is the tracker's, everywhere it is published, and a clean tone reads true
+  // (it used to read ~35.8 Hz: the run-up's frame warp stayed on after the ramp; see
+  // tests/tracking/speed_tracker_test.cpp SteadyLineAfterARunUpReadsTrue).
+  EXPECT_NEAR(st.speed_estimate_hz, 45.0, 0.05);
   EXPECT_GT(st.speed_confidence, 0.3);
   EXPECT_EQ(st.speed_estimate_hz, st.tracked.speed_hz);
   EXPECT_FALSE(speed_lost(samples.back()));
@@ -174,23 +176,34 @@ TEST_F(AnalysisTest, TrackedSpeedIsTheEstimateAndASilentChannelMakesItLost) {
   EXPECT_TRUE(std::isnan(e.meta.speed_at_trigger_hz));
 }
 
-// DISABLED: fails today — when the line jumps above max_speed_hz the tracker (model/signal)
-// keeps reporting a lock (~32 Hz, not lost) on what is left; the firmware publishes whatever
-// the tracker says, so this is reported to the tracker's owner rather than papered over here.
-TEST_F(AnalysisTest, DISABLED_ASpeedBeyondTheTrackerRangeIsLostNotTheLastLock) {
+// The line jumps above the tracker's range: once the tracker's window no longer holds it, the
+// tracker coasts on noise in its search band (confidence 0.15-0.3, never "lost" by its own
+// rule); the board publishes such updates as lost (min_confidence), in the register, in every
+// loop sample and in the stored event.
+TEST_F(AnalysisTest, ASpeedBeyondTheTrackerRangeIsLostNotTheLastLock) {
   ramp(1.5, 0.0, 45.0);
   run(3.0, 45.0);
   ASSERT_FALSE(sup.status().speed_lost);
+  EXPECT_NEAR(sup.status().speed_estimate_hz, 45.0, 0.05) << "a clean tone reads true";
   // The line jumps above max_speed_hz (200 Hz): the samples keep coming, the tracker keeps
-  // updating, and it must say lost.
+  // updating, and it must say lost once its 1 s window has let go of the old line.
+  const size_t before = samples.size();
   run(1.5, 260.0);
   const Status st = sup.status();
   EXPECT_FALSE(st.tracked.stale) << "the tracker still updates";
   EXPECT_TRUE(st.speed_lost);
   EXPECT_TRUE(std::isnan(st.speed_estimate_hz));
   EXPECT_EQ(task->status().lost, 1);
+  EXPECT_LT(task->status().confidence, board.tracker.min_confidence);
   EXPECT_EQ(i32(speed_registers(), 0), regs::k_speed_invalid);
+  EXPECT_EQ(speed_registers()[5] & 1u, 1u) << "lost flag";
   EXPECT_TRUE(event_of_last(50).analysis.speed_lost_at_trigger);
+  // From 1.2 s after the jump (window + two hops) no loop sample carries a speed.
+  size_t with_speed = 0;
+  const size_t from = before + static_cast<size_t>(1.2 * board.rate_hz);
+  for (size_t i = from; i < samples.size(); ++i)
+    if (!speed_lost(samples[i]) || std::isfinite(samples[i].speed_hz)) ++with_speed;
+  EXPECT_EQ(with_speed, 0u) << "of " << samples.size() - from << " samples";
 }
 
 TEST_F(AnalysisTest, TrackerTachDisagreementIsCountedOncePerUpdate) {
@@ -208,3 +221,41 @@ TEST_F(AnalysisTest, TrackerTachDisagreementIsCountedOncePerUpdate) {
 }
 
 }  // namespace
+
+// The loop's wake-up latency histogram (amb-bench, registers 0x0400..): allocation-free,
+// fixed size, and wide enough that p99 is a number on a loaded or emulated machine (it used to
+// saturate at its 128 us top).
+TEST(LoopStats, LatencyHistogramResolvesMillisecondsAndSeconds) {
+  EXPECT_EQ(LoopStats::bin_of(0), 0);
+  EXPECT_EQ(LoopStats::bin_of(1999), 0);
+  EXPECT_EQ(LoopStats::bin_of(2000), 1);
+  EXPECT_EQ(LoopStats::bin_of(127999), 63);
+  EXPECT_EQ(LoopStats::bin_of(128000), 64);
+  EXPECT_EQ(LoopStats::bin_of(int64_t{1} << 62), LoopStats::k_bins - 1);
+  // Bins are contiguous and increasing, each no wider than 1/16 of its lower edge above 128 us.
+  int64_t lower = 0;
+  for (int b = 0; b + 1 < LoopStats::k_bins; ++b) {
+    const int64_t upper = LoopStats::bin_upper_ns(b);
+    ASSERT_GT(upper, lower);
+    EXPECT_EQ(LoopStats::bin_of(lower), b) << "bin " << b;
+    EXPECT_EQ(LoopStats::bin_of(upper - 1), b) << "bin " << b;
+    if (lower >= LoopStats::k_linear_top_ns) {
+      EXPECT_LE(upper - lower, lower / 16 + 1);
+    }
+    lower = upper;
+  }
+  EXPECT_GT(lower, int64_t{2'000'000'000}) << "top of the last finite bin";
+  // p99 of 1000 periods: 985 at 20 us, 15 at 3.3 ms -> the bin holding 3.3 ms (within 6.25 %).
+  LoopStats s;
+  for (int i = 0; i < 1000; ++i) {
+    const int64_t lat = i < 985 ? 20'000 : 3'300'000;
+    ++s.latency_hist[static_cast<size_t>(LoopStats::bin_of(lat))];
+    ++s.periods;
+    s.max_latency_ns = std::max(s.max_latency_ns, lat);
+  }
+  EXPECT_EQ(s.latency_quantile_ns(0.5), 22'000);
+  EXPECT_EQ(s.latency_quantile_ns(0.99), 3'300'000) << "bin edge capped at the largest latency seen";
+  s.max_latency_ns = 4'000'000;
+  EXPECT_GE(s.latency_quantile_ns(0.99), 3'300'000);
+  EXPECT_LE(s.latency_quantile_ns(0.99), 3'300'000 + 3'300'000 / 16);
+}

@@ -45,7 +45,9 @@ TEST(TrackerTask, ThreadsProduceTrackAndPublish) {
   EXPECT_FALSE(torn.load());
   EXPECT_EQ(task->counters().samples, x.size());
   EXPECT_EQ(s.lost, 0);
-  EXPECT_NEAR(s.speed_hz, 55.0, 0.1);
+  // One update's scatter on this signal (1x at 0.2 rms noise, 0.5 s window) is about
+  // +-0.15 Hz; the tracker's accuracy is the subject of speed_tracker_test.cpp.
+  EXPECT_NEAR(s.speed_hz, 55.0, 0.25);
   // Window centre of the last update, in HAL time: about 4.75 s after the first sample.
   EXPECT_NEAR(static_cast<double>(s.t_ns) * 1e-9, 4.75, 0.06);
 }
