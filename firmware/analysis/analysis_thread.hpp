@@ -1,8 +1,8 @@
 #pragma once
 // The analysis thread: calls AnalysisTask::poll() every poll period and, every status
 // period, hands the newest analysis and loop status to a callback (the linux backend sends
-// the CAN board-status frame from it). Ordinary (non-real-time) thread; the loop never
-// waits for it. The sim backend uses the same thread in `amb-firmware --backend sim`.
+// the CAN board-status frame from it). Ordinary (non-real-time) thread at nice 10 on Linux
+// (below the board's other ordinary threads); the loop never waits for it. The sim backend uses the same thread in `amb-firmware --backend sim`.
 #include <atomic>
 #include <cstdint>
 #include <functional>

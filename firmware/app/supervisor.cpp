@@ -60,11 +60,6 @@ const char* to_string(Phase p) {
   return "?";
 }
 
-namespace {
-// Consecutive periods without a valid sample before the loop gives up (1 ms at 10 kHz).
-constexpr uint32_t k_max_read_failures = 10;
-}  // namespace
-
 void Supervisor::configure(const board::BoardConfig& board) {
   board_ = board;
   dt_s_ = 1.0 / board.rate_hz;
@@ -197,7 +192,7 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
   // Inputs: keep the last good position when a sample is missing.
   if (!in_ok) {
     ++counters_.read_failures;
-    if (++consecutive_read_failures_ > k_max_read_failures && active_before)
+    if (++consecutive_read_failures_ > board_.lifecycle.max_missed_samples && active_before)
       enter_safe_state(FaultReason::sensor_invalid);
   } else {
     consecutive_read_failures_ = 0;

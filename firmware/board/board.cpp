@@ -149,7 +149,7 @@ void parse_rig(TableReader r, model::PlantParams& p) {
 }
 
 void parse_controller(TableReader r, BoardConfig& b) {
-  b.rate_hz = r.number("rate_hz", 1000.0, 40000.0);
+  b.rate_hz = r.number("rate_hz", 100.0, 40000.0);  // 100 Hz: slow emulated boards (tests/target)
   model::PidParams& c = b.controller;
   c.kp_n_per_m = r.number("kp_n_per_m", 0.0, k_big);
   c.ki_n_per_m_s = r.number("ki_n_per_m_s", 0.0, k_big);
@@ -178,6 +178,7 @@ void parse_lifecycle(TableReader r, BoardConfig& b) {
   l.landing_ramp_s = r.number("landing_ramp_s", 0.0, 60.0);
   l.max_orbit_fault_m = r.number("max_orbit_fault_m", 1e-6, 1e-2);
   l.settle_tolerance_m = r.number_or("settle_tolerance_m", 0.1 * l.max_orbit_fault_m, 1e-7, l.max_orbit_fault_m);
+  l.max_missed_samples = static_cast<uint32_t>(r.integer_or("max_missed_samples", l.max_missed_samples, 1, 100000));
   r.finish();
 }
 

@@ -26,6 +26,9 @@ struct LifecycleParams {
   double spin_accel_hz_per_s = 10.0;  ///< speed ramp of the drive set-point, Hz/s
   double landing_ramp_s = 0.2;        ///< ramp of the set-point down to touchdown on landing, s
   double max_orbit_fault_m = 0.0;     ///< orbit radius at any sensor plane that latches a fault, m
+  /// Consecutive loop periods without a fresh sample after which a levitated board enters the
+  /// safe state (sensor_invalid). Key max_missed_samples, default 10.
+  uint32_t max_missed_samples = 10;
 };
 
 struct BoardConfig {

@@ -171,13 +171,13 @@ shutdown_vm() {
 MB="mbpoll -m tcp -p $PORT -a 1 -0 -1 -t 4:hex"
 reg() {  # reg ADDRESS: one holding register (0-based) as a decimal, via mbpoll
   # mbpoll prints "[addr]: <unsigned>" or "[addr]: <unsigned> (<signed>)": keep the unsigned value.
-  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r "$1" -c 1 127.0.0.1 2>/dev/null | sed -n 's/^\[[0-9]*\]:[[:space:]]*\([0-9]*\).*/\1/p' | head -1
+  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -o 5 -r "$1" -c 1 127.0.0.1 2>/dev/null | sed -n 's/^\[[0-9]*\]:[[:space:]]*\([0-9]*\).*/\1/p' | head -1
 }
 reg32() { local hi lo; hi=$(reg "$1"); lo=$(reg $(( $1 + 1 ))); echo $(( (${hi:-0} & 0xFFFF) * 65536 + (${lo:-0} & 0xFFFF) )); }
 mb_arm() {  # mb_arm OPERATION: arm one command (1..6 command values, 16 event delete, 17 wear commit)
-  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r $((0x0F00)) 127.0.0.1 $(( (ARM_KEY >> 16) & 0xFFFF )) $(( ARM_KEY & 0xFFFF )) "$1" >/dev/null 2>&1
+  mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -o 5 -r $((0x0F00)) 127.0.0.1 $(( (ARM_KEY >> 16) & 0xFFFF )) $(( ARM_KEY & 0xFFFF )) "$1" >/dev/null 2>&1
 }
-mb_cmd() { mb_arm "$1"; mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r 4096 127.0.0.1 "$1" >/dev/null 2>&1; }  # armed command
+mb_cmd() { mb_arm "$1"; mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -o 5 -r 4096 127.0.0.1 "$1" >/dev/null 2>&1; }  # armed command
 
 # ---- first boot ---------------------------------------------------------------------------------
 T_BOOT=$(date +%s)
@@ -231,36 +231,40 @@ S=$(reg 256); F=$(reg 258)
 echo "after levitate: state $S fault $F (2 levitating, 4 fault)"
 if [ "$S" = 2 ]; then
   mb_arm 17
-  if mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -r $((0x5000)) 127.0.0.1 2 2>&1 | grep -qi 'busy'; then
+  WB=$(mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -o 5 -r $((0x5000)) 127.0.0.1 2 2>&1)
+  if echo "$WB" | grep -qi 'busy'; then
     pass "armed write-back commit refused while levitating (exception 6)"
-  else fail "write-back commit not refused while levitating"; fi
+  else fail "write-back commit not refused while levitating (state now $(reg 256)): $(echo "$WB" | tail -2 | tr '\n' ' ')"; fi
 fi
 # Tachless speed on the board: spin up (run command), wait for the tracker's lock, then read the
 # tracked-speed register with mbpoll and compare it with the HIL plant's true speed.
 T_SPIN=$(date +%s)
-spin_and_settle() {  # levitated -> run -> at speed, then 6 s for the tracker's 1 s windows
+spin_and_settle() {  # levitated -> run -> at speed, then 3 s for the tracker's 1 s windows
   mb_cmd 2
   local i=0
   while [ $i -lt 40 ] && [ "$(reg 257)" != 5 ]; do sleep 1; i=$((i + 1)); done
-  sleep 6
+  sleep 3
 }
 loop_figures() {  # loop_figures LABEL: cumulative loop statistics from the registers
   echo "loop $1: periods $(reg32 $((0x402))), overruns $(reg32 $((0x406))), p99 $(reg32 $((0x40C))) ns, max $(reg32 $((0x408))) ns, mean $(reg32 $((0x40A))) ns (state $(reg 256), phase $(reg 257))"
 }
 if [ "$S" = 2 ] && [ "$BOARD" = arm-virt-tracker ]; then
   spin_and_settle
+  # The plant's true speed first, then the tracked-speed register (retried while the tracker is
+  # stale or lost: on a loaded host the emulated CPUs stall); registers are read one mbpoll at a
+  # time, so the comparison uses the plant's speed and one valid read close to it.
+  send plantspeed
+  wait_for PLANT_SPEED_DONE 30 || fail "plant speed query"
+  PS=$(grep 'GUEST-PLANT: amb-plant: true speed' "$LOG" | tail -1 | sed 's/.*true speed \([0-9.]*\).*/\1/')
   TS=2147483648; i=0
   while [ $i -lt 20 ]; do
     TS=$(reg32 $((0x306)))
     [ "${TS:-2147483648}" != 2147483648 ] && [ "${TS:-0}" -gt 0 ] && break
     sleep 1; i=$((i + 1))
   done
-  send plantspeed
-  wait_for PLANT_SPEED_DONE 30 || fail "plant speed query"
-  TS=$(reg32 $((0x306))); TC=$(reg $((0x308))); FL=$(reg $((0x305))); EST=$(reg32 $((0x300)))
-  PS=$(grep 'GUEST-PLANT: amb-plant: true speed' "$LOG" | tail -1 | sed 's/.*true speed \([0-9.]*\).*/\1/')
+  TC=$(reg $((0x308))); FL=$(reg $((0x305))); EST=$(reg32 $((0x300)))
   grep '^STATUSFRAME' "$LOG" | head -3
-  echo "tracked speed register 0x0306: $TS mHz (confidence $TC %, flags $FL, estimate 0x0300 $EST mHz); plant true speed ${PS:-?} Hz; phase $(reg 257)"
+  echo "tracked speed register 0x0306: $TS mHz (confidence $TC %, flags $FL, estimate 0x0300 $EST mHz; $i retries); plant true speed ${PS:-?} Hz; state $(reg 256) phase $(reg 257)"
   if python3 -c "import sys; t=int(sys.argv[1]); p=float(sys.argv[2]); sys.exit(0 if t != 2147483648 and p > 1 and abs(t*1e-3 - p)/p < 0.01 else 1)" "${TS:-2147483648}" "${PS:-0}"; then
     pass "mbpoll reads the board's tracked speed $(python3 -c "print('%.3f' % (int('$TS')*1e-3))") Hz within 1 % of the HIL plant's $PS Hz ($(( $(date +%s) - T_SPIN )) s after the run command)"
   else fail "tracked speed register ($TS mHz, flags $FL) not within 1 % of the plant's ${PS:-?} Hz"; fi
@@ -269,7 +273,9 @@ if [ "$S" = 2 ] && [ "$BOARD" = arm-virt-tracker ]; then
   loop_figures "with the analysis thread ON"
   LOOP_ON=$(loop_figures on)
 elif [ "$BOARD" = arm-virt-tracker ]; then
-  echo "SKIP: tracked-speed mbpoll check: the board is not levitated (state $S, fault $F): the emulator did not hold the 1 kHz loop"
+  # Not a skip: the board is made (250 Hz loop) for the emulator to hold; if it still cannot,
+  # that is a finding (see docs/target-test.md).
+  fail "tracked-speed mbpoll check not reached: the board is not levitated (state $S, fault $F)"
   loop_figures "with the analysis thread ON (not levitated)"
 fi
 send killplant
