@@ -132,7 +132,7 @@ void BearingTask::estimate_drop_loads(const DropOrbit& in, std::array<DropLoadEs
   };
   // A contact under way in the window's first sample is not an impact of this window.
   auto in_contact_at = [&](size_t k, size_t i) {
-    double x, y;
+    double x = 0, y = 0;
     return at(k, i, x, y) && std::hypot(x, y) >= cfg_.contact_fraction * c[k];
   };
   std::array<bool, 2> was_in{n > h && in_contact_at(0, h - 1), n > h && in_contact_at(1, h - 1)};
@@ -141,7 +141,7 @@ void BearingTask::estimate_drop_loads(const DropOrbit& in, std::array<DropLoadEs
     std::array<double, 2> ax{}, ay{}, px{}, py{}, vr{};
     bool ok = true;
     for (size_t k = 0; k < 2 && ok; ++k) {
-      double x0, y0, x1, y1, x2, y2;
+      double x0 = 0, y0 = 0, x1 = 0, y1 = 0, x2 = 0, y2 = 0;
       ok = at(k, i - h, x0, y0) && at(k, i, x1, y1) && at(k, i + h, x2, y2);
       ax[k] = (x2 - 2.0 * x1 + x0) / (hdt * hdt);
       ay[k] = (y2 - 2.0 * y1 + y0) / (hdt * hdt);

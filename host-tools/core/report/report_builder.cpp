@@ -65,7 +65,8 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
                                        (a.speed_lost_at_trigger ? " (LOST at the trigger)"
                                                                 : fmt(" (confidence %.2f at the trigger)", a.speed_confidence_at_trigger)));
     QuickLookSummary q;
-    q.rows = {{"model", "Hertz contact K d^1.5 on the rotor displacement at the aux-bearing plane (rigid rotor between the sensor planes), post-trigger window"},
+    q.rows = {{"model", "momentum balance of the rigid rotor on its orbit at the aux-bearing planes (extrapolated from the sensor planes), "
+                        "normal force while at the clearance, Hertz impact peak K^0.4 (5/4 m v^2)^0.6 at each new contact; post-trigger window"},
               {"contact constant K", fmt("%.3g N/m^1.5", a.aux_contact_constant_n_per_m1p5)},
               {"load rating C", fmt("%.0f N", a.aux_dynamic_load_rating_n)},
               {"inner-race spin for the life fraction", fmt("%.2f Hz", a.quick_look_spin_hz)}};
