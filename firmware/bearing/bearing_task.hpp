@@ -37,9 +37,11 @@ struct BearingTaskConfig {
   /// (the sensor-plane view of the aux plane is not exact to the micrometre); (0, 1].
   double contact_fraction = 0.95;
   /// Span of the second difference that gives the accelerations, s (each side of the sample):
-  /// long enough to average the sensor noise, short against a bounce (~ms). Rounded to whole
-  /// samples, at least one.
-  double accel_half_span_s = 0.5e-3;
+  /// long enough to average the sensor noise and to null the ringing of the rotor's bending
+  /// modes in the sensor-plane view (a +-1 ms difference has zeros at 1 and 2 kHz; the bath
+  /// rotor's second free-free bending mode is at 980 Hz), short against a bounce. Impacts
+  /// shorter than it are covered by the Hertz impact peak. Rounded to whole samples, >= 1.
+  double accel_half_span_s = 1e-3;
 };
 
 /// Result of a defect-frequency update.
@@ -60,7 +62,7 @@ struct StiffnessUpdate {
 /// Quick-look aux-bearing load estimate of one drop, per aux bearing.
 /// Model (momentum balance of a rigid rotor, not a contact law on the penetration): the
 /// accelerations of the rotor centre at the two aux planes (second differences over
-/// +-accel_half_span_s) give the rotor's translational and tilting acceleration; with its mass,
+/// +-accel_half_span_s, 1 ms) give the rotor's translational and tilting acceleration; with its mass,
 /// transverse inertia and weight they give the two bearing forces on the rotor (AMB forces
 /// neglected: the amplifiers are off after a drop; gyroscopic moments neglected). The normal
 /// contact force at a bearing is the inward component of its force while the rotor is in

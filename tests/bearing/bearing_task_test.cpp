@@ -131,7 +131,7 @@ TEST(BearingTaskQuickLook, AtRestTheBearingsCarryTheWeightShare) {
     std::printf("[ RESULT ] at rest: mean %.1f N (weight share %.1f N), peak %.1f N at %.0f deg; K d^1.5 on the orbit: %.0f N\n",
                 mean, share, b.peak_force_n, b.peak_angle_deg, penetration_law_peak_n(o.xa, o.ya, c, 3.2e10));
     EXPECT_NEAR(mean, share, 0.03 * share);
-    EXPECT_NEAR(b.contact_time_s, 1.0, 0.002);
+    EXPECT_NEAR(b.contact_time_s, 1.0, 0.003);  // less the first and last 1 ms (no second difference there)
     EXPECT_LT(b.peak_force_n, 5.0 * share) << "noise must not read as load";
     EXPECT_NEAR(b.peak_angle_deg, 270.0, 10.0);
     EXPECT_EQ(b.impacts, 0u) << "resting from the first sample: no impact";
@@ -155,11 +155,15 @@ TEST(BearingTaskQuickLook, WhirlLoadIsTheCentripetalForce) {
   o.yb = o.ya;
   std::array<amb::fw::DropLoadEstimate, 2> e;
   t.estimate_drop_loads(o.view(dt), e);
-  const double expected = 3.25 * (r * w * w + 9.81);
+  // The second difference over +-T (T = 1 ms) reads a sinusoid's acceleration times
+  // (2 - 2 cos wT) / (wT)^2: 0.967 at 100 Hz (stated, not hidden in a tolerance).
+  const double t_span = 1e-3, wt = std::abs(w) * t_span;
+  const double expected = 3.25 * (r * w * w * (2.0 - 2.0 * std::cos(wt)) / (wt * wt) + 9.81);
   std::printf("[ RESULT ] whirl 100 Hz at %.0f um: peak %.1f N at %.0f deg (centripetal + weight %.1f N); K d^1.5 on the orbit: %.0f N\n",
               r * 1e6, e[0].peak_force_n, e[0].peak_angle_deg, expected, penetration_law_peak_n(o.xa, o.ya, 0.4e-3, 3.2e10));
   for (const auto& b : e) {
-    EXPECT_NEAR(b.peak_force_n, expected, 0.02 * expected);
+    EXPECT_NEAR(b.peak_force_n, expected, 0.01 * expected);
+    EXPECT_NEAR(b.peak_force_n, 3.25 * (r * w * w + 9.81), 0.04 * expected) << "the continuous-time load";
     EXPECT_NEAR(b.peak_angle_deg, 270.0, 2.0);
   }
 }

@@ -87,7 +87,7 @@ TEST(Board, UnknownSectionIsRefused) {
 TEST(Board, OutOfRangeLoopRateNamesKeyAndRange) {
   const std::string e = error_of(set_key(bath_text(), "[controller]", "rate_hz", "50000.0"));
   EXPECT_NE(e.find("controller.rate_hz"), std::string::npos) << e;
-  EXPECT_NE(e.find("[1000, 40000]"), std::string::npos) << e;
+  EXPECT_NE(e.find("[100, 40000]"), std::string::npos) << e;  // 100 Hz: slow emulated boards (tests/target)
 }
 
 TEST(Board, NegativeClearanceNamesArrayEntry) {
