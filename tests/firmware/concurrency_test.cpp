@@ -35,14 +35,24 @@ bool intact(const Snapshot& s) {
   return r.f == s.f && r.d == s.d && r.tail == s.tail;
 }
 
+/// The loop does its work between two publications; a writer storing back to back would keep
+/// every reader of a large snapshot retrying (a reader only succeeds between two stores), so the
+/// tests leave a short gap, still shorter than a reader's copy is likely to need on a loaded host.
+void between_stores() {
+  std::atomic<int> spin{0};
+  for (int i = 0; i < 64; ++i) spin.fetch_add(1, std::memory_order_relaxed);
+}
+
 TEST(Concurrency, SeqLockNeverHandsOutATornSnapshot) {
   amb::fw::SeqLock<Snapshot> lock;
   lock.store(make(0));
   std::atomic<bool> done{false};
   std::atomic<uint64_t> reads{0}, torn{0}, backwards{0};
+  std::atomic<int> started{0};
   std::vector<std::thread> readers;
   for (int r = 0; r < 2; ++r)
     readers.emplace_back([&] {
+      started.fetch_add(1);
       uint64_t last = 0;
       while (!done.load(std::memory_order_relaxed)) {
         const Snapshot s = lock.load();
@@ -52,13 +62,24 @@ TEST(Concurrency, SeqLockNeverHandsOutATornSnapshot) {
         reads.fetch_add(1, std::memory_order_relaxed);
       }
     });
-  constexpr uint64_t k_stores = 300'000;
-  for (uint64_t k = 1; k <= k_stores; ++k) lock.store(make(k));
+  // The writer starts once both readers run and goes on until they have overlapped it for a
+  // good number of reads (a loaded machine may schedule the readers late: without this the
+  // stores could all be over before the first read, and the test would check nothing).
+  while (started.load() < 2) std::this_thread::yield();
+  constexpr uint64_t k_min_stores = 300'000;
+  constexpr uint64_t k_max_stores = 200'000'000;
+  uint64_t k_stores = 0;
+  for (uint64_t k = 1; k <= k_max_stores; ++k) {
+    lock.store(make(k));
+    k_stores = k;
+    between_stores();
+    if (k >= k_min_stores && reads.load(std::memory_order_relaxed) >= 20'000) break;
+  }
   done = true;
   for (auto& t : readers) t.join();
   EXPECT_EQ(torn.load(), 0u);
   EXPECT_EQ(backwards.load(), 0u) << "a reader saw an older snapshot after a newer one";
-  EXPECT_GT(reads.load(), 100u);
+  EXPECT_GE(reads.load(), 20'000u) << "the readers hardly overlapped the writer";
   EXPECT_EQ(lock.load().k, k_stores);
 }
 
@@ -66,24 +87,31 @@ TEST(Concurrency, LoopStatsThroughTheSeqLock) {
   // The loop statistics (a 64-bin histogram) as run_linux publishes them every 16 periods.
   amb::fw::SeqLock<amb::fw::LoopStats> lock;
   std::atomic<bool> done{false};
-  std::atomic<uint64_t> bad{0};
+  std::atomic<uint64_t> bad{0}, reads{0};
+  std::atomic<bool> started{false};
   std::thread reader([&] {
+    started = true;
     while (!done.load(std::memory_order_relaxed)) {
       const amb::fw::LoopStats s = lock.load();
       uint64_t sum = 0;
       for (uint64_t h : s.latency_hist) sum += h;
       if (sum != s.periods) bad.fetch_add(1);
+      reads.fetch_add(1, std::memory_order_relaxed);
     }
   });
+  while (!started.load()) std::this_thread::yield();
   amb::fw::LoopStats s;
-  for (uint64_t p = 1; p <= 200'000; ++p) {
+  for (uint64_t p = 1; p <= 100'000'000; ++p) {
     ++s.periods;
     ++s.latency_hist[p % amb::fw::LoopStats::k_bins];
     lock.store(s);
+    between_stores();
+    if (p >= 200'000 && reads.load(std::memory_order_relaxed) >= 5'000) break;
   }
   done = true;
   reader.join();
   EXPECT_EQ(bad.load(), 0u);
+  EXPECT_GE(reads.load(), 5'000u) << "the reader hardly overlapped the writer";
 }
 
 TEST(Concurrency, SpscRingDeliversInOrderAndCountsWhatItRefused) {
