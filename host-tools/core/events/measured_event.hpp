@@ -1,5 +1,5 @@
 #pragma once
-// The measured-event exchange format `amb-measured-event/1` (/work/shared/formats/
+// The measured-event exchange format `amb-measured-event/1` (../shared/formats/
 // measured-event.md): NAME.json sidecar + NAME.csv. Reading validates everything and
 // converts to SI; writing produces files that reading accepts.
 #include <string>
