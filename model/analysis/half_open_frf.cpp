@@ -42,10 +42,19 @@ HalfOpenFrf::HalfOpenFrf(const HalfOpenParams& p) : p_(p) {
   length_m_ = model_.length_m;
   Eigen::MatrixXd m = model_.planar_mass;
   for (const auto& a : p.attached) {
-    require(a.mass_kg >= 0.0, "attached mass must be >= 0");
+    require(a.mass_kg >= 0.0 && a.transverse_inertia_kg_m2 >= 0.0, "attached mass and inertia must be >= 0");
     const Eigen::RowVectorXd n = rotor::planar_interpolation(model_, a.axial_m);
     m += a.mass_kg * n.transpose() * n;
+    if (a.transverse_inertia_kg_m2 > 0.0) {
+      const int node = rotor::node_index(model_, a.axial_m, 1e-6);
+      require(node >= 0, "an attached inertia needs a rotor node at its position");
+      m(2 * node + 1, 2 * node + 1) += a.transverse_inertia_kg_m2;
+    }
   }
+  for (const auto& res : p.resonators)
+    require(res.mass_kg > 0.0 && res.frequency_hz > 0.0 && res.damping_ratio >= 0.0, "resonator mass and frequency must be > 0");
+  for (const auto& g : p.supports)
+    require(g.stiffness_n_per_m >= 0.0 && g.damping_n_s_per_m >= 0.0, "support stiffness and damping must be >= 0");
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(model_.planar_stiffness, m);
   require(es.info() == Eigen::Success, "free-free eigenproblem failed");
   const int n = std::min<int>(p.modes_kept, static_cast<int>(m.rows()));
@@ -64,12 +73,42 @@ HalfOpenFrf::HalfOpenFrf(const HalfOpenParams& p) : p_(p) {
   }
   for (int j = 0; j < 2; ++j) {
     const auto& b = p.bearing[static_cast<size_t>(j)];
-    require(b.ki_n_per_a > 0.0 && b.ks_n_per_m >= 0.0 && b.actuator_lag_s >= 0.0, "bearing constants out of range");
+    require(b.ki_n_per_a > 0.0 && b.ks_n_per_m >= 0.0 && b.actuator_lag_s >= 0.0 && b.eddy_time_s >= 0.0,
+            "bearing constants out of range");
     bearing_row_[static_cast<size_t>(j)] = rotor::planar_interpolation(model_, b.axial_m) * phi_;
   }
 }
 
-Eigen::VectorXcd HalfOpenFrf::modal_response(double f_hz) const {
+std::complex<double> HalfOpenFrf::eddy_factor(const HalfOpenBearing& b, double f_hz) {
+  if (!(b.eddy_time_s > 0.0)) return 1.0;
+  return 1.0 / (1.0 + std::sqrt(cd(0.0, 2.0 * M_PI * f_hz * b.eddy_time_s)));
+}
+
+std::complex<double> HalfOpenFrf::controller_force_per_m(double f_hz) const {
+  const cd s(0.0, 2.0 * M_PI * f_hz);
+  const auto& c = p_.controller;
+  cd pid = c.kp_n_per_m + c.ki_n_per_m_s / s;
+  const double wf = 2.0 * M_PI * c.derivative_filter_hz;
+  pid += c.derivative_filter_hz > 0.0 ? c.kd_n_s_per_m * s / (1.0 + s / wf) : c.kd_n_s_per_m * s;
+  return pid * std::exp(-s * p_.loop_delay_s);
+}
+
+Eigen::VectorXcd HalfOpenFrf::modal_response(double f_hz) const { return solve(f_hz).head(static_cast<Eigen::Index>(omega_.size())); }
+
+std::complex<double> HalfOpenFrf::sensor_displacement(double f_hz) const {
+  const Eigen::VectorXcd y = solve(f_hz);
+  const int n = static_cast<int>(omega_.size());
+  const size_t e = static_cast<size_t>(p_.excited);
+  cd x = (bearing_row_[e].cast<cd>() * y.head(n))(0);
+  if (p_.bearing[e].housing.mass_kg > 0.0) {
+    int h = n;
+    if (e == 1 && p_.bearing[0].housing.mass_kg > 0.0) ++h;
+    x -= y(h);
+  }
+  return x;
+}
+
+Eigen::VectorXcd HalfOpenFrf::solve(double f_hz) const {
   const double w = 2.0 * M_PI * f_hz;
   const cd s(0.0, w);
   const int n = static_cast<int>(omega_.size());
@@ -83,19 +122,16 @@ Eigen::VectorXcd HalfOpenFrf::modal_response(double f_hz) const {
     const double wk = omega_[static_cast<size_t>(k)];
     a(k, k) = cd(wk * wk - w * w, 2.0 * zeta_[static_cast<size_t>(k)] * wk * w);
   }
-  const auto& c = p_.controller;
   for (int j = 0; j < 2; ++j) {
     const auto& b = p_.bearing[static_cast<size_t>(j)];
     const cd lag = 1.0 / (1.0 + s * b.actuator_lag_s);
+    const cd ec = eddy_factor(b, f_hz);
     cd kappa, g(0.0, 0.0);
     if (j == p_.excited) {
-      kappa = -b.ks_n_per_m;
-      g = b.ki_n_per_a * lag;
+      kappa = -b.ks_n_per_m * ec;
+      g = b.ki_n_per_a * ec;
     } else {
-      cd pid = c.kp_n_per_m + c.ki_n_per_m_s / s;
-      const double wf = 2.0 * M_PI * c.derivative_filter_hz;
-      pid += c.derivative_filter_hz > 0.0 ? c.kd_n_s_per_m * s / (1.0 + s / wf) : c.kd_n_s_per_m * s;
-      kappa = -b.ks_n_per_m + lag * pid * std::exp(-s * p_.loop_delay_s);
+      kappa = ec * (-b.ks_n_per_m + lag * controller_force_per_m(f_hz));
     }
     const Eigen::RowVectorXd& row = bearing_row_[static_cast<size_t>(j)];
     a.topLeftCorner(n, n) += kappa * (row.transpose() * row).cast<cd>();
@@ -110,8 +146,20 @@ Eigen::VectorXcd HalfOpenFrf::modal_response(double f_hz) const {
       rhs(h) = -g;
     }
   }
-  const Eigen::VectorXcd y = a.partialPivLu().solve(rhs);
-  return y.head(n);
+  // Attached resonators and ground supports: their dynamic stiffness at the attachment point
+  // (a resonator condensed: k* (-w^2 m) / (k* - w^2 m), k* = k + i w c).
+  auto add_point = [&](double z, cd k) {
+    const Eigen::RowVectorXd row = rotor::planar_interpolation(model_, z) * phi_;
+    a.topLeftCorner(n, n) += k * (row.transpose() * row).cast<cd>();
+  };
+  for (const auto& r : p_.resonators) {
+    const double wr = 2.0 * M_PI * r.frequency_hz;
+    const cd kr(r.mass_kg * wr * wr, 2.0 * r.damping_ratio * r.mass_kg * wr * w);
+    const double inertia = -w * w * r.mass_kg;
+    add_point(r.axial_m, kr * inertia / (kr + inertia));
+  }
+  for (const auto& g : p_.supports) add_point(g.axial_m, cd(g.stiffness_n_per_m, g.damping_n_s_per_m * w));
+  return a.partialPivLu().solve(rhs);
 }
 
 Eigen::RowVectorXd HalfOpenFrf::shape_row(double axial_m) const {

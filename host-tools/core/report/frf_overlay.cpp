@@ -24,8 +24,8 @@ std::string render_frf_overlay_svg(const FrfOverlay& o) {
     p.height_px = h;
     Series all{"measured (not compared)", o.f_hz, {}, "#bbbbbb", 1.0};
     Series used{"measured, coherence >= 0.8", o.f_hz, {}, "#000000", 1.6};
-    Series bf{"model before", o.f_hz, {}, "#1f77b4", 1.2, true};
-    Series af{"model after", o.f_hz, {}, "#d62728", 1.6};
+    Series bf{o.before_label, o.f_hz, {}, "#1f77b4", 1.2, true};
+    Series af{o.after_label, o.f_hz, {}, "#d62728", 1.6};
     for (size_t i = 0; i < o.f_hz.size(); ++i) {
       const double m = std::abs(o.measured[c][i]);
       all.y.push_back(m);

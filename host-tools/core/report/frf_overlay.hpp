@@ -16,6 +16,7 @@ struct FrfOverlay {
   std::vector<std::vector<bool>> compared;                     ///< [channel][bin]
   std::vector<std::vector<std::complex<double>>> before, after;///< models [channel][bin]
   std::string unit = "(m/s^2)/A";
+  std::string before_label = "model before", after_label = "model after";
 };
 
 /// The SVG document (standalone, with XML header).

@@ -18,6 +18,12 @@ using model::analysis::HalfOpenParams;
 constexpr double k_grid_m = 0.002;   // accelerometer position grid, m
 constexpr double k_big = 1e30;
 
+// Complex log without std::log(complex)'s slow special-case path (8x faster here).
+cd fast_log(const cd& a) {
+  const double n = std::norm(a);
+  return n > 0.0 ? cd(0.5 * std::log(n), std::atan2(a.imag(), a.real())) : cd(-700.0, 0.0);
+}
+
 double to_unit(const UpdateParameter& p, double v) {
   return p.log_scale ? std::log(v / p.lower) / std::log(p.upper / p.lower) : (v - p.lower) / (p.upper - p.lower);
 }
@@ -34,32 +40,37 @@ size_t index_of(const UpdateModel& m, const std::string& name) {
 
 double value_of(const UpdateModel& m, const std::vector<double>& v, const std::string& name) { return v[index_of(m, name)]; }
 
-// Log of the model acceleration FRF on the position grid: [grid][bin].
+// Log of the model acceleration FRF on the position grid: ln(bin, grid) (a column per position).
 struct GridLogs {
   std::vector<double> z;
-  std::vector<std::vector<cd>> ln;
-  std::vector<Eigen::VectorXcd> q;
+  Eigen::MatrixXcd ln;   // bins x grid positions
+  Eigen::MatrixXcd q;    // modal coordinates x bins
 };
 
 GridLogs grid_logs(const HalfOpenFrf& f, const FrfFitData& d, double sign) {
   GridLogs g;
   for (double z = 0.0; z <= f.length_m() + 1e-9; z += k_grid_m) g.z.push_back(z);
-  const size_t nb = d.f_hz.size();
-  g.q.reserve(nb);
-  for (double fh : d.f_hz) g.q.push_back(f.modal_response(fh));
-  g.ln.assign(g.z.size(), std::vector<cd>(nb));
-  for (size_t k = 0; k < g.z.size(); ++k) {
-    const Eigen::RowVectorXcd row = f.shape_row(g.z[k]).cast<cd>();
-    for (size_t i = 0; i < nb; ++i) {
-      const double w = 2.0 * M_PI * d.f_hz[i];
-      const cd a = -sign * w * w * (row * g.q[i])(0);
-      g.ln[k][i] = std::abs(a) > 0.0 ? std::log(a) : cd(-700.0, 0.0);
-    }
+  const Eigen::Index nb = static_cast<Eigen::Index>(d.f_hz.size()), ng = static_cast<Eigen::Index>(g.z.size());
+  Eigen::MatrixXd shapes(ng, 0);
+  for (Eigen::Index k = 0; k < ng; ++k) {
+    const Eigen::RowVectorXd row = f.shape_row(g.z[static_cast<size_t>(k)]);
+    if (shapes.cols() == 0) shapes.resize(ng, row.size());
+    shapes.row(k) = row;
   }
+  g.q.resize(shapes.cols(), nb);
+  for (Eigen::Index i = 0; i < nb; ++i) {
+    const double w = 2.0 * M_PI * d.f_hz[static_cast<size_t>(i)];
+    g.q.col(i) = -sign * w * w * f.modal_response(d.f_hz[static_cast<size_t>(i)]);
+  }
+  g.ln = (shapes.cast<cd>() * g.q).transpose();  // acceleration per A, bins x positions
+  for (Eigen::Index k = 0; k < ng; ++k)
+    for (Eigen::Index i = 0; i < nb; ++i) {
+      g.ln(i, k) = fast_log(g.ln(i, k));
+    }
   return g;
 }
 
-double wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
+double wrap(double a) { return a - 2.0 * M_PI * std::nearbyint(a / (2.0 * M_PI)); }
 
 double log_misfit(const cd& ln_meas, const cd& ln_model) {
   const double re = ln_meas.real() - ln_model.real();
@@ -72,6 +83,33 @@ std::vector<std::vector<cd>> measured_logs(const FrfFitData& d) {
   for (size_t c = 0; c < d.h.size(); ++c)
     for (const cd& h : d.h[c]) l[c].push_back(std::abs(h) > 0.0 ? std::log(h) : cd(-700.0, 0.0));
   return l;
+}
+
+// The model at the accelerometer positions m.mass_axial_m (no position search).
+FrfFit evaluate_at(const UpdateModel& m, const HalfOpenFrf& f, const std::vector<double>& v, const FrfFitData& d,
+                   const std::vector<size_t>& channels) {
+  FrfFit r;
+  r.values = v;
+  r.channels = channels;
+  r.accel_axial_m = m.mass_axial_m;
+  const size_t nch = d.h.size(), nb = d.f_hz.size();
+  const auto lm = measured_logs(d);
+  r.h_model.assign(nch, std::vector<cd>(nb));
+  std::vector<Eigen::RowVectorXcd> rows;
+  for (double z : m.mass_axial_m) rows.push_back(f.shape_row(z).cast<cd>());
+  std::vector<bool> used_ch(nch, false);
+  for (size_t c : channels) used_ch[c] = true;
+  for (size_t i = 0; i < nb; ++i) {
+    const double w = 2.0 * M_PI * d.f_hz[i];
+    const Eigen::VectorXcd q = -m.sign * w * w * f.modal_response(d.f_hz[i]);
+    for (size_t c = 0; c < nch; ++c) {
+      r.h_model[c][i] = (rows[c] * q)(0);
+      if (used_ch[c] && d.w[c][i] > 0.0 && std::abs(r.h_model[c][i]) > 0.0)
+        r.cost += d.w[c][i] * log_misfit(lm[c][i], fast_log(r.h_model[c][i]));
+    }
+  }
+  r.evaluations = 1;
+  return r;
 }
 
 }  // namespace
@@ -102,6 +140,10 @@ UpdateModel make_update_model(const board::BoardConfig& b, int excited, size_t c
   for (size_t k = 1; k < hp.rotor.disks.size(); ++k)
     if (hp.rotor.disks[k].mass_kg > hp.rotor.disks[m.centre_disk].mass_kg) m.centre_disk = k;
   const auto& a0 = b.plant.amb[static_cast<size_t>(excited)];
+  // A digital controller's delay: sampling, computation and zero-order hold, about 1.5 periods.
+  const double delay0 = b.rate_hz > 0.0 ? 1.5 / b.rate_hz : 1e-4;
+  const double amp0 = a0.amplifier_bandwidth_hz > 0.0 ? 1.0 / (2.0 * M_PI * a0.amplifier_bandwidth_hz) : 1.6e-4;
+  m.lag = true;
   // name, unit, meaning, nominal, lower, upper, log
   m.p = {
       {"shaft_bending_scale", "1", "EI of the plain shaft: E 200-215 GPa, diameter 7.74 (CAD area) to 8.0 mm", 1.0, 0.85, 1.05, false},
@@ -111,12 +153,15 @@ UpdateModel make_update_model(const board::BoardConfig& b, int excited, size_t c
       {"amb_rotor_mass_scale", "1", "AMB rotor + clamping sleeve lumped masses +-10 %", 1.0, 0.9, 1.1, false, false},
       {"amb_rotor_inertia_scale", "1", "AMB rotor inertias +-30 %", 1.0, 0.7, 1.3, false},
       {"ks_n_per_m", "N/m", "AMB negative stiffness (both bearings): 1.0e5 measured (Dietz, S7) to 1.92e5 computed (S1), +30 %", a0.ks_n_per_m, 0.8e5, 2.5e5, true},
-      {"force_gain_n_per_a", "N/A", "force per control current of the excited AMB: 50 measured (S7), 59.9 computed (S1); 40-80", a0.ki_n_per_a, 40.0, 80.0, true},
+      {"force_gain_n_per_a", "N/A", "AMB force per ampere of control current (ki): 50 measured (Dietz, S7), 59.9 computed (S1); 40-80", a0.ki_n_per_a, 40.0, 80.0, true},
       {"pid_gain_scale", "1", "PID gains of the closed bearing relative to set B (P = 5000 A/m): P 2500-9000 A/m", 1.0, 0.5, 1.8, true},
       {"pid_derivative_scale", "1", "derivative gain of the closed bearing relative to D = 5 A s/m (unrecorded for 2018)", 1.0, 0.3, 3.0, true},
-      {"actuator_lag_s", "s", "first-order lag current -> force (amplifier bandwidth, eddy currents; unrecorded): 10 us - 2 ms", 1e-4, 1e-5, 2e-3, true},
-      {"loop_delay_s", "s", "pure delay in the closed bearing's loop (sampling, sensor filter; unrecorded): 1 us - 0.5 ms", 1e-4, 1e-6, 5e-4, true},
-      {"accel_mass_kg", "kg", "mass of each shaft accelerometer incl. mounting (type unrecorded): 0.5-25 g", 0.005, 0.0005, 0.025, true},
+      {"loop_delay_s", "s", "delay of the closed bearing's digital loop (sampling, computation, hold; rate unrecorded): 1 us - 0.5 ms", delay0, 1e-6, 5e-4, true},
+      {"amplifier_lag_s", "s",
+       "first-order lag of the current amplifier (command -> coil current) in the closed bearing's loop, from the board's amplifier "
+       "bandwidth; held: in the acceleration FRFs only the loop's total phase lag counts (freed, it is correlated -0.995 with the "
+       "loop delay); 10 us - 2 ms",
+       amp0, 1e-5, 2e-3, true, false},
   };
   for (int k = 1; k <= 4; ++k)
     m.p.push_back({"damping_ratio_mode" + std::to_string(k), "1",
@@ -126,12 +171,68 @@ UpdateModel make_update_model(const board::BoardConfig& b, int excited, size_t c
   return m;
 }
 
+bool has_parameter(const UpdateModel& m, const std::string& name) {
+  for (const auto& p : m.p)
+    if (p.name == name) return true;
+  return false;
+}
+
+void add_sensor_mass(UpdateModel& m, double mass_kg) {
+  m.sensor_mass = true;
+  m.p.push_back({"accel_mass_kg", "kg", "mass of each shaft accelerometer incl. mounting and cable end (type unrecorded): 0.5-25 g", mass_kg,
+                 0.0005, 0.025, true, true, mass_kg});
+}
+
+void free_amplifier_lag(UpdateModel& m) {
+  for (auto& p : m.p)
+    if (p.name == "amplifier_lag_s") p.free = true;
+}
+
 void add_housing(UpdateModel& m, int bearing, double frequency_hz, double mass_kg, double damping_ratio) {
   m.housing = true;
   m.housing_bearing = bearing;
   m.p.push_back({"housing_mass_kg", "kg", "modal mass of the housing / foundation mode at the bearing", mass_kg, 0.3, 50.0, true, true, mass_kg});
   m.p.push_back({"housing_frequency_hz", "Hz", "housing / foundation mode frequency", frequency_hz, 30.0, 500.0, true, true, frequency_hz});
   m.p.push_back({"housing_damping_ratio", "1", "housing mode damping ratio", damping_ratio, 0.005, 0.3, true, true, damping_ratio});
+}
+
+void add_coupling(UpdateModel& m, double axial_m, double mass_kg) {
+  m.coupling = true;
+  m.coupling_axial_m = axial_m;
+  m.p.push_back({"coupling_mass_kg", "kg",
+                 "drive coupling on the shaft end (cardan-joint hub and the share of the joint it carries; RIG.md 2: the servomotor drives "
+                 "the shaft through a cardan joint): 2-200 g",
+                 mass_kg, 0.002, 0.2, true, true, mass_kg});
+}
+
+void add_eddy(UpdateModel& m, double time_s) {
+  m.eddy = true;
+  m.p.push_back({"eddy_time_s", "s",
+                 "eddy-current time constant of the AMB iron (G = 1 / (1 + sqrt(s te))): 1 / (2 pi te) is where the skin-effect "
+                 "reluctance of solid iron equals the air gap's; 1 us (nearly none) to 50 ms (flux halved below 5 Hz)",
+                 time_s, 1e-6, 0.05, true, true, time_s});
+}
+
+void add_resonator(UpdateModel& m, double axial_m, double mass_kg, double frequency_hz, double damping_ratio) {
+  m.resonator = true;
+  double len = 0.0;
+  for (const auto& e : m.base.rotor.elements) len += e.length_m;
+  m.p.push_back({"resonator_axial_m", "m", "where the part is attached along the shaft", axial_m, 0.0, len, false, true, axial_m});
+  m.p.push_back({"resonator_mass_kg", "kg", "effective mass of a part attached through a compliant joint (sensor, cable, sleeve, target ring): 0.1 g - 200 g",
+                 mass_kg, 1e-4, 0.2, true, true, mass_kg});
+  m.p.push_back({"resonator_frequency_hz", "Hz", "its natural frequency on that joint with the shaft held", frequency_hz, 50.0, 500.0, true, true,
+                 frequency_hz});
+  m.p.push_back({"resonator_damping_ratio", "1", "its damping ratio", damping_ratio, 0.002, 0.3, true, true, damping_ratio});
+}
+
+std::string element_of(const std::string& parameter) {
+  if (parameter == "accel_mass_kg") return "sensor_mass";
+  if (parameter == "amplifier_lag_s") return "";
+  if (parameter.rfind("housing_", 0) == 0) return "pedestal_resonance";
+  if (parameter.rfind("coupling_", 0) == 0) return "drive_coupling";
+  if (parameter == "eddy_time_s") return "eddy_current_lag";
+  if (parameter.rfind("resonator_", 0) == 0) return "attached_resonator";
+  return "";
 }
 
 HalfOpenParams to_model(const UpdateModel& m, const std::vector<double>& v) {
@@ -145,18 +246,24 @@ HalfOpenParams to_model(const UpdateModel& m, const std::vector<double>& v) {
   p.disk_inertia_scale[m.centre_disk] = value_of(m, v, "disc_inertia_scale");
   for (auto& br : p.bearing) {
     br.ks_n_per_m = value_of(m, v, "ks_n_per_m");
-    br.actuator_lag_s = m.lag ? value_of(m, v, "actuator_lag_s") : 0.0;
+    br.actuator_lag_s = m.lag ? value_of(m, v, "amplifier_lag_s") : 0.0;
+    br.eddy_time_s = m.eddy ? value_of(m, v, "eddy_time_s") : 0.0;
   }
-  p.bearing[static_cast<size_t>(p.excited)].ki_n_per_a = value_of(m, v, "force_gain_n_per_a");
+  // Force per measured ampere: the AMB's force per control ampere over the current channel's scale.
+  p.bearing[static_cast<size_t>(p.excited)].ki_n_per_a = value_of(m, v, "force_gain_n_per_a") / m.current_channel;
   const double g = value_of(m, v, "pid_gain_scale");
   p.controller.kp_n_per_m *= g;
   p.controller.ki_n_per_m_s *= g;
   p.controller.kd_n_s_per_m *= g * value_of(m, v, "pid_derivative_scale");
-  p.loop_delay_s = m.lag ? value_of(m, v, "loop_delay_s") : 0.0;
+  p.loop_delay_s = value_of(m, v, "loop_delay_s");
   if (m.sensor_mass)
     for (double z : m.mass_axial_m) p.attached.push_back({z, value_of(m, v, "accel_mass_kg")});
   p.flexible_damping_ratio.clear();
   for (int k = 1; k <= 4; ++k) p.flexible_damping_ratio.push_back(value_of(m, v, "damping_ratio_mode" + std::to_string(k)));
+  if (m.coupling) p.attached.push_back({m.coupling_axial_m, value_of(m, v, "coupling_mass_kg")});
+  if (m.resonator)
+    p.resonators.push_back({value_of(m, v, "resonator_axial_m"), value_of(m, v, "resonator_mass_kg"), value_of(m, v, "resonator_frequency_hz"),
+                            value_of(m, v, "resonator_damping_ratio")});
   if (m.housing) {
     auto& h = p.bearing[static_cast<size_t>(m.housing_bearing)].housing;
     h.mass_kg = value_of(m, v, "housing_mass_kg");
@@ -171,6 +278,7 @@ FrfFit evaluate_fit(const UpdateModel& m, const std::vector<double>& v, const Fr
   r.values = v;
   r.channels = channels;
   const HalfOpenFrf f(to_model(m, v));
+  if (m.fixed_positions && m.mass_axial_m.size() == d.h.size()) return evaluate_at(m, f, v, d, channels);
   const GridLogs g = grid_logs(f, d, m.sign);
   const auto lm = measured_logs(d);
   const size_t nch = d.h.size(), ng = g.z.size(), nb = d.f_hz.size();
@@ -178,10 +286,16 @@ FrfFit evaluate_fit(const UpdateModel& m, const std::vector<double>& v, const Fr
   r.h_model.assign(nch, std::vector<cd>(nb));
   std::vector<double> chan_cost(nch, 0.0);
   for (size_t c = 0; c < nch; ++c) {
+    std::vector<size_t> used;
+    for (size_t i = 0; i < nb; ++i)
+      if (d.w[c][i] > 0.0) used.push_back(i);
     std::vector<double> s(ng, 0.0);
-    for (size_t k = 0; k < ng; ++k)
-      for (size_t i = 0; i < nb; ++i)
-        if (d.w[c][i] > 0.0) s[k] += d.w[c][i] * log_misfit(lm[c][i], g.ln[k][i]);
+    for (size_t k = 0; k < ng; ++k) {
+      const cd* col = g.ln.data() + static_cast<std::ptrdiff_t>(k * nb);
+      double acc = 0.0;
+      for (size_t i : used) acc += d.w[c][i] * log_misfit(lm[c][i], col[i]);
+      s[k] = acc;
+    }
     const size_t kb = static_cast<size_t>(std::min_element(s.begin(), s.end()) - s.begin());
     double z = g.z[kb];
     if (kb > 0 && kb + 1 < ng) {  // parabolic refinement between grid points
@@ -192,9 +306,8 @@ FrfFit evaluate_fit(const UpdateModel& m, const std::vector<double>& v, const Fr
     const Eigen::RowVectorXcd row = f.shape_row(z).cast<cd>();
     double cc = 0.0;
     for (size_t i = 0; i < nb; ++i) {
-      const double w = 2.0 * M_PI * d.f_hz[i];
-      r.h_model[c][i] = -m.sign * w * w * (row * g.q[i])(0);
-      if (d.w[c][i] > 0.0 && std::abs(r.h_model[c][i]) > 0.0) cc += d.w[c][i] * log_misfit(lm[c][i], std::log(r.h_model[c][i]));
+      r.h_model[c][i] = (row * g.q.col(static_cast<Eigen::Index>(i)))(0);
+      if (d.w[c][i] > 0.0 && std::abs(r.h_model[c][i]) > 0.0) cc += d.w[c][i] * log_misfit(lm[c][i], fast_log(r.h_model[c][i]));
     }
     chan_cost[c] = std::min(cc, s[kb]);
   }
@@ -275,9 +388,11 @@ FrfFit fit_parameters(const UpdateModel& m, const std::vector<double>& start, co
   return r;
 }
 
-std::vector<double> model_peaks(const HalfOpenFrf& f, const std::vector<double>& measured_hz, const std::vector<double>& axial_m) {
+std::vector<double> model_peaks(const HalfOpenFrf& f, const std::vector<double>& measured_hz, const std::vector<double>& axial_m,
+                                const std::vector<double>& norms) {
   std::vector<Eigen::RowVectorXcd> rows;
-  for (double z : axial_m) rows.push_back(f.shape_row(z).cast<cd>());
+  for (size_t c = 0; c < axial_m.size(); ++c)
+    rows.push_back(f.shape_row(axial_m[c]).cast<cd>() / std::sqrt(c < norms.size() && norms[c] > 0.0 ? norms[c] : 1.0));
   std::vector<double> out;
   for (double fm : measured_hz) {
     const int n = 80;
@@ -306,10 +421,10 @@ std::vector<double> model_peaks(const HalfOpenFrf& f, const std::vector<double>&
 }
 
 std::vector<double> fit_frequencies(const UpdateModel& m, const std::vector<double>& start, const std::vector<double>& measured_hz,
-                                    const std::vector<double>& axial_m, int max_evaluations) {
+                                    const std::vector<double>& axial_m, int max_evaluations, const std::vector<double>& norms) {
   auto cost = [&](const std::vector<double>& v) {
     const HalfOpenFrf f(to_model(m, v));
-    const auto mp = model_peaks(f, measured_hz, axial_m);
+    const auto mp = model_peaks(f, measured_hz, axial_m, norms);
     double c = 0.0;
     for (size_t k = 0; k < mp.size(); ++k) {
       const double e = std::isfinite(mp[k]) ? std::log(mp[k] / measured_hz[k]) / 0.01 : 5.0;

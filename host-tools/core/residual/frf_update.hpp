@@ -48,16 +48,46 @@ struct UpdateModel {
   std::vector<double> mass_axial_m;       ///< where the accelerometer masses sit, m
   double sign = 1.0;                      ///< +1 / -1: sign convention of current vs acceleration
   bool housing = false;                   ///< housing-mode parameters in use (element "pedestal_resonance")
-  bool sensor_mass = true;                ///< accelerometer masses in the model (element "sensor_mass")
-  bool lag = true;                        ///< actuator lag and loop delay in the model (element "amplifier_lag")
+  bool sensor_mass = false;               ///< accelerometer masses in the model (element "sensor_mass")
+  bool lag = true;                        ///< current-amplifier lag in the closed loop (held at the board's bandwidth)
+  bool fixed_positions = false;           ///< evaluate at mass_axial_m instead of searching each accelerometer's position
   int housing_bearing = 1;                ///< bearing carrying the housing mode
+  double current_channel = 1.0;           ///< measured A per A of control current (1: the control current; 2: the
+                                          ///< difference of the axis' two coil currents, i0 + i and i0 - i)
+  bool coupling = false;                  ///< drive coupling hub on a shaft end (element "drive_coupling")
+  double coupling_axial_m = 0.0;          ///< where the coupling sits (a shaft end), m
+  bool eddy = false;                      ///< eddy currents in the AMB magnetic circuits (element "eddy_current_lag")
+  bool resonator = false;                 ///< a flexibly attached part (element "attached_resonator")
+  double resonator_axial_m = 0.0;         ///< where it is attached, m
 };
 
 /// Builds the parameter list from the board (nominal values and bounds: see the .cpp table).
 UpdateModel make_update_model(const board::BoardConfig& b, int excited_bearing, size_t channels);
 
+/// True when the model has a parameter of that name.
+bool has_parameter(const UpdateModel& m, const std::string& name);
+
+/// The element a parameter belongs to ("" for the board's own parameters).
+std::string element_of(const std::string& parameter);
+
+/// Add the accelerometer mass (one value for all, at mass_axial_m).
+void add_sensor_mass(UpdateModel& m, double mass_kg);
+
+/// Free the current amplifier's lag (held at the board's bandwidth by make_update_model).
+void free_amplifier_lag(UpdateModel& m);
+
 /// Add the housing-mode parameters (mass, frequency, damping ratio) at `bearing`.
 void add_housing(UpdateModel& m, int bearing, double frequency_hz, double mass_kg, double damping_ratio);
+
+/// Add the drive-coupling mass at the shaft end `axial_m` (a point mass: its diametral inertia is
+/// not separable from the mass in the data, correlation -0.99).
+void add_coupling(UpdateModel& m, double axial_m, double mass_kg);
+
+/// Add the eddy-current time constant of both AMBs (solid-iron, half-order model).
+void add_eddy(UpdateModel& m, double time_s);
+
+/// Add a resonator (position, mass, frequency, damping ratio), starting at `axial_m`.
+void add_resonator(UpdateModel& m, double axial_m, double mass_kg, double frequency_hz, double damping_ratio);
 
 /// The model parameters for given parameter values.
 model::analysis::HalfOpenParams to_model(const UpdateModel& m, const std::vector<double>& values);
@@ -83,12 +113,13 @@ FrfFit fit_parameters(const UpdateModel& m, const std::vector<double>& start, co
 /// the positions in `accel_axial_m`) fall on `measured_hz`. Returns the values.
 std::vector<double> fit_frequencies(const UpdateModel& m, const std::vector<double>& start,
                                     const std::vector<double>& measured_hz, const std::vector<double>& accel_axial_m,
-                                    int max_evaluations);
+                                    int max_evaluations, const std::vector<double>& channel_norms = {});
 
-/// Model peak frequency near each measured one (+-4 %), from the summed |acceleration|^2 at
-/// the given positions; NaN where the window has no interior maximum.
+/// Model peak frequency near each measured one (+-4 %), from the same indicator as the measured
+/// peaks: sum over the positions of |acceleration|^2 / channel_norms[c] (empty: 1); NaN where
+/// the window has no interior maximum.
 std::vector<double> model_peaks(const model::analysis::HalfOpenFrf& f, const std::vector<double>& measured_hz,
-                                const std::vector<double>& axial_m);
+                                const std::vector<double>& axial_m, const std::vector<double>& channel_norms = {});
 
 /// Error figures over the used bins of `channels`, each bin counted once (unweighted):
 /// spectral = rms of 20 log10 |H_meas / H_model| (dB); pearson = mean over channels of the

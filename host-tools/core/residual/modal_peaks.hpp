@@ -28,6 +28,27 @@ struct PeakOptions {
 std::vector<MeasuredPeak> find_peaks(const std::vector<double>& f_hz, const std::vector<std::vector<std::complex<double>>>& h,
                                      const std::vector<std::vector<double>>& coherence, const PeakOptions& o = {});
 
+/// Per-channel normalisation of the peak indicator: mean |H_c|^2 over the bins where at least
+/// half of the channels reach o.min_coherence inside the search band (1 where none).
+std::vector<double> channel_norms(const std::vector<double>& f_hz, const std::vector<std::vector<std::complex<double>>>& h,
+                                  const std::vector<std::vector<double>>& coherence, const PeakOptions& o = {});
+
+/// A mode extracted from a multi-channel accelerance by a common-pole rational fit.
+struct ModalEstimate {
+  double frequency_hz = 0.0;                   ///< undamped natural frequency of the pole, Hz
+  double damping_ratio = 0.0;                  ///< 1
+  std::vector<std::complex<double>> shape;     ///< residue per channel (the mode shape), (m/s^2)/A
+};
+
+/// Experimental modal analysis of one band: H_c(w) = -w^2 (sum_k R_ck / (w_k^2 - w^2 + 2 i z_k w_k w)
+/// + A_c) + B_c, poles common to all channels (frequencies and damping by a bounded NLopt
+/// search from `start_hz`), residues and residual terms per channel by weighted linear least
+/// squares. `w` [channel][bin]: weights (0: bin ignored). Applied alike to the measured and the
+/// modelled FRF, it gives the modal frequencies, damping ratios and shapes compared (MAC).
+std::vector<ModalEstimate> fit_modes(const std::vector<double>& f_hz, const std::vector<std::vector<std::complex<double>>>& h,
+                                     const std::vector<std::vector<double>>& w, double f_lo_hz, double f_hi_hz,
+                                     const std::vector<double>& start_hz);
+
 /// Modal assurance criterion |a^H b|^2 / (|a|^2 |b|^2) of two complex shapes (same length), 0..1.
 double mac(const std::vector<std::complex<double>>& a, const std::vector<std::complex<double>>& b);
 

@@ -17,4 +17,12 @@ nlohmann::json sweep_update_json(const SweepOutcome& o);
 /// renamed). Throws std::runtime_error naming the path when it cannot be written.
 void write_sweep_overlay_svg(const SweepOutcome& o, const std::string& path);
 
+/// The held-back accelerometers of the validation: measured, the board's model and the model
+/// fitted on the other half. Same writing rules.
+void write_sweep_validation_svg(const SweepOutcome& o, const std::string& path);
+
+/// The excited bearing's current per sweep voltage: measured and predicted. Throws when the
+/// outcome has no such check.
+void write_sweep_current_loop_svg(const SweepOutcome& o, const std::string& path);
+
 }  // namespace amb::host::residual
