@@ -4,7 +4,8 @@
 // with no parameter on a bound, modal frequencies and MAC, a validation on held-back
 // accelerometers and on the other record type (current per sweep voltage). Prints every
 // figure; asserts the issue-14 targets and properties a broken estimator, model or fit would
-// violate.
+// violate. Takes 3-4 min on a loaded 2-core host: ctest label `long`
+// (`ctest --test-dir BUILD -R 'ResidualTum\.'`); the fast checks are residual_tum_fast_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,22 +24,6 @@ namespace {
 std::string tum_dir() { return std::string(amb::test::shared_dir()) + "/data/measured/tum-mlps-amb-sweep"; }
 
 }  // namespace
-
-// The stored accelerations are SI (Test.Lab "MKS"); the unit transformation is the display
-// factor to g. The burst while the sweep passes the rigid-body resonance stays below 100 m/s^2.
-TEST(ResidualTum, SweepFilesReadInSiUnits) {
-  if (!std::filesystem::exists(tum_dir() + "/Sweep_Time_Anregung.mat")) GTEST_SKIP() << "no TUM data at " << tum_dir();
-  const auto r = host::residual::read_tum_sweep(tum_dir());
-  EXPECT_NEAR(r.fs_hz, 2048.0, 1e-9);
-  ASSERT_EQ(r.accel_m_s2.size(), 8u);
-  EXPECT_EQ(r.command_v.size(), r.current_a.size());
-  EXPECT_NEAR(r.accel_display_factor, 1.0 / 9.80665, 1e-5);
-  double peak = 0.0;
-  for (const auto& c : r.accel_m_s2)
-    for (double v : c) peak = std::max(peak, std::abs(v));
-  EXPECT_GT(peak, 50.0);
-  EXPECT_LT(peak, 100.0);
-}
 
 TEST(ResidualTum, MeasuredSweepModelUpdating) {
   if (!std::filesystem::exists(tum_dir() + "/Sweep_Time_Anregung.mat")) GTEST_SKIP() << "no TUM data at " << tum_dir();
