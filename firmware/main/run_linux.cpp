@@ -15,12 +15,17 @@
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <thread>
+#ifdef AMB_HAVE_SYSTEMD
+#include <systemd/sd-daemon.h>
+#endif
 
 #include "firmware/analysis/analysis_thread.hpp"
 #include "firmware/app/loop_runner.hpp"
@@ -45,6 +50,26 @@ namespace lx = hal::linux_hw;
 
 std::atomic<bool> g_stop{false};
 void on_signal(int) { g_stop.store(true); }
+
+/// Tells the service manager (systemd, Type=notify) something; a no-op without libsystemd or
+/// when not started by systemd (no NOTIFY_SOCKET). Called from the main thread only, never
+/// from the loop: sd_notify is a system call.
+void notify_service_manager(const char* state) {
+#ifdef AMB_HAVE_SYSTEMD
+  ::sd_notify(0, state);
+#else
+  (void)state;
+#endif
+}
+
+/// The watchdog interval systemd asks for (WatchdogSec= sets WATCHDOG_USEC), in ns; 0 = none.
+int64_t service_watchdog_ns() {
+#ifdef AMB_HAVE_SYSTEMD
+  uint64_t usec = 0;
+  if (::sd_watchdog_enabled(0, &usec) > 0) return static_cast<int64_t>(usec) * 1000;
+#endif
+  return 0;
+}
 
 /// Discrete inputs from the GPIO lines, with the amplifier node's fault report (field bus)
 /// OR-ed into the amplifier fault. [RT]
@@ -72,12 +97,18 @@ void make_realtime(bool& locked, bool& fifo) {
   sched_param sp{};
   sp.sched_priority = 80;
   fifo = ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &sp) == 0;
-  const long cpus = std::thread::hardware_concurrency();
-  if (cpus > 1) {
+  // The loop takes the highest CPU the process may use: the service's CPUAffinity= (systemd)
+  // or taskset chooses the set, e.g. the isolated CPUs; the other threads share the rest.
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (::sched_getaffinity(0, sizeof allowed, &allowed) != 0 || CPU_COUNT(&allowed) < 2) return;
+  for (int c = CPU_SETSIZE - 1; c >= 0; --c) {
+    if (!CPU_ISSET(c, &allowed)) continue;
     cpu_set_t set;
     CPU_ZERO(&set);
-    CPU_SET(static_cast<int>(cpus - 1), &set);
+    CPU_SET(c, &set);
     ::pthread_setaffinity_np(::pthread_self(), sizeof set, &set);
+    break;
   }
 }
 
@@ -255,6 +286,7 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
 
   // ---- active: the loop ---------------------------------------------------------------
   bool locked = false, fifo = false;
+  std::atomic<bool> loop_done{false};
   std::thread loop_thread([&] {
     make_realtime(locked, fifo);
     const int64_t stop_ns = opt.duration_s > 0 ? static_cast<int64_t>(opt.duration_s * 1e9) : -1;
@@ -270,6 +302,7 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     sup.enter_safe_state(fw::FaultReason::emergency_stop);
     fe.write(hal::AnalogOutputs{});
     dio.write(hal::DiscreteOutputs{});
+    loop_done.store(true);
   });
   std::printf("amb-firmware: ready: board %s, %.0f Hz loop, CAN %s%s, GPIO %s, Modbus TCP %s:%u unit %u, "
               "analysis thread %s (speed source %s), Modbus commands %s\n",
@@ -278,6 +311,38 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
               cm.modbus.unit_id, run_analysis ? "on" : "off", fw::to_string(board.tracker.speed_source),
               cm.modbus.arm_key != 0 ? "armed by key ([comms.modbus] arm_key)" : "disabled (no arm_key)");
   std::fflush(stdout);
+
+  // ---- service supervision (this non-RT thread): READY=1 once the loop has run its first
+  // periods; then WATCHDOG=1 every half watchdog interval, but only while the loop's period
+  // count (its heartbeat, published through the SeqLock every 16 periods) advances: a hung
+  // loop stops the petting and systemd restarts the service (Restart=on-failure).
+  const int64_t watchdog_ns = service_watchdog_ns();
+  const int64_t pet_ns = watchdog_ns > 0 ? watchdog_ns / 2 : 0;
+  bool ready_sent = false;
+  uint64_t last_periods = 0, missed_pets = 0;
+  int64_t next_pet = lx::monotonic_ns() + pet_ns;
+  while (!loop_done.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const uint64_t periods = loop_stats.load().periods;
+    if (!ready_sent && periods > 0) {
+      notify_service_manager("READY=1\nSTATUS=loop running");
+      std::printf("amb-firmware: service: READY=1 sent (loop running)%s\n",
+                  watchdog_ns > 0 ? ", watchdog petted while the loop's period count advances" : "");
+      std::fflush(stdout);
+      ready_sent = true;
+    }
+    if (pet_ns <= 0 || lx::monotonic_ns() < next_pet) continue;
+    next_pet += pet_ns;
+    if (periods != last_periods) {
+      notify_service_manager("WATCHDOG=1");
+      last_periods = periods;
+    } else if (missed_pets++ == 0) {
+      std::printf("amb-firmware: service: loop heartbeat stalled at %llu periods: watchdog not petted\n",
+                  static_cast<unsigned long long>(periods));
+      std::fflush(stdout);
+    }
+  }
+  notify_service_manager("STOPPING=1");
   loop_thread.join();
   analysis_thread.stop();
   writer.stop();
