@@ -1,0 +1,191 @@
+// amb-host fleet add|list|trend|report: the fleet store of events, wear records, fits and
+// residual results (SQLite file by default, PostgreSQL with --store postgresql://...).
+// Logic: host-tools/core/fleet.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/fleet/fleet_report.hpp"
+#include "host-tools/core/fleet/fleet_schema.hpp"
+#include "host-tools/core/fleet/fleet_store.hpp"
+
+namespace {
+
+namespace fl = amb::host::fleet;
+namespace fs = std::filesystem;
+
+struct Args {
+  std::string store;
+  std::vector<std::string> files;
+  std::string machine;
+  std::string out = "amb-out/fleet.html";
+  bool json = false;
+  CLI::App* add = nullptr;
+  CLI::App* list = nullptr;
+  CLI::App* trend = nullptr;
+  CLI::App* report = nullptr;
+};
+
+std::string default_store() {
+  const char* env = std::getenv("AMB_FLEET_STORE");
+  return env && *env ? env : "amb-out/fleet.sqlite";
+}
+
+/// Files to import: each file given, and the .ambe/.ambw/.json files in each directory given (sorted).
+std::vector<std::string> expand(const std::vector<std::string>& in) {
+  std::vector<std::string> out;
+  for (const std::string& p : in) {
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+      std::vector<std::string> found;
+      for (const auto& e : fs::recursive_directory_iterator(p, ec)) {
+        const std::string ext = e.path().extension().string();
+        if (e.is_regular_file() && (ext == ".ambe" || ext == ".ambw" || ext == ".json")) found.push_back(e.path().string());
+      }
+      std::sort(found.begin(), found.end());
+      out.insert(out.end(), found.begin(), found.end());
+    } else {
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+nlohmann::json status_json(const fl::BearingStatus& s) {
+  return {{"machine", s.machine}, {"bearing", s.bearing}, {"source", s.source}, {"life_used_fraction", s.life_used_fraction},
+          {"peak_force_n", s.peak_force_n}, {"events", s.events}};
+}
+
+int run(const Args& a) {
+  const std::string url = a.store.empty() ? default_store() : a.store;
+  std::unique_ptr<fl::FleetStore> store;
+  try {
+    if (url.find("://") == std::string::npos && url.rfind("postgres:", 0) != 0) {
+      const std::string path = url.rfind("sqlite:", 0) == 0 ? url.substr(7) : url;
+      if (fs::path(path).has_parent_path()) fs::create_directories(fs::path(path).parent_path());
+    }
+    store = std::make_unique<fl::FleetStore>(url);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "amb-host fleet: error: %s\n", e.what());
+    return 2;
+  }
+  try {
+    if (a.add->parsed()) {
+      int bad = 0;
+      nlohmann::json list = nlohmann::json::array();
+      size_t added = 0, present = 0;
+      for (const std::string& f : expand(a.files)) {
+        try {
+          const fl::AddResult r = store->add_file(f, a.machine);
+          (r.added ? added : present)++;
+          list.push_back({{"path", r.path}, {"kind", r.kind}, {"machine", r.machine}, {"content_hash", r.content_hash}, {"added", r.added}});
+          if (!a.json) std::printf("%s %s: %s (%s)\n", r.added ? "added" : "already stored", r.kind.c_str(), f.c_str(), r.machine.c_str());
+        } catch (const std::invalid_argument& e) {
+          ++bad;
+          std::fprintf(stderr, "amb-host fleet add: error: %s\n", e.what());
+        }
+      }
+      if (a.json)
+        std::printf("%s\n", nlohmann::json({{"added", added}, {"already_stored", present}, {"errors", bad}, {"files", list}}).dump(2).c_str());
+      else
+        std::fprintf(stderr, "fleet add: %zu added, %zu already stored, %d refused\n", added, present, bad);
+      return bad ? 1 : 0;
+    }
+    if (a.list->parsed()) {
+      const auto ms = store->machines();
+      if (a.json) {
+        nlohmann::json j = nlohmann::json::array();
+        for (const auto& m : ms)
+          j.push_back({{"machine", m.name}, {"rig", m.rig}, {"events", m.events}, {"wear_records", m.wear_records},
+                       {"fits", m.fits}, {"residuals", m.residuals}, {"last_event_number", m.last_event_number}});
+        std::printf("%s\n", nlohmann::json({{"schema_version", fl::schema_version(store->db())}, {"machines", j}}).dump(2).c_str());
+      } else {
+        std::printf("%-24s %-20s %7s %6s %5s %9s\n", "machine", "rig", "events", "wear", "fits", "residuals");
+        for (const auto& m : ms)
+          std::printf("%-24s %-20s %7lld %6lld %5lld %9lld\n", m.name.c_str(), m.rig.c_str(), static_cast<long long>(m.events),
+                      static_cast<long long>(m.wear_records), static_cast<long long>(m.fits), static_cast<long long>(m.residuals));
+      }
+      return 0;
+    }
+    if (a.trend->parsed()) {
+      const auto t = store->trend(a.machine);
+      if (a.json) {
+        nlohmann::json j = nlohmann::json::array();
+        for (const auto& p : t)
+          j.push_back({{"machine", p.machine}, {"bearing", p.bearing}, {"source", p.source}, {"order", p.order},
+                       {"time_unix_s", p.time_unix_s}, {"life_used_fraction", p.life_used_fraction}});
+        std::printf("%s\n", nlohmann::json({{"trend", j}}).dump(2).c_str());
+      } else {
+        for (const auto& p : t)
+          std::printf("%-24s aux %d %-10s %8lld %12lld %10.6f\n", p.machine.c_str(), p.bearing + 1, p.source.c_str(),
+                      static_cast<long long>(p.order), static_cast<long long>(p.time_unix_s), p.life_used_fraction);
+      }
+      return 0;
+    }
+    if (a.report->parsed()) {
+      fl::FleetPageData d;
+      d.store = url;
+      d.machines = store->machines();
+      d.nearest = store->nearest_budget();
+      d.trend = store->trend();
+      if (fs::path(a.out).has_parent_path()) fs::create_directories(fs::path(a.out).parent_path());
+      const std::string tmp = a.out + ".tmp";
+      {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        f << fl::render_fleet_page(d);
+        if (!f) throw std::runtime_error(a.out + ": cannot be written");
+      }
+      fs::rename(tmp, a.out);
+      if (a.json) {
+        nlohmann::json n = nlohmann::json::array();
+        for (const auto& s : d.nearest) n.push_back(status_json(s));
+        std::printf("%s\n", nlohmann::json({{"nearest", n}, {"report", fs::absolute(a.out).string()}}).dump(2).c_str());
+      } else {
+        for (size_t i = 0; i < d.nearest.size() && i < 10; ++i) {
+          const auto& s = d.nearest[i];
+          std::printf("%-24s aux %d: %6.2f %% of budget (%s, %lld events)\n", s.machine.c_str(), s.bearing + 1,
+                      100.0 * s.life_used_fraction, s.source.c_str(), static_cast<long long>(s.events));
+        }
+        std::printf("fleet page: %s\n", a.out.c_str());
+      }
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "amb-host fleet: error: %s\n", e.what());
+    return 2;
+  }
+  return 1;
+}
+
+const amb::host::Registration reg{
+    "fleet", "fleet store: events, wear records, fits and residual results per machine (SQLite or PostgreSQL)",
+    [](CLI::App& sub, std::function<int()>& run_fn) {
+      auto a = std::make_shared<Args>();
+      sub.add_option("--store", a->store,
+                     "store: a SQLite file (default $AMB_FLEET_STORE or amb-out/fleet.sqlite) or postgresql://... / postgres:CONNINFO");
+      sub.require_subcommand(1);
+      a->add = sub.add_subcommand("add", "import .ambe events, .ambw wear records, fit/residual --json files (or directories of them)");
+      a->add->add_option("files", a->files, "files or directories")->required();
+      a->add->add_option("--machine", a->machine, "machine name (default: the board name in the file)");
+      a->add->add_flag("--json", a->json, "print what was imported as JSON");
+      a->list = sub.add_subcommand("list", "machines and what is stored for each");
+      a->list->add_flag("--json", a->json, "print as JSON");
+      a->trend = sub.add_subcommand("trend", "life used per aux bearing over time");
+      a->trend->add_option("--machine", a->machine, "only this machine");
+      a->trend->add_flag("--json", a->json, "print as JSON");
+      a->report = sub.add_subcommand("report", "bearings nearest their budget and the HTML fleet page");
+      a->report->add_option("--out", a->out, "fleet page (default amb-out/fleet.html)");
+      a->report->add_flag("--json", a->json, "print as JSON");
+      run_fn = [a] { return run(*a); };
+    }};
+
+}  // namespace
