@@ -3,7 +3,8 @@
 // loop (rub / saturation burst found from the time data, H1 estimate, resonance peaks incl.
 // the split pair near 204 / 212 Hz, the common-pole modal fit splitting that pair into two
 // poles of one shaft shape) and the
-// modal fit recovering known poles and shapes from a generated two-mode FRF.
+// modal fit recovering known poles and shapes from a generated two-mode FRF; the model's
+// eddy-current factor.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +17,7 @@
 #include "host-tools/core/residual/modal_peaks.hpp"
 #include "host-tools/core/residual/nonlinear_span.hpp"
 #include "host-tools/core/residual/sweep_frf.hpp"
+#include "model/analysis/half_open_frf.hpp"
 #include "tests/support/test_paths.hpp"
 
 using namespace amb;
@@ -121,4 +123,21 @@ TEST(ResidualTumFast, ModalFitRecoversKnownPoles) {
   EXPECT_GT(host::residual::mac(m[0].shape, r1), 0.999);
   EXPECT_GT(host::residual::mac(m[1].shape, r2), 0.999);
   EXPECT_LT(host::residual::mac(m[0].shape, r2), 0.5);  // the shapes are told apart
+}
+
+// Eddy-current factor of solid iron, G = 1 / (1 + sqrt(j w te)): 1 without eddy currents,
+// |G| = 1 / |1 + (1 + j) / sqrt(2)| with phase -22.5 deg at w te = 1, and the half-order
+// asymptote (phase towards -45 deg, |G| ~ 1 / sqrt(w te)) far above the corner.
+TEST(ResidualTumFast, EddyFactorIsHalfOrder) {
+  model::analysis::HalfOpenBearing b;
+  EXPECT_EQ(model::analysis::HalfOpenFrf::eddy_factor(b, 100.0), cd(1.0, 0.0));
+  b.eddy_time_s = 3.8e-4;
+  const double f_corner = 1.0 / (2.0 * M_PI * b.eddy_time_s);
+  const cd g1 = model::analysis::HalfOpenFrf::eddy_factor(b, f_corner);
+  EXPECT_NEAR(std::abs(g1), 1.0 / std::abs(cd(1.0 + 1.0 / std::sqrt(2.0), 1.0 / std::sqrt(2.0))), 1e-12);
+  EXPECT_NEAR(std::arg(g1) * 180.0 / M_PI, -22.5, 1e-9);
+  const cd g2 = model::analysis::HalfOpenFrf::eddy_factor(b, 1e4 * f_corner);
+  EXPECT_NEAR(std::arg(g2) * 180.0 / M_PI, -45.0, 0.5);
+  EXPECT_NEAR(std::abs(g2) * std::sqrt(1e4), 1.0, 0.02);
+  EXPECT_NEAR(std::abs(model::analysis::HalfOpenFrf::eddy_factor(b, 1e-6 * f_corner)), 1.0, 2e-3);
 }

@@ -29,8 +29,7 @@ TEST(ResidualTum, MeasuredSweepModelUpdating) {
   if (!std::filesystem::exists(tum_dir() + "/Sweep_Time_Anregung.mat")) GTEST_SKIP() << "no TUM data at " << tum_dir();
   const auto r = host::residual::read_tum_sweep(tum_dir());
   const auto b = board::load_board(std::string(amb::test::source_dir()) + "/boards/tum-mlps-rig.toml");
-  host::residual::SweepOptions opt;
-  opt.max_evaluations = 300;   // per bounded fit; the doc table gives the figures of this setting
+  const host::residual::SweepOptions opt;  // the defaults `amb-host residual` uses
   const auto o = host::residual::run_sweep_residual(r.current_a, r.accel_m_s2, r.fs_hz, b, opt, r.command_v);
   std::printf("[ RESULT ] TUM MLPS sweep: %d segments, verdict %s, current channel %.0fx the control current\n", o.frf.segments,
               o.verdict.c_str(), o.current_channel);
