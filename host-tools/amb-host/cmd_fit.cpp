@@ -31,6 +31,7 @@ struct Args {
   bool fit_restitution = false;
   bool fit_offset = false;
   bool fit_law_shape = false;
+  bool friction_from_fit = false;
   std::string wear_in, wear_out;
 };
 
@@ -63,6 +64,7 @@ int run(const Args& a) {
   o.fit_centre_offset = a.fit_offset;
   o.fit_slip_regularisation = a.fit_law_shape;
   o.fit_contact_exponent = a.fit_law_shape;
+  o.friction_from_contact_forces = !a.friction_from_fit;
   o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (const std::string e = o.check(); !e.empty()) return bad_input(e);
   hf::DropFitResult r;
@@ -115,6 +117,26 @@ int run(const Args& a) {
                        {"spin_down", r.cost.spin_down}, {"contact", r.cost.contact}, {"whirl", r.cost.whirl},
                        {"bounce", r.cost.bounce}};
     j["friction_uncertainty"] = r.friction_uncertainty;
+    j["friction_method"] = r.friction_method;
+    {
+      const auto& fe = r.friction_estimate;
+      nlohmann::json windows = nlohmann::json::array();
+      for (const auto& w : fe.windows)
+        windows.push_back({{"bearing", w.bearing}, {"start_s", w.start_s}, {"normal_impulse_n_s", w.normal_impulse_n_s},
+                           {"friction_impulse_n_s", w.friction_impulse_n_s}, {"ratio", w.ratio}, {"sliding", w.sliding}});
+      j["friction_estimate"] = {{"valid", fe.valid},
+                                {"friction", fe.friction},
+                                {"uncertainty", fe.uncertainty},
+                                {"standard_error", fe.standard_error},
+                                {"smoothing_change", fe.smoothing_change},
+                                {"windows_used", fe.windows_used},
+                                {"windows_total", fe.windows_total},
+                                {"sliding_time_s", fe.sliding_time_s},
+                                {"measured_spin_down_rad_s2", fe.measured_spin_down_rad_s2},
+                                {"force_spin_down_rad_s2", fe.force_spin_down_rad_s2},
+                                {"note", fe.note},
+                                {"windows", windows}};
+    }
     j["bound_active"] = r.bound_active;
     j["contact_law"] = r.contact_law;
     j["contact_stiffness_n_per_m"] = r.contact_stiffness_n_per_m;
@@ -156,6 +178,13 @@ int run(const Args& a) {
   for (const auto& u : r.unknowns)
     std::printf("  %s = %.6g +- %.3g [%.4g, %.4g]%s\n", u.name.c_str(), u.value, u.uncertainty, u.lower, u.upper,
                 u.bound_active ? " BOUND ACTIVE" : "");
+  std::printf("friction from %s", r.friction_method.c_str());
+  if (r.friction_estimate.valid)
+    std::printf(": %.4f +- %.4f over %d of %d windows (%.3f s sliding; spin-down there %.2f rad/s^2 measured, %.2f from the contact forces)",
+                r.friction_estimate.friction, r.friction_estimate.uncertainty, r.friction_estimate.windows_used,
+                r.friction_estimate.windows_total, r.friction_estimate.sliding_time_s, r.friction_estimate.measured_spin_down_rad_s2,
+                r.friction_estimate.force_spin_down_rad_s2);
+  std::printf("\n");
   std::printf("spin-down %.3f rad/s^2 measured, %.3f fitted\n", r.spin_down_rad_s2, r.fitted_spin_down_rad_s2);
   for (size_t b = 0; b < 2; ++b)
     std::printf("aux bearing %zu whirl: %s at %.1f Hz from %.4f s (fitted model: %s at %.1f Hz)\n", b + 1,
@@ -183,6 +212,8 @@ const amb::host::Registration reg{
       sub.add_flag("--fit-offset", args->fit_offset, "also fit an offset of the aux-bearing centres");
       sub.add_flag("--fit-law-shape", args->fit_law_shape,
                    "compliant laws: also fit the friction regularisation velocity and the spring exponent");
+      sub.add_flag("--friction-from-fit", args->friction_from_fit,
+                   "fit the friction with the model instead of reading it from the contact forces (friction_estimate.hpp)");
       sub.add_option("--wear-in", args->wear_in, "previous wear record (AMBW) to update");
       sub.add_option("--wear-out", args->wear_out, "write the updated wear record here");
       sub.add_flag("--json", args->json, "print the figures as JSON");

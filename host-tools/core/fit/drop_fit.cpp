@@ -170,6 +170,19 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
     meas_w.assign(m.speed_rad_s.begin() + static_cast<long>(first), m.speed_rad_s.begin() + static_cast<long>(first + n));
   const DropFeatures meas = drop_features(rig, view, meas_s, meas_w, period, spin_sign, o.rubbing);
 
+  // Friction from the measured contact forces (friction_estimate.hpp), when asked and found.
+  FrictionEstimate fe;
+  if (o.friction_from_contact_forces && m.amplifiers_off) {
+    fe = estimate_friction(m, rig, o.friction_estimate);
+    if (o.progress)
+      o.progress(fe.valid ? "fit: friction from contact forces " + std::to_string(fe.friction) + " +- " + std::to_string(fe.uncertainty) +
+                                " (" + std::to_string(fe.windows_used) + " of " + std::to_string(fe.windows_total) + " windows sliding)"
+                          : "fit: friction from contact forces: " + fe.note + "; friction fitted");
+  }
+  const bool fit_mu = !fe.valid;
+  const double fixed_mu = fe.valid ? std::clamp(fe.friction, o.mu_min, o.mu_max) : 0.0;
+  const bool fixed_mu_clamped = fe.valid && fixed_mu != fe.friction;
+
   md::DropScenario sc;
   sc.speed_hz = m.speed_at_trigger_hz;
   // Levitated for the settling time plus the recorded pre-trigger history: the pre-drop
@@ -202,8 +215,13 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
   const bool compliant = models[0]->compliant();
   const bool fit_k = compliant && o.fit_contact_stiffness, fit_c = compliant && o.fit_contact_damping;
   const double k_board = rig.aux[0].contact_stiffness_n_per_m;
-  std::vector<double> lo{o.mu_min}, hi{o.mu_max};
-  std::vector<std::string> names{"friction_coefficient"};
+  std::vector<double> lo, hi;
+  std::vector<std::string> names;
+  if (fit_mu) {
+    lo.push_back(o.mu_min);
+    hi.push_back(o.mu_max);
+    names.push_back("friction_coefficient");
+  }
   if (fit_k) {
     lo.push_back(std::log10(o.stiffness_factor_min));
     hi.push_back(std::log10(o.stiffness_factor_max));
@@ -244,7 +262,7 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
   auto unpack = [&](const std::vector<double>& x) {
     Params p;
     size_t i = 0;
-    p.mu = x[i++];
+    p.mu = fit_mu ? x[i++] : fixed_mu;
     p.stiffness = fit_k ? k_board * std::pow(10.0, x[i++]) : k_board;
     p.damping = fit_c ? x[i++] : rig.aux[0].contact_damping_n_s_per_m;
     p.eps = fit_eps ? std::pow(10.0, x[i++]) : mo.slip_regularisation_m_s;
@@ -299,13 +317,21 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
     progress = [&](int it, double best, double h) {
       o.progress("fit: iteration " + std::to_string(it) + ", cost " + std::to_string(best) + ", stencil " + std::to_string(h));
     };
-  const ImplicitFilteringSummary s = implicit_filtering(cost, lo, hi, o.optimiser, progress);
+  ImplicitFilteringSummary s;
+  if (!lo.empty()) {
+    s = implicit_filtering(cost, lo, hi, o.optimiser, progress);
+  } else {  // nothing left to fit: one simulation
+    s.cost = cost({}, 0);
+    s.evaluations = 1;
+    s.converged = true;
+    s.stop_reason = "no unknown left to fit";
+  }
 
   // Bounded local polish (NLopt BOBYQA in the unit box) from the implicit-filtering optimum.
   std::vector<double> x_best = s.x;
   double j_best = s.cost;
   int polish_evals = 0;
-  if (o.polish) {
+  if (o.polish && !lo.empty()) {
     PolishData pd{&cost, &lo, &hi, 0, 1e300, {}};
     const unsigned nu = static_cast<unsigned>(lo.size());
     nlopt::opt opt(nu == 1 ? nlopt::LN_SBPLX : nlopt::LN_BOBYQA, nu);
@@ -366,11 +392,18 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
       u.bound_active = x_best[i] - lo[i] <= 0.005 * (hi[i] - lo[i]) || hi[i] - x_best[i] <= 0.005 * (hi[i] - lo[i]);
       // A physically zero-bounded quantity (damping, drag) at 0 is a value, not a stuck fit
       // of the friction; only the friction's and the stiffness's bounds make the fit suspect.
-      r.bound_active = r.bound_active || (u.bound_active && (i == 0 || u.name == "log10_contact_stiffness_factor"));
+      r.bound_active = r.bound_active || (u.bound_active && (u.name == "friction_coefficient" || u.name == "log10_contact_stiffness_factor"));
       r.unknowns.push_back(u);
     }
     r.evaluations += static_cast<int>(probes.size());
-    r.friction_uncertainty = r.unknowns[0].uncertainty;
+    if (fit_mu) r.friction_uncertainty = r.unknowns[0].uncertainty;
+  }
+  r.friction_estimate = fe;
+  if (!fit_mu) {
+    r.friction_method = "contact_forces";
+    r.friction_uncertainty = fe.uncertainty;
+    // An estimate outside the fit's friction bounds is clamped for the simulation: a bound.
+    r.bound_active = r.bound_active || fixed_mu_clamped;
   }
   const Params best = unpack(x_best);
   r.friction_coefficient = best.mu;
@@ -401,6 +434,7 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
   r.stop_reason = s.stop_reason + (o.polish ? "; NLopt polish: " + std::to_string(polish_evals) + " evaluations" : "");
   for (const auto& u : r.unknowns)
     if (u.bound_active) r.stop_reason += "; bound active: " + u.name;
+  if (fixed_mu_clamped) r.stop_reason += "; bound active: friction estimate " + std::to_string(fe.friction) + " outside the friction bounds";
   r.cost_history = s.cost_history;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

@@ -13,6 +13,7 @@
 #include "firmware/board/board.hpp"
 #include "host-tools/core/fit/drop_cost.hpp"
 #include "host-tools/core/fit/drop_measurement.hpp"
+#include "host-tools/core/fit/friction_estimate.hpp"
 #include "host-tools/core/fit/implicit_filtering.hpp"
 #include "model/drop/drop_options.hpp"
 #include "model/drop/drop_simulation.hpp"
@@ -22,6 +23,15 @@ namespace amb::host::fit {
 
 struct DropFitOptions {
   double mu_min = 0.02, mu_max = 0.6;          ///< friction coefficient bounds, 1
+  /// Friction from the contact forces (friction_estimate.hpp: ratio of the tangential to the
+  /// normal contact impulse while the collar slides, from the measured orbit's momentum
+  /// balance) instead of from the model fit: when the estimate is valid the friction is set to
+  /// it and the fit runs over the other unknowns (contact law, drag, ...), which it then
+  /// matches to the record with the right friction. Why: a model fitted to the orbit of a
+  /// chaotic or backward-whirling drop traded the friction against the contact law (+20-50 %
+  /// on backward whirl). Off, or no sliding contact found: the friction is a fit unknown.
+  bool friction_from_contact_forces = true;
+  FrictionEstimateOptions friction_estimate;   ///< options of that estimate
   // Compliant contact laws (board contact_law "hertz"/"linear"): further unknowns. Ignored
   // under the rigid law. Stiffness fitted as log10 of a factor on the board's value.
   bool fit_contact_stiffness = true;           ///< contact_stiffness_n_per_m
@@ -69,8 +79,13 @@ struct DropFitOptions {
 };
 
 struct DropFitResult {
-  double friction_coefficient = 0.0;           ///< fitted, 1
-  double friction_uncertainty = 0.0;           ///< its uncertainty (see DropFitOptions::uncertainty_step), 1
+  double friction_coefficient = 0.0;           ///< fitted or estimated (friction_method), 1
+  /// Its uncertainty: the contact-force estimate's (FrictionEstimate::uncertainty) or the
+  /// cost curvature's (DropFitOptions::uncertainty_step), 1
+  double friction_uncertainty = 0.0;
+  /// "contact_forces" (FrictionEstimate, the fit ran over the other unknowns) or "model_fit".
+  std::string friction_method = "model_fit";
+  FrictionEstimate friction_estimate;          ///< the contact-force estimate (valid = false: not made or none)
   std::string contact_law;                     ///< "rigid", "hertz" or "linear"
   double contact_stiffness_n_per_m = 0.0;      ///< used or fitted (compliant laws), N/m
   double contact_damping_n_s_per_m = 0.0;      ///< used or fitted (compliant laws), N s/m

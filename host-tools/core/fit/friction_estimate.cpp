@@ -1,0 +1,271 @@
+#include "host-tools/core/fit/friction_estimate.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include "model/drop/sensor_orbit.hpp"
+#include "model/rotor/rotor_model.hpp"
+
+namespace amb::host::fit {
+
+std::string FrictionEstimateOptions::check() const {
+  if (!(smoothing_half_window_s > 0.0)) return "smoothing_half_window_s must be > 0";
+  if (!(skip_s >= 0.0)) return "skip_s must be >= 0";
+  if (!(window_s > 0.0) || !(max_window_s > window_s)) return "need 0 < window_s < max_window_s";
+  if (!(contact_radius_fraction > 0.0 && contact_radius_fraction < 1.0)) return "contact_radius_fraction must be in (0, 1)";
+  if (!(min_impulse_fraction >= 0.0 && min_impulse_fraction < 1.0)) return "min_impulse_fraction must be in [0, 1)";
+  if (!(sliding_fraction > 0.0 && sliding_fraction < 1.0)) return "sliding_fraction must be in (0, 1)";
+  if (min_sliding_windows < 1) return "min_sliding_windows must be >= 1";
+  return {};
+}
+
+namespace {
+
+// Contact forces per sample (rigid-body momentum balance), both bearings.
+struct ContactSample {
+  std::array<double, 2> radius_m{};  // aux-plane orbit radius from the bearing centre, m
+  std::array<double, 2> normal_n{};  // towards the bearing centre on the rotor, N
+  std::array<double, 2> friction_n{};// opposing the collar's surface speed, N
+};
+
+// Quadratic least-squares derivatives over +-h samples: first and second derivative weights.
+struct Derivative {
+  std::vector<double> d1, d2;
+  explicit Derivative(int h, double dt) {
+    double s2 = 0.0, mt = 0.0;
+    for (int t = -h; t <= h; ++t) { s2 += t * t; mt += t * t; }
+    mt /= (2 * h + 1);
+    double dd = 0.0;
+    for (int t = -h; t <= h; ++t) dd += (t * t - mt) * (t * t - mt);
+    for (int t = -h; t <= h; ++t) {
+      d1.push_back(t / s2 / dt);
+      d2.push_back(2.0 * (t * t - mt) / dd / (dt * dt));
+    }
+  }
+};
+
+std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model::PlantParams& rig, size_t first, size_t last,
+                                          int h, const model::rotor::RotorModel& rotor) {
+  const model::drop::SensorOrbit view(rig);
+  const double dt = 1.0 / m.sample_rate_hz;
+  const double zs0 = rig.sensor[0].axial_m, zs1 = rig.sensor[2].axial_m;
+  const double zg = rotor.centre_of_mass_m;
+  const double mass = rotor.mass_kg, it = rotor.transverse_inertia_kg_m2, ip = rotor.polar_inertia_kg_m2;
+  const double la = rig.aux[0].axial_m - zg, lb = rig.aux[1].axial_m - zg;
+  const double g = rig.gravity_m_s2;
+  // Rigid-body coordinates per sample: x_G, y_G, slope_x, slope_y.
+  std::vector<std::array<double, 4>> q(m.sensor_m.size());
+  for (size_t i = first - static_cast<size_t>(h); i < last + static_cast<size_t>(h); ++i) {
+    const auto p0 = view.at_sensor_plane(m.sensor_m[i], 0), p1 = view.at_sensor_plane(m.sensor_m[i], 1);
+    const double sx = (p1[0] - p0[0]) / (zs1 - zs0), sy = (p1[1] - p0[1]) / (zs1 - zs0);
+    q[i] = {p0[0] + (zg - zs0) * sx, p0[1] + (zg - zs0) * sy, sx, sy};
+  }
+  const Derivative der(h, dt);
+  const double omega0 = 2.0 * M_PI * m.speed_at_trigger_hz;
+  const double spin_sign = omega0 >= 0.0 ? 1.0 : -1.0;
+  std::vector<ContactSample> out;
+  out.reserve(last - first);
+  for (size_t i = first; i < last; ++i) {
+    std::array<double, 4> v{}, a{};
+    for (int t = -h; t <= h; ++t) {
+      const auto& qq = q[i + static_cast<size_t>(t + h) - static_cast<size_t>(h)];
+      for (size_t c = 0; c < 4; ++c) {
+        v[c] += der.d1[static_cast<size_t>(t + h)] * qq[c];
+        a[c] += der.d2[static_cast<size_t>(t + h)] * qq[c];
+      }
+    }
+    const double omega = m.speed_rad_s.empty() ? omega0 : m.speed_rad_s[i];
+    // Resultant force and moment about the centre of mass from the contacts.
+    const double fx = mass * a[0], fy = mass * (a[1] + g);
+    const double mx = it * a[2] + omega * ip * v[3], my = it * a[3] - omega * ip * v[2];
+    // F_A + F_B = F, la F_A + lb F_B = M.
+    const double fbx = (mx - la * fx) / (lb - la), fby = (my - la * fy) / (lb - la);
+    const std::array<std::array<double, 2>, 2> f{{{fx - fbx, fy - fby}, {fbx, fby}}};
+    ContactSample s;
+    for (int b = 0; b < 2; ++b) {
+      const auto& ax = rig.aux[static_cast<size_t>(b)];
+      const double zb = ax.axial_m - zg;
+      const double px = q[i][0] + zb * q[i][2] - ax.centre_offset_x_m, py = q[i][1] + zb * q[i][3] - ax.centre_offset_y_m;
+      const double r = std::sqrt(px * px + py * py);
+      s.radius_m[static_cast<size_t>(b)] = r;
+      if (r <= 0.0) continue;
+      const double ux = px / r, uy = py / r;
+      const auto& fb = f[static_cast<size_t>(b)];
+      s.normal_n[static_cast<size_t>(b)] = -(fb[0] * ux + fb[1] * uy);
+      // Counter-clockwise tangent (the +z spin's surface direction); friction opposes it.
+      s.friction_n[static_cast<size_t>(b)] = -spin_sign * (-uy * fb[0] + ux * fb[1]);
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+struct Cluster {
+  double mu = 0.0, se = 0.0;
+  int used = 0;
+};
+
+// The sliding cluster of the window ratios: of the bands [f c, c / f] around each window's
+// ratio c, the one holding the largest friction impulse (sliding windows carry the spin-down;
+// a rolling whirl has large normal but tiny friction impulses, a stray window of a grazing
+// touch small ones of both); then the impulse-weighted ratio of the band, re-centred until it
+// stays.
+Cluster upper_cluster(std::vector<FrictionWindow>& w, double sliding_fraction) {
+  Cluster c;
+  double mu = 0.0, best = 0.0;
+  for (const auto& cand : w) {
+    if (!(cand.ratio > 0.0)) continue;
+    double st = 0.0;
+    for (const auto& x : w)
+      if (x.ratio >= sliding_fraction * cand.ratio && x.ratio <= cand.ratio / sliding_fraction) st += x.friction_impulse_n_s;
+    if (st > best) {
+      best = st;
+      mu = cand.ratio;
+    }
+  }
+  if (!(mu > 0.0)) return c;
+  for (int it = 0; it < 20; ++it) {
+    double sn = 0.0, st = 0.0;
+    for (auto& x : w) {
+      x.sliding = x.ratio >= sliding_fraction * mu && x.ratio <= mu / sliding_fraction;
+      if (x.sliding) { sn += x.normal_impulse_n_s; st += x.friction_impulse_n_s; }
+    }
+    if (sn <= 0.0) break;
+    const double next = st / sn;
+    const bool same = std::abs(next - mu) < 1e-12;
+    mu = next;
+    if (same) break;
+  }
+  double sn = 0.0, sn2 = 0.0, var = 0.0;
+  int k = 0;
+  for (const auto& x : w)
+    if (x.sliding) {
+      sn += x.normal_impulse_n_s;
+      sn2 += x.normal_impulse_n_s * x.normal_impulse_n_s;
+      var += x.normal_impulse_n_s * (x.ratio - mu) * (x.ratio - mu);
+      ++k;
+    }
+  c.mu = mu;
+  c.used = k;
+  // Weighted standard error: spread of the ratios / sqrt(effective number of windows).
+  if (k >= 2 && sn > 0.0) {
+    const double n_eff = sn * sn / sn2;
+    c.se = std::sqrt(var / sn / std::max(1.0, n_eff - 1.0));
+  }
+  return c;
+}
+
+struct Pass {
+  Cluster cluster;
+  std::vector<FrictionWindow> windows;
+  std::vector<ContactSample> samples;
+  size_t per_window = 0;
+};
+
+Pass run_pass(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o, size_t first,
+              size_t last, int h, const model::rotor::RotorModel& rotor) {
+  Pass p;
+  p.samples = contact_forces(m, rig, first, last, h, rotor);
+  const double dt = 1.0 / m.sample_rate_hz;
+  p.per_window = std::max<size_t>(1, static_cast<size_t>(std::lround(o.window_s * m.sample_rate_hz)));
+  std::vector<FrictionWindow> all;
+  const bool spin = o.friction_from_speed && !m.speed_rad_s.empty();
+  const double spin_sign = m.speed_at_trigger_hz >= 0.0 ? 1.0 : -1.0;
+  for (size_t s = 0; s + p.per_window <= p.samples.size(); s += p.per_window)
+    for (int b = 0; b < (o.per_bearing ? 2 : 1); ++b) {
+      FrictionWindow w;
+      w.bearing = o.per_bearing ? b : -1;
+      w.start_s = static_cast<double>(first + s - static_cast<size_t>(m.trigger_index)) * dt;
+      for (int k = 0; k < 2; ++k) {
+        if (o.per_bearing && k != b) continue;
+        const size_t kk = static_cast<size_t>(k);
+        const double c = rig.aux[kk].clearance_m;
+        for (size_t i = s; i < s + p.per_window; ++i) {
+          const auto& cs = p.samples[i];
+          if (cs.radius_m[kk] < o.contact_radius_fraction * c) continue;
+          w.normal_impulse_n_s += cs.normal_n[kk] * dt;
+          w.friction_impulse_n_s += cs.friction_n[kk] * dt;
+        }
+      }
+      if (spin && !o.per_bearing) {
+        // The friction impulse from the speed channel: Ip (Omega_start - Omega_end) / r.
+        const double r_collar = 0.5 * (rig.aux[0].collar_radius_m + rig.aux[1].collar_radius_m);
+        w.force_friction_impulse_n_s = w.friction_impulse_n_s;
+        w.friction_impulse_n_s =
+            spin_sign * (m.speed_rad_s[first + s] - m.speed_rad_s[first + s + p.per_window]) * rotor.polar_inertia_kg_m2 / r_collar;
+      }
+      if (w.normal_impulse_n_s > 0.0) w.ratio = w.friction_impulse_n_s / w.normal_impulse_n_s;
+      all.push_back(w);
+    }
+  double biggest = 0.0;
+  for (const auto& w : all) biggest = std::max(biggest, w.normal_impulse_n_s);
+  for (const auto& w : all)
+    if (w.normal_impulse_n_s > o.min_impulse_fraction * biggest && w.normal_impulse_n_s > 0.0) p.windows.push_back(w);
+  p.cluster = upper_cluster(p.windows, o.sliding_fraction);
+  return p;
+}
+
+}  // namespace
+
+FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o) {
+  if (const std::string e = o.check(); !e.empty()) throw std::invalid_argument("friction estimate: " + e);
+  if (const std::string e = m.check(); !e.empty()) throw std::invalid_argument("friction estimate: " + e);
+  if (rig.sensor.size() < 4 || rig.aux.size() < 2)
+    throw std::invalid_argument("friction estimate: the rig needs two sensor pairs and two aux bearings");
+  const model::rotor::RotorModel rotor = model::rotor::build_rotor_model(rig.rotor);
+  const double dt = 1.0 / m.sample_rate_hz;
+  const int h = std::max(2, static_cast<int>(std::lround(o.smoothing_half_window_s * m.sample_rate_hz)));
+  const int h2 = std::max(2, h / 2);
+  const size_t first = static_cast<size_t>(m.trigger_index) + std::max(static_cast<size_t>(h), static_cast<size_t>(std::lround(o.skip_s * m.sample_rate_hz)));
+  const size_t last = std::min(m.sensor_m.size() - static_cast<size_t>(h) - 1,
+                               static_cast<size_t>(m.trigger_index) + static_cast<size_t>(std::lround(o.max_window_s * m.sample_rate_hz)));
+  if (last <= first + static_cast<size_t>(std::lround(o.window_s * m.sample_rate_hz)))
+    throw std::invalid_argument("friction estimate: " + m.source + ": record too short after the trigger");
+
+  FrictionEstimate r;
+  Pass p = run_pass(m, rig, o, first, last, h, rotor);
+  r.windows = p.windows;
+  r.windows_total = static_cast<int>(p.windows.size());
+  r.windows_used = p.cluster.used;
+  if (p.cluster.used < o.min_sliding_windows || !(p.cluster.mu > 0.0)) {
+    r.note = "sliding contact found in " + std::to_string(p.cluster.used) + " windows, fewer than " +
+             std::to_string(o.min_sliding_windows) + " (the ring spun up or the rotor locked into a rolling whirl at once)";
+    r.friction = p.cluster.mu;
+    return r;
+  }
+  r.valid = true;
+  r.friction = p.cluster.mu;
+  r.standard_error = p.cluster.se;
+  const Pass p2 = run_pass(m, rig, o, first, last, h2, rotor);
+  r.smoothing_change = p2.cluster.used > 0 ? p2.cluster.mu - p.cluster.mu : 0.0;
+  r.uncertainty = std::sqrt(r.standard_error * r.standard_error + r.smoothing_change * r.smoothing_change);
+
+  // Spin-down over the time windows in which a bearing slid: speed channel vs the torque of
+  // the estimated friction forces (both bearings, all contact samples of those windows).
+  const size_t nw = p.samples.size() / p.per_window;
+  std::vector<bool> slid(nw, false);
+  for (const auto& w : r.windows)
+    if (w.sliding) slid[static_cast<size_t>(std::lround(w.start_s / dt - (static_cast<double>(first) - m.trigger_index)) / static_cast<long>(p.per_window))] = true;
+  double drop = 0.0, torque_impulse = 0.0, time = 0.0;
+  for (size_t k = 0; k < nw; ++k) {
+    if (!slid[k]) continue;
+    const size_t s = k * p.per_window;
+    time += static_cast<double>(p.per_window) * dt;
+    if (!m.speed_rad_s.empty()) drop += m.speed_rad_s[first + s] - m.speed_rad_s[first + s + p.per_window];
+    for (size_t i = s; i < s + p.per_window; ++i)
+      for (size_t b = 0; b < 2; ++b)
+        if (p.samples[i].radius_m[b] >= o.contact_radius_fraction * rig.aux[b].clearance_m)
+          torque_impulse += rig.aux[b].collar_radius_m * p.samples[i].friction_n[b] * dt;
+  }
+  r.sliding_time_s = time;
+  if (!m.speed_rad_s.empty() && time > 0.0) {
+    const double sign = m.speed_at_trigger_hz >= 0.0 ? 1.0 : -1.0;
+    r.measured_spin_down_rad_s2 = sign * drop / time;
+    r.force_spin_down_rad_s2 = torque_impulse / rotor.polar_inertia_kg_m2 / time;
+  }
+  return r;
+}
+
+}  // namespace amb::host::fit

@@ -1,0 +1,105 @@
+#pragma once
+// Friction coefficient of the aux bearings read directly from a measured drop (issue 13):
+// the contact forces from the rotor's rigid-body momentum balance, and the ratio of their
+// tangential to their normal part while the collar slides on the inner ring.
+//
+// Why: once the rotor bounces chaotically or whirls backward, the pointwise orbit depends on
+// the friction through the whole history, and a model fitted to it can trade the friction
+// against the contact law (a fit on backward-whirl drops came out 20-50 % high). The forces
+// do not: after the amplifiers are cut, the only forces on the rotor are gravity and the two
+// aux-bearing contacts, so
+//   m a_G = F_A + F_B - m g e_y,   It b'' + Omega Ip G b' = (z_A - z_G) F_A + (z_B - z_G) F_B
+// (x and y planes, b the slopes; rotor_model.hpp's sign convention) gives F_A and F_B from the
+// measured orbit's second derivative. Split into the normal part N (along the contact radius,
+// towards the bearing centre) and the tangential part T, Coulomb's law says |T| <= mu N with
+// equality while sliding; during a drop the collar (surface speed Omega r, metres per second)
+// slides on each impact and in a forward rub until the ring has spun up; in a rolling
+// backward whirl it does not (T << mu N there). So the estimate is the upper cluster of the
+// windowed impulse ratios sum(T) / sum(N): the windows in which the collar slid. With a speed
+// channel sum(T) comes from the spin-down (friction_from_speed).
+//
+// Signals: the four displacement sensors (two planes) give the rigid-body position and slope;
+// second derivatives by a quadratic least-squares fit over +-smoothing_half_window_s (nulls a
+// flexible rotor's bending ringing near 1 kHz at +-1 ms). The speed channel, when present,
+// gives the spin-down over the sliding windows, compared with the one the estimated friction
+// torque r sum(T) implies (Ip dOmega/dt = -r sum T, both bearings).
+// Reads the measurement and the rig's geometry and inertia only; no model simulation.
+#include <string>
+#include <vector>
+
+#include "host-tools/core/fit/drop_measurement.hpp"
+#include "model/plant/plant_params.hpp"
+
+namespace amb::host::fit {
+
+struct FrictionEstimateOptions {
+  /// Half width of the derivative fit, s (halved for the smoothing check): about a Hertz
+  /// impact's duration (0.2-0.5 ms here); longer ones smear an impact over a changing contact
+  /// angle, shorter ones pass the flexible rotor's ringing.
+  double smoothing_half_window_s = 0.5e-3;
+  /// Fewer sliding windows than this: no estimate (valid false; the fit then fits the friction).
+  int min_sliding_windows = 3;
+  double skip_s = 5e-3;                   ///< left out after the trigger (coil currents decaying), s
+  double max_window_s = 0.5;              ///< end of the analysed record after the trigger, s
+  double window_s = 0.005;                ///< length of one ratio window, s
+  /// A sample counts as in contact at a bearing when the aux-plane orbit radius is at least
+  /// this fraction of the clearance (the derivative fit smears an impact over its half width,
+  /// while the rotor moves away from the ring), 1.
+  double contact_radius_fraction = 0.8;
+  /// Windows whose normal impulse is below this fraction of the largest window's are not used
+  /// (a grazing touch: ratio of two small numbers), 1.
+  double min_impulse_fraction = 0.02;
+  /// A window counts as sliding when its ratio lies within [f, 1/f] x the estimate (the band
+  /// holding the largest friction impulse, re-centred on its weighted ratio), 1.
+  double sliding_fraction = 0.75;
+  /// One window per bearing (true) or one for both bearings together (false: the sums over
+  /// both contacts; the split of the force between the bearings rests on the moment balance,
+  /// i.e. on the transverse inertia and the sensor-plane slope, and scatters more).
+  bool per_bearing = false;
+  /// With a speed channel (and per_bearing false): the friction impulse of a window from the
+  /// spin-down, Ip (Omega_start - Omega_end) / r, instead of the tangential contact forces.
+  /// The normal force is the large, robust part of the force estimate (an error in the
+  /// contact angle changes it to second order); the tangential part is small next to it and
+  /// an angle error of a few mrad moves it by per cent of N (backward whirl: N of kN). The
+  /// speed channel measures the friction torque on the rotor directly (nothing else acts on
+  /// its spin after the cut: no drive, no AMB).
+  bool friction_from_speed = true;
+  std::string check() const;  ///< empty when usable
+};
+
+/// One ratio window at one bearing.
+struct FrictionWindow {
+  int bearing = 0;                 ///< 0: A, 1: B, -1: both (FrictionEstimateOptions::per_bearing false)
+  double start_s = 0.0;            ///< after the trigger, s
+  double normal_impulse_n_s = 0.0; ///< sum of N dt over the contact samples, N s
+  double friction_impulse_n_s = 0.0; ///< sum of T dt (opposing the collar's surface speed: > 0), N s
+  double ratio = 0.0;              ///< friction / normal impulse, 1
+  double force_friction_impulse_n_s = 0.0; ///< from the tangential forces when the friction impulse is from the speed, N s
+  bool sliding = false;            ///< in the upper cluster the estimate uses
+};
+
+struct FrictionEstimate {
+  bool valid = false;              ///< false: no sliding contact found (note says why)
+  double friction = 0.0;           ///< impulse-weighted ratio over the sliding windows, 1
+  /// Standard error of that weighted mean over the windows, combined with the change of the
+  /// estimate when the derivative fit's half width is halved (smoothing bias), 1.
+  double uncertainty = 0.0;
+  double standard_error = 0.0;     ///< the first part, 1
+  double smoothing_change = 0.0;   ///< the second part (signed: half-width estimate - this), 1
+  int windows_used = 0, windows_total = 0;
+  double sliding_time_s = 0.0;     ///< total length of the time windows with a sliding bearing, s
+  /// Spin-down over those time windows: measured from the speed channel (sum of speed drops /
+  /// sliding time) and implied by the estimated contact forces (r sum T / Ip, both bearings,
+  /// same windows); rad/s^2, 0 when the speed is not measured.
+  double measured_spin_down_rad_s2 = 0.0;
+  double force_spin_down_rad_s2 = 0.0;
+  std::vector<FrictionWindow> windows;
+  std::string note;
+};
+
+/// Estimate from `m` (amplifiers cut at the trigger) on the rig `rig`. Throws
+/// std::invalid_argument for unusable options or a record too short to analyse.
+FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantParams& rig,
+                                   const FrictionEstimateOptions& o = {});
+
+}  // namespace amb::host::fit
