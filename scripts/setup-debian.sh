@@ -37,6 +37,7 @@ HOST_PKGS=(
   chromium chromium-driver               # headless report rendering test
   libsqlite3-dev libpq-dev               # fleet store: SQLite (default) and PostgreSQL client (amb-host fleet)
   postgresql                             # fleet store test starts a local server (initdb/pg_ctl)
+  slurm-wlm munge                        # envelope --slurm; its test starts a one-node cluster
 )
 ARM_PKGS=(
   libc6-dev:arm64 libstdc++-12-dev:arm64
