@@ -13,9 +13,9 @@
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/fit/friction_estimate.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
+#include "tests/drop/friction_sweep_cell.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace hf = amb::host::fit;
 
 namespace {
 
@@ -123,5 +123,16 @@ TEST(FrictionEstimate, SyntheticDropsWithinThreePercent) {
     EXPECT_NEAR(e.friction, truth, 0.03 * truth) << "example " << k;
     EXPECT_LE(std::abs(e.friction - truth), 2.0 * e.uncertainty) << "example " << k << ": uncertainty does not cover the truth";
     EXPECT_NEAR(e.force_spin_down_rad_s2, e.measured_spin_down_rad_s2, 0.1 * e.measured_spin_down_rad_s2) << "example " << k;
+  }
+}
+
+// Four cells of the long sweep (friction_sweep_test.cpp) within 3 %.
+TEST(FrictionSweepCorners, WithinThreePercent) {
+  const std::pair<double, double> cells[] = {{0.05, 1000}, {0.05, 6000}, {0.3, 2000}, {0.5, 2000}};
+  for (const auto& [mu, rpm] : cells) {
+    const amb::test::SweepCell c = amb::test::sweep_cell(mu, rpm);
+    std::printf("mu %.2f %.0f rpm: %.4f +- %.4f (%+.2f %%), %d windows\n", mu, rpm, c.estimate, c.uncertainty, 100.0 * c.error, c.used);
+    ASSERT_TRUE(c.valid) << "mu " << mu << " rpm " << rpm;
+    EXPECT_LE(std::abs(c.error), 0.03) << "mu " << mu << " rpm " << rpm;
   }
 }
