@@ -1,13 +1,14 @@
 #!/bin/sh
 # /init of the emulated ARM board (tests/target/run-target-test.sh builds the initramfs).
-# Brings up the field bus (vcan0), the network (QEMU user net), the data disk, starts
-# amb-plant and amb-firmware, then takes commands from the serial console, one per line,
-# and answers with marker lines the host waits for.
+# Brings up the field bus (vcan0), the network (QEMU user net), the data disk (the board's
+# /var/lib/amb), starts amb-plant and the amb-firmware service (installed from its package:
+# started as its systemd unit says, see start_service), then takes commands from the serial
+# console, one per line, and answers with marker lines the host waits for.
 export PATH=/bin:/sbin:/usr/bin
 mount -t proc proc /proc
 mount -t sysfs sys /sys
 mount -t devtmpfs dev /dev
-mkdir -p /tmp /data
+mkdir -p /tmp /var/lib/amb
 mount -t tmpfs tmp /tmp
 for m in crc16 crc32c_generic mbcache jbd2 ext4 virtio_mmio virtio_blk failover net_failover virtio_net \
          can can-raw can-dev vcan; do
@@ -20,26 +21,63 @@ ip link set eth0 up
 ip link add dev vcan0 type vcan && ip link set vcan0 up && echo "GUEST: vcan0 up"
 i=0
 while [ ! -b /dev/vda ] && [ $i -lt 50 ]; do sleep 0.1; i=$((i+1)); done
-mount -t ext4 -o sync /dev/vda /data || echo "GUEST: FAILED to mount /data"
+mount -t ext4 -o sync /dev/vda /var/lib/amb || echo "GUEST: FAILED to mount /var/lib/amb"
 ls /dev/gpiochip* >/dev/null 2>&1 && echo "GUEST: $(ls /dev/gpiochip*) present"
 MODE=$(sed -n 's/.*amb\.mode=\([a-z0-9]*\).*/\1/p' /proc/cmdline)
 BOARD=$(sed -n 's/.*amb\.board=\([a-z0-9-]*\).*/\1/p' /proc/cmdline)
 [ -n "$BOARD" ] || BOARD=arm-virt-hil
 ANALYSIS=$(sed -n 's/.*amb\.analysis=\([a-z]*\).*/\1/p' /proc/cmdline)
-FWOPT=""
-[ "$ANALYSIS" = off ] && FWOPT="--no-analysis"
 echo "GUEST: mode $MODE, board $BOARD, analysis ${ANALYSIS:-on}"
+
+# The package as installed: its files against its md5sums, and the data it finds on the disk
+# (wear record, events) before the firmware of this boot touches it.
+echo "GUEST-PKG: amb-firmware $(cat /var/lib/dpkg/info/amb-firmware.version)"
+( cd / && md5sum -c /var/lib/dpkg/info/amb-firmware.md5sums >/tmp/md5.log 2>&1 ) \
+  && echo "GUEST-PKG: md5sums OK ($(wc -l < /tmp/md5.log) files)" || { echo "GUEST-PKG: md5sums FAILED"; sed 's/^/GUEST-PKG: /' /tmp/md5.log; }
+data_sums() {  # data_sums TAG: sha256 of every wear-record and event file on the data disk
+  for f in $(find /var/lib/amb/wear /var/lib/amb/events -type f 2>/dev/null | sort); do
+    echo "$1: $(sha256sum "$f" | cut -d' ' -f1) $f"
+  done
+}
+data_sums GUEST-SHA-BOOT
+
+# What systemd does with /lib/systemd/system/amb-firmware.service, done by this busybox init:
+# the EnvironmentFile (the conffile /etc/amb/amb-firmware.conf), LimitRTPRIO and LimitMEMLOCK
+# (ulimit -r / -l), CPUAffinity (taskset -c) and the ExecStart command line with its ${VAR}
+# and $VAR expanded from the environment file. The unit's values are read from the unit file.
+start_service() {
+  UNIT=/lib/systemd/system/amb-firmware.service
+  unitval() { sed -n "s/^$1=//p" $UNIT | tail -n 1; }
+  set -a; . "$(unitval EnvironmentFile)"; set +a
+  [ "$ANALYSIS" = off ] && AMB_OPTIONS="$AMB_OPTIONS --no-analysis"
+  RTPRIO=$(unitval LimitRTPRIO); MEMLOCK=$(unitval LimitMEMLOCK); AFF=$(unitval CPUAffinity)
+  [ "$MEMLOCK" = infinity ] && MEMLOCK=unlimited
+  EXEC=$(unitval ExecStart)
+  echo "GUEST-UNIT: LimitRTPRIO=$RTPRIO LimitMEMLOCK=$MEMLOCK CPUAffinity=$AFF ExecStart=$EXEC (AMB_BOARD=$AMB_BOARD AMB_DATA_DIR=$AMB_DATA_DIR AMB_OPTIONS=$AMB_OPTIONS)"
+  ( ulimit -r "$RTPRIO" && ulimit -l "$MEMLOCK" || echo "GUEST-UNIT: ulimit failed"
+    eval "exec taskset -c $AFF $EXEC" ) > /tmp/firmware.log 2>&1 &
+  FW=$!
+}
+# The real-time state of the running service, from /proc: per thread the scheduling policy
+# (stat field 41: 0 other, 1 FIFO) and priority (field 40) and the CPUs allowed; VmLck; limits.
+rt_report() {
+  echo "GUEST-RT: pid $FW comm $(cat /proc/$FW/comm) VmLck $(sed -n 's/^VmLck:[[:space:]]*//p' /proc/$FW/status)"
+  for t in /proc/$FW/task/*; do
+    echo "GUEST-RT: tid ${t##*/} $(sed 's/^.*) //' $t/stat | awk '{print "policy", $39, "rtprio", $38}') cpus $(sed -n 's/^Cpus_allowed_list:[[:space:]]*//p' $t/status)"
+  done
+  grep 'realtime priority\|locked memory' /proc/$FW/limits | sed 's/^/GUEST-RT: limit /'
+}
 
 candump -L -n 3000 vcan0 > /tmp/candump.log 2>&1 &
 CANDUMP=$!
 amb-plant --board /etc/amb/$BOARD.toml > /tmp/plant.log 2>&1 &
 PLANT=$!
-AMB_DATA_DIR=/data/amb amb-firmware --board /etc/amb/$BOARD.toml --backend linux $FWOPT > /tmp/firmware.log 2>&1 &
-FW=$!
+start_service
 i=0
-while ! grep -q "ready" /tmp/firmware.log && [ $i -lt 1200 ] && kill -0 $FW 2>/dev/null; do sleep 0.1; i=$((i+1)); done
+while ! grep -q "READY=1" /tmp/firmware.log && [ $i -lt 1200 ] && kill -0 $FW 2>/dev/null; do sleep 0.1; i=$((i+1)); done
 echo "GUEST: firmware start took $((i / 10)) s"
 sed 's/^/GUEST-FW: /' /tmp/firmware.log
+kill -0 $FW 2>/dev/null && rt_report
 echo "GUEST_READY"
 
 while read -r cmd; do
@@ -84,8 +122,9 @@ while read -r cmd; do
       i=0; while kill -0 $FW 2>/dev/null && [ $i -lt 300 ]; do sleep 0.1; i=$((i+1)); done
       sed 's/^/GUEST-FW: /' /tmp/firmware.log | tail -n 6
       kill $PLANT 2>/dev/null
-      ls -l /data/amb/events /data/amb/wear | sed 's/^/GUEST-DATA: /'
-      sync; umount /data
+      ls -l /var/lib/amb/events /var/lib/amb/wear | sed 's/^/GUEST-DATA: /'
+      data_sums GUEST-SHA-STOP
+      umount /var/lib/amb; sync
       echo "GUEST_STOPPED"
       poweroff -f;;
     "") ;;

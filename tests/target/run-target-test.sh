@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Target test: the cross-built aarch64 amb-firmware and amb-plant on an emulated ARM board.
+# Target test: the cross-built aarch64 amb-firmware, installed from its Debian package, and
+# amb-plant on an emulated ARM board.
 #   Debian's PREEMPT_RT arm64 kernel (extracted from its package, never installed on the host)
 #   booted by qemu-system-aarch64 -M virt (TCG, cortex-a57) with an initramfs built here:
 #   busybox-static:arm64, can-utils:arm64, the binaries and their arm64 shared libraries, the
@@ -8,6 +9,12 @@
 # The host-built amb-host fetches a drop event and writes a wear record back; the board is
 # restarted and must still hold the record. mbpoll reads the register map; candump/cansend
 # see and inject field-bus frames. See docs/target-test.md.
+# The firmware comes from the amb-firmware .deb (cpack in ARM_BUILD, packaging/): unpacked into
+# the image (dpkg-deb -x) and started by the guest's init the way its systemd unit says
+# (EnvironmentFile, LimitRTPRIO, LimitMEMLOCK, CPUAffinity, ExecStart); /proc must show the loop
+# thread SCHED_FIFO and the memory locked. The second boot runs an upgraded package (a newer
+# Debian revision) on the same data disk: the wear record and the events must be byte-identical.
+# See docs/packaging.md.
 #
 # usage: bash tests/target/run-target-test.sh HOST_BUILD_DIR ARM_BUILD_DIR
 set -uo pipefail
@@ -44,7 +51,7 @@ FW=$ARM_BUILD/firmware/amb-firmware
 PLANT=$ARM_BUILD/host-tools/amb-plant
 HOST=$HOST_BUILD/host-tools/amb-host
 for f in "$FW" "$PLANT" "$HOST"; do [ -x "$f" ] || die "missing $f (build amb-firmware and amb-plant for aarch64 with -DAMB_BUILD_PLANT=ON, amb-host for the host)"; done
-for t in qemu-system-aarch64 mkfs.ext4 cpio mbpoll python3 readelf dpkg-deb apt-get; do
+for t in qemu-system-aarch64 mkfs.ext4 cpio mbpoll python3 readelf dpkg-deb apt-get cpack; do
   command -v $t >/dev/null || die "missing tool $t (scripts/setup-debian.sh installs it)"
 done
 readelf -h "$FW" 2>/dev/null | grep -q AArch64 || die "$FW is not an aarch64 binary"
@@ -73,18 +80,43 @@ KIMG=$KDIR/boot/vmlinuz-$KVER
 grep -q '^CONFIG_PREEMPT_RT=y' "$KDIR/boot/config-$KVER" && pass "kernel $KVER is PREEMPT_RT (from $KPKG, extracted, not installed)" \
   || fail "kernel $KVER is not PREEMPT_RT"
 
+# ---- the amb-firmware package: this build's, and an upgrade (the next Debian revision) -----------
+PKG=$WORK/pkg
+cmake --build "$ARM_BUILD" --target amb-firmware amb_package_docs >/dev/null || die "cannot build amb-firmware and its package documents in $ARM_BUILD"
+for rev in 1 2; do
+  ( cd "$ARM_BUILD" && cpack -G DEB -D CPACK_DEBIAN_PACKAGE_RELEASE=$rev -D CPACK_OUTPUT_FILE_PREFIX="$PKG" \
+      -D "CPACK_COMPONENTS_ALL=firmware" -B "$WORK/cpack-$rev" ) > "$WORK/cpack-$rev.log" 2>&1 \
+    || die "cpack (revision $rev) failed: $(tail -5 "$WORK/cpack-$rev.log")"
+done
+DEB1=$(ls "$PKG"/amb-firmware_*-1_arm64.deb 2>/dev/null | head -1)
+DEB2=$(ls "$PKG"/amb-firmware_*-2_arm64.deb 2>/dev/null | head -1)
+[ -f "$DEB1" ] && [ -f "$DEB2" ] || die "no amb-firmware arm64 packages in $PKG: $(ls "$PKG")"
+echo "packages: $(basename "$DEB1") ($(du -k "$DEB1" | cut -f1) KiB), upgrade $(basename "$DEB2")"
+install_pkg() {  # install_pkg DEB: unpack into the image, as dpkg's unpack does, with the admin's config
+  dpkg-deb -x "$1" "$R" || return 1
+  mkdir -p "$R/var/lib/dpkg/info"
+  # md5sums without the conffiles (dpkg checks those separately; the admin may edit them).
+  dpkg-deb --ctrl-tarfile "$1" | tar -xO ./md5sums | grep -v ' etc/' > "$R/var/lib/dpkg/info/amb-firmware.md5sums" || return 1
+  dpkg-deb -f "$1" Version > "$R/var/lib/dpkg/info/amb-firmware.version"
+  # The administrator's edit of the conffile (dpkg keeps it across upgrades): this test's board.
+  sed -i "s|^AMB_BOARD=.*|AMB_BOARD=/etc/amb/$BOARD.toml|" "$R/etc/amb/amb-firmware.conf"
+}
+
 # ---- initramfs ----------------------------------------------------------------------------------
 R=$WORK/root
-mkdir -p "$R"/{bin,sbin,usr/bin,proc,sys,dev,tmp,data,etc/amb,lib/modules,lib/aarch64-linux-gnu}
+mkdir -p "$R"/{bin,sbin,usr/bin,proc,sys,dev,tmp,etc/amb,var/lib/amb,lib/modules,lib/aarch64-linux-gnu}
 cp "$BBDIR/bin/busybox" "$R/bin/"
 for a in $("$BBDIR/bin/busybox" --list 2>/dev/null || qemu-aarch64 "$BBDIR/bin/busybox" --list); do
   [ -e "$R/bin/$a" ] || ln -s busybox "$R/bin/$a"
 done
-cp "$FW" "$PLANT" "$CUDIR/usr/bin/candump" "$CUDIR/usr/bin/cansend" "$R/usr/bin/"
+cp "$PLANT" "$CUDIR/usr/bin/candump" "$CUDIR/usr/bin/cansend" "$R/usr/bin/"
 cp "$ROOT/boards/arm-virt-hil.toml" "$HERE/arm-virt-tracker.toml" "$R/etc/amb/"
 # The board of this run: the tracker board (tachless speed source, a plant TCG can step in
 # real time; see its header). AMB_TARGET_BOARD=arm-virt-hil runs the older board.
 BOARD=${AMB_TARGET_BOARD:-arm-virt-tracker}
+install_pkg "$DEB1" || die "cannot unpack $DEB1 into the image"
+[ -x "$R/usr/bin/amb-firmware" ] && [ -f "$R/lib/systemd/system/amb-firmware.service" ] && [ -f "$R/etc/amb/amb-firmware.conf" ] \
+  || die "the package lacks the binary, the unit or the config"
 BOARD_TOML=$HERE/arm-virt-tracker.toml; [ "$BOARD" = arm-virt-hil ] && BOARD_TOML=$ROOT/boards/arm-virt-hil.toml
 # Commands need the arm sequence (docs/register-map.md, "Write access"): [key hi, key lo,
 # operation] to 0x0F00, then the command; the key is the board file's [comms.modbus] arm_key.
@@ -123,7 +155,8 @@ for m in lib/crc16 crypto/crc32c_generic fs/mbcache fs/jbd2/jbd2 fs/ext4/ext4 dr
          net/can/can net/can/can-raw drivers/net/can/dev/can-dev drivers/net/can/vcan; do
   if [ -f "$KM/$m.ko" ]; then cp "$KM/$m.ko" "$R/lib/modules/"; fi  # absent: built in
 done
-( cd "$R" && find . | cpio -o -H newc 2>/dev/null | gzip -1 ) > "$WORK/initrd.gz"
+make_initrd() { ( cd "$R" && find . | cpio -o -H newc 2>/dev/null | gzip -1 ) > "$WORK/initrd.gz"; }
+make_initrd
 echo "initramfs: $(du -h "$WORK/initrd.gz" | cut -f1), $(ls "$R/lib/aarch64-linux-gnu" | wc -l) shared libraries"
 
 # ---- the board's disk and network ---------------------------------------------------------------
@@ -188,6 +221,25 @@ grep -q "gpiochip0 present" "$LOG" && pass "PL061 /dev/gpiochip0 present" || fai
 grep -q "GUEST-FW: amb-firmware: ready" "$LOG" && pass "amb-firmware (aarch64) running on the linux backend: $(grep -o 'ready: .*' "$LOG" | head -1)" \
   || die "amb-firmware did not start: $(grep GUEST-FW "$LOG" | tail -3)"
 echo "boot to ready: $(( $(date +%s) - T_BOOT )) s"
+rt_checks() {  # rt_checks LABEL: the installed service's package, unit settings and real-time state
+  grep -q "GUEST-PKG: md5sums OK" "$LOG" && pass "$1: package $(grep -o 'GUEST-PKG: amb-firmware .*' "$LOG" | head -1 | cut -d' ' -f3) installed, its files match its md5sums ($(grep -o 'md5sums OK.*' "$LOG" | head -1))" \
+    || fail "$1: installed files do not match the package's md5sums: $(grep GUEST-PKG "$LOG" | tail -3)"
+  grep 'GUEST-UNIT\|GUEST-RT' "$LOG" | sed 's/^/  /'
+  # The loop thread: SCHED_FIFO (policy 1) at priority 80, pinned to one CPU of the unit's set.
+  local loop_line
+  loop_line=$(grep 'GUEST-RT: tid .* policy 1 rtprio 80 ' "$LOG" | head -1)
+  if [ -n "$loop_line" ] && echo "$loop_line" | grep -q 'cpus [0-9]*[[:space:]]*$'; then
+    pass "$1: the service's loop thread runs SCHED_FIFO priority 80 on one CPU (/proc/<pid>/task/<tid>/stat: $(echo "$loop_line" | sed 's/.*GUEST-RT: //'))"
+  else fail "$1: no SCHED_FIFO priority-80 loop thread pinned to one CPU in /proc: $(grep 'GUEST-RT: tid' "$LOG" | tr '\n' ' ')"; fi
+  local vmlck
+  vmlck=$(sed -n 's/.*GUEST-RT: pid .* VmLck \([0-9]*\) kB.*/\1/p' "$LOG" | head -1)
+  [ "${vmlck:-0}" -gt 1024 ] && pass "$1: the service's memory is locked (/proc/<pid>/status VmLck ${vmlck} kB)" \
+    || fail "$1: memory not locked (VmLck ${vmlck:-?} kB)"
+  grep -q 'GUEST-RT: limit Max realtime priority *90 *90' "$LOG" && grep -q 'GUEST-RT: limit Max locked memory *unlimited *unlimited' "$LOG" \
+    && pass "$1: the unit's LimitRTPRIO=90 and LimitMEMLOCK=infinity are the process's limits (/proc/<pid>/limits)" \
+    || fail "$1: the unit's limits are not the process's: $(grep 'GUEST-RT: limit' "$LOG" | tr '\n' ' ')"
+}
+rt_checks "first boot"
 
 i=0; until $MB -r 0 -c 1 127.0.0.1 >/dev/null 2>&1 || [ $i -ge 60 ]; do sleep 1; i=$((i + 1)); done
 IDENT=$($MB -r 0 -c 24 127.0.0.1 2>&1)
@@ -317,6 +369,15 @@ grep -q 'CANDUMP:.* vcan0 182#' "$LOG" && grep -q 'CANDUMP:.* vcan0 203#' "$LOG"
   || fail "candump did not see the field-bus frames"
 shutdown_vm
 grep 'GUEST-FW: amb-firmware: stopped\|GUEST-FW: amb-firmware: CAN' "$LOG" | sed 's/^/  /'
+grep -q 'GUEST-FW: amb-firmware: stopped.*memory locked, SCHED_FIFO yes' "$LOG" \
+  && pass "the firmware's own summary agrees: memory locked, SCHED_FIFO yes" || fail "firmware summary: $(grep 'GUEST-FW: amb-firmware: stopped' "$LOG")"
+SUMS1=$WORK/sums-first-stop.txt
+grep '^GUEST-SHA-STOP: ' "$LOG" | sed 's/^GUEST-SHA-STOP: //' > "$SUMS1"
+
+# ---- upgrade: the next revision of the package unpacked over the installed one ------------------
+# (the image is rebuilt with it, as an image-based board is upgraded; the data disk is the same)
+install_pkg "$DEB2" || die "cannot unpack the upgrade $DEB2"
+make_initrd
 
 # ---- second boot: the wear record must still be there -------------------------------------------
 # (and, on the tracker board, the same spin with the analysis thread off, for the latency figures)
@@ -324,6 +385,13 @@ boot second off
 wait_for GUEST_READY 300 || die "board did not come up the second time"
 i=0; until $MB -r 0 -c 1 127.0.0.1 >/dev/null 2>&1 || [ $i -ge 60 ]; do sleep 1; i=$((i + 1)); done
 grep 'GUEST-FW: amb-firmware: storage' "$LOG" | sed 's/^/  /'
+grep -q "GUEST-PKG: amb-firmware $(dpkg-deb -f "$DEB2" Version)[[:space:]]*\$" "$LOG" && pass "upgraded: the second boot runs amb-firmware $(dpkg-deb -f "$DEB2" Version) (was $(dpkg-deb -f "$DEB1" Version))" \
+  || fail "the second boot does not run the upgrade: $(grep 'GUEST-PKG: amb-firmware' "$LOG")"
+rt_checks "after the upgrade"
+grep '^GUEST-SHA-BOOT: ' "$LOG" | sed 's/^GUEST-SHA-BOOT: //' > "$WORK/sums-upgrade-boot.txt"
+if [ -s "$SUMS1" ] && grep -q '/wear/' "$SUMS1" && cmp -s "$SUMS1" "$WORK/sums-upgrade-boot.txt"; then
+  pass "upgrade: the data disk holds the same wear record and events, byte-identical (sha256 of $(wc -l < "$SUMS1") files, wear $(grep '/wear/' "$SUMS1" | head -1 | cut -c1-16)...)"
+else fail "upgrade: wear record or events changed: $(diff "$SUMS1" "$WORK/sums-upgrade-boot.txt" | head -5 | tr '\n' ' ')"; fi
 "$HOST" fetch --host 127.0.0.1 --port "$PORT" --out "$WORK/after" --wear "$WORK/after.ambw" --json > "$WORK/after.json" 2>&1
 if [ "$(reg32 $((0x4001)))" = "$SEQ" ] && cmp -s "$WORK/wear.ambw" "$WORK/after.ambw"; then
   pass "after a restart the board serves the same wear record (sequence $SEQ, byte-identical, crc32c $WCRC)"
@@ -341,4 +409,11 @@ if [ "$BOARD" = arm-virt-tracker ] && [ -n "${LOOP_ON:-}" ]; then
   else echo "second boot: not levitated (state $(reg 256)), no OFF figures"; fi
 fi
 shutdown_vm
+# After the upgraded firmware has run: the wear record exactly as before, every earlier event
+# unchanged (a new event of this boot may be added).
+grep '^GUEST-SHA-STOP: ' "$LOG" | sed 's/^GUEST-SHA-STOP: //' > "$WORK/sums-second-stop.txt"
+if grep '/wear/' "$SUMS1" | cmp -s - <(grep '/wear/' "$WORK/sums-second-stop.txt") \
+   && [ -z "$(grep '/events/' "$SUMS1" | grep -vxFf "$WORK/sums-second-stop.txt")" ]; then
+  pass "after the upgraded service ran: wear record byte-identical, all $(grep -c '/events/' "$SUMS1") earlier event(s) unchanged ($(grep -c '/events/' "$WORK/sums-second-stop.txt") now)"
+else fail "the upgraded service changed the wear record or an event: $(diff "$SUMS1" "$WORK/sums-second-stop.txt" | head -5 | tr '\n' ' ')"; fi
 echo "target test runtime: $(( $(date +%s) - T_START )) s"
