@@ -60,6 +60,19 @@ std::vector<std::string> expand(const std::vector<std::string>& in) {
   return out;
 }
 
+/// The store as shown on the page: a password in a URL or conninfo is replaced by ***.
+std::string redacted(std::string url) {
+  if (const auto at = url.find('@'), scheme = url.find("://"); scheme != std::string::npos && at != std::string::npos) {
+    const auto colon = url.find(':', scheme + 3);
+    if (colon != std::string::npos && colon < at) url.replace(colon + 1, at - colon - 1, "***");
+  }
+  for (auto p = url.find("password="); p != std::string::npos; p = url.find("password=", p + 1)) {
+    const auto end = url.find_first_of(" &", p);
+    url.replace(p + 9, (end == std::string::npos ? url.size() : end) - p - 9, "***");
+  }
+  return url;
+}
+
 nlohmann::json status_json(const fl::BearingStatus& s) {
   return {{"machine", s.machine}, {"bearing", s.bearing}, {"source", s.source}, {"life_used_fraction", s.life_used_fraction},
           {"peak_force_n", s.peak_force_n}, {"events", s.events}};
@@ -133,7 +146,7 @@ int run(const Args& a) {
     }
     if (a.report->parsed()) {
       fl::FleetPageData d;
-      d.store = url;
+      d.store = redacted(url);
       d.machines = store->machines();
       d.nearest = store->nearest_budget();
       d.trend = store->trend();
