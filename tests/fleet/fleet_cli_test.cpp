@@ -1,0 +1,69 @@
+// amb-host fleet on the command line: add (twice: the second adds nothing), a refused file
+// (exit 1, named on stderr, stdout still pure JSON), list / trend / report --json.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/fleet/fleet_fixture.hpp"
+
+namespace tf = amb::test::fleet;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Run amb-host fleet with `args`; stdout parsed as JSON into `out`. Returns the exit code.
+int fleet(const fs::path& dir, const std::string& args, nlohmann::json& out, std::string& err) {
+  const fs::path o = dir / "stdout", e = dir / "stderr";
+  const std::string cmd = std::string(AMB_HOST_EXE) + " fleet --store '" + (dir / "cli.sqlite").string() + "' " + args + " > '" +
+                          o.string() + "' 2> '" + e.string() + "'";
+  const int rc = std::system(cmd.c_str());
+  err = slurp(e);
+  const std::string text = slurp(o);
+  out = nlohmann::json::parse(text, nullptr, false);
+  EXPECT_FALSE(out.is_discarded()) << "stdout is not JSON: " << text;
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+}  // namespace
+
+TEST(FleetCli, AddListTrendReport) {
+  const fs::path dir = tf::fresh_dir("cli");
+  tf::make_fleet_files(dir / "files", 200);
+  nlohmann::json j;
+  std::string err;
+  ASSERT_EQ(fleet(dir, "add '" + (dir / "files").string() + "' --json", j, err), 0) << err;
+  EXPECT_EQ(j["added"], 116);
+  EXPECT_EQ(j["errors"], 0);
+  ASSERT_EQ(fleet(dir, "add '" + (dir / "files").string() + "' --json", j, err), 0) << err;
+  EXPECT_EQ(j["added"], 0);
+  EXPECT_EQ(j["already_stored"], 116);
+  std::ofstream(dir / "junk.ambe") << "AMBE but not an event";
+  EXPECT_EQ(fleet(dir, "add '" + (dir / "junk.ambe").string() + "' --json", j, err), 1);
+  EXPECT_EQ(j["errors"], 1);
+  EXPECT_NE(err.find("junk.ambe"), std::string::npos) << err;
+  ASSERT_EQ(fleet(dir, "list --json", j, err), 0) << err;
+  EXPECT_EQ(j["machines"].size(), 5u);
+  EXPECT_EQ(j["schema_version"], 2);
+  ASSERT_EQ(fleet(dir, "trend --machine board-1 --json", j, err), 0) << err;
+  EXPECT_GT(j["trend"].size(), 8u);
+  for (const auto& p : j["trend"]) EXPECT_EQ(p["machine"], "board-1");
+  const fs::path page = dir / "page" / "fleet.html";
+  ASSERT_EQ(fleet(dir, "report --out '" + page.string() + "' --json", j, err), 0) << err;
+  EXPECT_EQ(j["nearest"].size(), 10u);
+  EXPECT_EQ(j["nearest"][0]["machine"], "board-3");
+  EXPECT_NE(slurp(page).find("<svg id=\"trend\""), std::string::npos);
+  fs::remove_all(dir);
+}
