@@ -37,6 +37,8 @@ if [ "${AMB_SKIP_ARM:-0}" != 1 ]; then
   ctest --test-dir "$BUILD_ARM" -j"$JOBS" --output-on-failure --timeout 1800 -LE host_only
 fi
 
+[ "${AMB_SKIP_ARM:-0}" = 1 ] || { echo "== Debian packages: build, Depends and lintian check (scripts/package.sh)"; bash scripts/package.sh "$BUILD" "$BUILD_ARM"; }
+
 if [ -x tests/target/run-target-test.sh ] && [ "${AMB_SKIP_TARGET:-0}" != 1 ]; then
   echo "== target test: emulated ARM board"
   bash tests/target/run-target-test.sh "$BUILD" "$BUILD_ARM"
