@@ -62,7 +62,7 @@ class OneNodeCluster {
     char host[256] = {};
     ::gethostname(host, sizeof host - 1);
     const std::string user = ::geteuid() == 0 ? "root" : (std::getenv("USER") ? std::getenv("USER") : "");
-    const int port = 30000 + static_cast<int>(::getpid() % 10000) * 2;
+    const int port = 30000 + static_cast<int>(::getpid() % 9000) * 2;  // apart from the PostgreSQL test's 50000-59999
     const unsigned cpus = std::max(1u, std::thread::hardware_concurrency());
     conf_ = dir_ / "slurm.conf";
     std::ofstream c(conf_);

@@ -43,7 +43,7 @@ class LocalPostgres {
   explicit LocalPostgres(const fs::path& dir) : dir_(dir) {
     bin_ = pg_bin();
     if (bin_.empty()) return;
-    port_ = 20000 + static_cast<int>(::getpid() % 20000);
+    port_ = 50000 + static_cast<int>(::getpid() % 10000);  // apart from the Slurm test's 30000-47998
     // As root, run the server as "nobody" (it refuses root); the directory must be theirs.
     if (::geteuid() == 0) {
       as_ = "runuser -u nobody -- ";
