@@ -12,6 +12,7 @@
 #include "firmware/board/board.hpp"
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/fit/friction_estimate.hpp"
+#include "model/drop/drop_simulation.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
 #include "tests/drop/friction_sweep_cell.hpp"
 #include "tests/support/test_paths.hpp"
@@ -135,4 +136,37 @@ TEST(FrictionSweepCorners, WithinThreePercent) {
     ASSERT_TRUE(c.valid) << "mu " << mu << " rpm " << rpm;
     EXPECT_LE(std::abs(c.error), 0.03) << "mu " << mu << " rpm " << rpm;
   }
+}
+
+// The drop model's own drops (board controller levitating, sensor noise on, 0.4 s), Hertz and
+// rigid law: within 3 %. (The Hertz identical-model case at mu 0.2 is amb-bench's DropFit; the
+// model fit of the friction gave 0.264 there, and 0.276 for 0.1 under the rigid law with the
+// chaotic-motion cost terms on.)
+TEST(FrictionEstimate, DropModelHertzAndRigid) {
+  namespace md = amb::model::drop;
+  for (const bool rigid : {false, true})
+    for (double mu : {0.1, 0.2, 0.4}) {
+      md::DropOptions o;
+      o.noise_seed = 99;
+      if (rigid) o.contact_law = md::ContactLawChoice::rigid;
+      md::DropModel gen(board().plant, board().controller, board().rate_hz, o);
+      gen.set_friction_coefficient(mu);
+      md::DropScenario sc;
+      sc.window_s = 0.4;
+      sc.pre_trigger_s = 0.02;
+      const auto tr = md::simulate_drop(gen, sc, false);
+      hf::DropMeasurement m;
+      m.source = "drop model";
+      m.sample_rate_hz = sc.sample_rate_hz;
+      m.trigger_index = tr.trigger_index;
+      m.speed_at_trigger_hz = sc.speed_hz;
+      for (const auto& smp : tr.samples) {
+        m.sensor_m.push_back(smp.sensor_m);
+        m.speed_rad_s.push_back(smp.spin_rad_s);
+      }
+      const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
+      print(rigid ? "drop model, rigid law" : "drop model, Hertz law", mu, e);
+      ASSERT_TRUE(e.valid) << e.note;
+      EXPECT_NEAR(e.friction, mu, 0.03 * mu) << (rigid ? "rigid " : "hertz ") << mu;
+    }
 }
