@@ -40,8 +40,17 @@ std::string default_store() {
   return env && *env ? env : "amb-out/fleet.sqlite";
 }
 
-/// Files to import: each file given, and the .ambe/.ambw/.json files in each directory given (sorted).
-std::vector<std::string> expand(const std::vector<std::string>& in) {
+/// A JSON file found in a directory that is not a fit or residual result (e.g. a measured-event
+/// sidecar or a scenario summary next to the events): skipped, not an error.
+bool other_json(const std::string& path) {
+  std::ifstream f(path);
+  const nlohmann::json j = nlohmann::json::parse(f, nullptr, false);
+  return j.is_discarded() || !j.is_object() || (!j.contains("friction_coefficient") && !j.contains("effects_added"));
+}
+
+/// Files to import: each file given, and the .ambe/.ambw/.json files in each directory given
+/// (sorted; JSON other than fit/residual results skipped).
+std::vector<std::string> expand(const std::vector<std::string>& in, size_t& skipped) {
   std::vector<std::string> out;
   for (const std::string& p : in) {
     std::error_code ec;
@@ -49,7 +58,10 @@ std::vector<std::string> expand(const std::vector<std::string>& in) {
       std::vector<std::string> found;
       for (const auto& e : fs::recursive_directory_iterator(p, ec)) {
         const std::string ext = e.path().extension().string();
-        if (e.is_regular_file() && (ext == ".ambe" || ext == ".ambw" || ext == ".json")) found.push_back(e.path().string());
+        if (!e.is_regular_file()) continue;
+        if (ext == ".ambe" || ext == ".ambw") found.push_back(e.path().string());
+        else if (ext == ".json" && other_json(e.path().string())) ++skipped;
+        else if (ext == ".json") found.push_back(e.path().string());
       }
       std::sort(found.begin(), found.end());
       out.insert(out.end(), found.begin(), found.end());
@@ -95,8 +107,8 @@ int run(const Args& a) {
     if (a.add->parsed()) {
       int bad = 0;
       nlohmann::json list = nlohmann::json::array();
-      size_t added = 0, present = 0;
-      for (const std::string& f : expand(a.files)) {
+      size_t added = 0, present = 0, skipped = 0;
+      for (const std::string& f : expand(a.files, skipped)) {
         try {
           const fl::AddResult r = store->add_file(f, a.machine);
           (r.added ? added : present)++;
@@ -108,9 +120,10 @@ int run(const Args& a) {
         }
       }
       if (a.json)
-        std::printf("%s\n", nlohmann::json({{"added", added}, {"already_stored", present}, {"errors", bad}, {"files", list}}).dump(2).c_str());
+        std::printf("%s\n", nlohmann::json({{"added", added}, {"already_stored", present}, {"errors", bad}, {"skipped_json", skipped}, {"files", list}}).dump(2).c_str());
       else
-        std::fprintf(stderr, "fleet add: %zu added, %zu already stored, %d refused\n", added, present, bad);
+        std::fprintf(stderr, "fleet add: %zu added, %zu already stored, %d refused, %zu other JSON files skipped\n", added, present,
+                     bad, skipped);
       return bad ? 1 : 0;
     }
     if (a.list->parsed()) {

@@ -42,11 +42,15 @@ int fleet(const fs::path& dir, const std::string& args, nlohmann::json& out, std
 TEST(FleetCli, AddListTrendReport) {
   const fs::path dir = tf::fresh_dir("cli");
   tf::make_fleet_files(dir / "files", 200);
+  // A JSON file of another kind in the directory is skipped (named on the command line it is refused).
+  std::ofstream(dir / "files" / "scenario_summary.json") << "{\"speed_at_cut_hz\": 45.0}";
   nlohmann::json j;
   std::string err;
   ASSERT_EQ(fleet(dir, "add '" + (dir / "files").string() + "' --json", j, err), 0) << err;
   EXPECT_EQ(j["added"], 116);
   EXPECT_EQ(j["errors"], 0);
+  EXPECT_EQ(j["skipped_json"], 1);
+  EXPECT_EQ(fleet(dir, "add '" + (dir / "files" / "scenario_summary.json").string() + "' --json", j, err), 1);
   ASSERT_EQ(fleet(dir, "add '" + (dir / "files").string() + "' --json", j, err), 0) << err;
   EXPECT_EQ(j["added"], 0);
   EXPECT_EQ(j["already_stored"], 116);
