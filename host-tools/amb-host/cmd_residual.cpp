@@ -76,15 +76,23 @@ nlohmann::json model_update(const hr::ResidualOutcome& o) {
   const auto& u = o.model_update;
   return {{"done", u.done}, {"loop_delay_s", u.loop_delay_s}, {"force_scale", u.force_scale},
           {"force_noise_rms_n", u.force_noise_rms_n}, {"sensor_noise_rms_m", u.noise_rms_m}, {"delta_bic", u.delta_bic},
+          {"at_bound", u.at_bound},
           {"error_after_update", figures(o.updated.error)}};
 }
 
 nlohmann::json unexplained(const std::vector<hr::UnexplainedItem>& v) {
   nlohmann::json a = nlohmann::json::array();
   for (const auto& u : v) {
-    nlohmann::json j = {{"kind", u.kind}, {"f_hz", u.f_hz}, {"plane", u.plane == 0 ? "A" : u.plane == 1 ? "B" : "?"}};
-    if (u.kind == "band") j["level_db"] = u.level_db;
-    else j.update({{"order", u.order}, {"snr", u.snr}, {"direction", u.direction}, {"amplitude_m", u.amplitude_m}});
+    nlohmann::json j = {{"part", u.part}, {"kind", u.kind}, {"plane", u.plane == 0 ? "A" : u.plane == 1 ? "B" : "?"}};
+    if (u.kind == "band") {
+      j["f_hz"] = u.f_hz;
+      j["level_db"] = u.level_db;
+      if (u.f_hi_hz > 0.0) j["f_hi_hz"] = u.f_hi_hz;
+    } else if (u.kind == "order") {
+      j.update({{"f_hz", u.f_hz}, {"order", u.order}, {"snr", u.snr}, {"direction", u.direction}, {"amplitude_m", u.amplitude_m}});
+    } else {  // contact_compliance: plane = aux bearing
+      j.update({{"compliance_m_per_n", u.value}, {"snr", u.snr}, {"radius_change_m", u.amplitude_m}});
+    }
     a.push_back(j);
   }
   return a;
@@ -132,11 +140,27 @@ int run_drop(const Args& a, const amb::host::LoadedEvent& rec, const amb::board:
                           {"error_after", figures(o.levitated.after.error)},
                           {"verdict", o.levitated.verdict},
                           {"model_update", model_update(o.levitated)}};
-      j["unexplained"] = unexplained(o.levitated.unexplained);
-    } else {
-      j["unexplained"] = nlohmann::json::array();
     }
-    seg["drop"] = {{"before", drop_errors(o.drop_before)}, {"after", drop_errors(o.drop_after)}, {"contact_law", o.contact_law}};
+    j["unexplained"] = unexplained(o.unexplained);
+    nlohmann::json ro = {{"testable", o.drop_runout.testable}, {"applied_from", o.runout_source},
+                         {"angle_known_after_trigger_s", o.angle_known_after_trigger_s}};
+    if (o.drop_runout.testable) {
+      nlohmann::json ph = nlohmann::json::array();
+      for (size_t p = 0; p < 2; ++p)
+        for (size_t h = 0; h < 2; ++h)
+          ph.push_back({{"plane", p == 0 ? "A" : "B"}, {"order", h + 1}, {"amplitude_m", std::abs(o.drop_runout.runout.r_m[p][h])},
+                        {"sigma_m", o.drop_runout.sigma_m[p][h]}});
+      ro.update({{"phasors", ph}, {"floor_1x_m", o.runout_floor_m}, {"delta_bic", o.drop_runout.delta_bic},
+                 {"contact_points", o.drop_runout.points}});
+    } else {
+      ro["why_not"] = o.drop_runout.why_not;
+    }
+    nlohmann::json co = {{"testable", o.compliance.testable}};
+    if (o.compliance.testable)
+      co.update({{"compliance_m_per_n", o.compliance.compliance_m_per_n}, {"sigma_m_per_n", o.compliance.sigma_m_per_n},
+                 {"mean_force_n", o.compliance.mean_force_n}});
+    seg["drop"] = {{"before", drop_errors(o.drop_before)}, {"after", drop_errors(o.drop_after)}, {"contact_law", o.contact_law},
+                   {"runout", ro}, {"contact_compliance", co}};
     j["segments"] = seg;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
@@ -182,20 +206,16 @@ int run_steady(const Args& a) {
 }
 
 int run_sweep(const Args& a) {
-  const std::string in_mat = a.event + "/Sweep_Time_Anregung.mat", out_mat = a.event + "/Sweep_Time_Ausgang.mat";
-  const auto in = amb::host::read_mat_vector(in_mat, "Signal.y_values.values");
-  const double dt = amb::host::read_mat_scalar(in_mat, "Signal.x_values.increment");
-  const auto acc = amb::host::read_mat_matrix(out_mat, "Signal_0.y_values.values");
-  std::vector<std::vector<double>> out(acc.cols);
-  for (size_t c = 0; c < acc.cols; ++c) {
-    out[c] = acc.column(c);
-    for (double& v : out[c]) v *= 9.80665;  // stored in g
-  }
+  const auto rec = hr::read_tum_sweep(a.event);  // SI units (Test.Lab stores MKS)
   const auto b = amb::board::load_board(a.board.empty() ? "tum-mlps-rig" : a.board);
-  const auto o = hr::run_sweep_residual(in, out, 1.0 / dt, b);
+  const auto o = hr::run_sweep_residual(rec.current_a, rec.accel_m_s2, rec.fs_hz, b, {}, rec.command_v);
   if (!a.plot.empty()) {
+    // PATH.svg: all accelerometers; PATH-validation.svg: the held-back ones; PATH-current.svg: I/V.
+    const std::string stem = a.plot.size() > 4 && a.plot.substr(a.plot.size() - 4) == ".svg" ? a.plot.substr(0, a.plot.size() - 4) : a.plot;
     hr::write_sweep_overlay_svg(o, a.plot);
-    std::fprintf(stderr, "FRF overlay written to %s\n", a.plot.c_str());
+    if (!o.validation.empty()) hr::write_sweep_validation_svg(o, stem + "-validation.svg");
+    if (o.current_loop.done) hr::write_sweep_current_loop_svg(o, stem + "-current.svg");
+    std::fprintf(stderr, "FRF overlays written to %s (and -validation, -current)\n", a.plot.c_str());
   }
   if (a.json) {
     nlohmann::json j;

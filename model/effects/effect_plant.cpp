@@ -17,6 +17,12 @@ void apply_to_params(const EffectSet& e, PlantParams& rig) {
     const double s2 = e.rotor_mode->frequency_scale * e.rotor_mode->frequency_scale;
     for (auto& el : rig.rotor.elements) el.youngs_modulus_pa *= s2;
   }
+  if (e.aux_support) {
+    // A massless support spring in series with the (linear penalty) contact.
+    auto& a = rig.aux[static_cast<size_t>(e.aux_support->bearing == 0 ? 0 : 1)];
+    const double kc = a.contact_stiffness_n_per_m, ks = e.aux_support->stiffness_n_per_m;
+    if (kc > 0.0 && ks > 0.0) a.contact_stiffness_n_per_m = kc * ks / (kc + ks);
+  }
 }
 
 EffectPlant::EffectPlant(std::unique_ptr<Plant> inner, const PlantParams& rig, const EffectSet& effects)

@@ -11,8 +11,9 @@
 //                        -ks u / ki, pre-compensated for the board's first-order amplifier;
 //                        the pedestal is held while the rotor touches its aux bearings
 //   sensor_runout        speed-locked vectors added to the sensor readings
-// aux_bearing_offset and rotor_mode change the rig itself: apply_to_params() before the
-// inner plant is built. sensor_mass is not applied in the time domain.
+// aux_bearing_offset, rotor_mode and aux_support_compliance change the rig itself:
+// apply_to_params() before the inner plant is built. sensor_mass is not applied in the time
+// domain.
 // Real time: step() and outputs() do not allocate.
 #include <memory>
 
@@ -22,7 +23,8 @@
 namespace amb::model::effects {
 
 /// Put the rig-changing effects (aux_bearing_offset: added to the aux-bearing centre
-/// offsets; rotor_mode: Young's modulus scaled by frequency_scale^2) into `rig`.
+/// offsets; rotor_mode: Young's modulus scaled by frequency_scale^2; aux_support_compliance:
+/// that bearing's contact stiffness in series with the support) into `rig`.
 void apply_to_params(const EffectSet& e, PlantParams& rig);
 
 class EffectPlant final : public Plant {

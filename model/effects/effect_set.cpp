@@ -14,6 +14,7 @@ const char* effect_name(EffectKind k) {
     case EffectKind::rotor_mode: return "rotor_mode";
     case EffectKind::magnetic_saturation: return "magnetic_saturation";
     case EffectKind::sensor_mass: return "sensor_mass";
+    case EffectKind::aux_support_compliance: return "aux_support_compliance";
   }
   return "unknown";
 }
@@ -44,6 +45,7 @@ bool EffectSet::has(EffectKind k) const {
     case EffectKind::rotor_mode: return rotor_mode.has_value();
     case EffectKind::magnetic_saturation: return saturation.has_value();
     case EffectKind::sensor_mass: return sensor_mass.has_value();
+    case EffectKind::aux_support_compliance: return aux_support.has_value();
   }
   return false;
 }

@@ -4,8 +4,9 @@
 // test-data generators (effect_plant.hpp) apply. Pure data and small pure functions; no I/O.
 //
 // The names are the ones `amb-host residual` reports (DESIGN.md): pedestal_resonance,
-// sensor_runout, aux_bearing_offset, amplifier_lag, rotor_mode, magnetic_saturation, and
-// sensor_mass (added transducer mass, used for accelerometer-instrumented rigs).
+// sensor_runout, aux_bearing_offset, amplifier_lag, rotor_mode, magnetic_saturation,
+// sensor_mass (added transducer mass, used for accelerometer-instrumented rigs), and
+// aux_support_compliance (a compliant support under an auxiliary bearing; acts in drops only).
 #include <array>
 #include <complex>
 #include <optional>
@@ -22,8 +23,9 @@ enum class EffectKind {
   rotor_mode,
   magnetic_saturation,
   sensor_mass,
+  aux_support_compliance,
 };
-inline constexpr int k_effect_kinds = 7;
+inline constexpr int k_effect_kinds = 8;
 
 /// The report name of a kind ("pedestal_resonance", ...).
 const char* effect_name(EffectKind k);
@@ -88,6 +90,15 @@ struct SensorMass {
   std::vector<double> axial_m;      ///< where they sit, m from the rotor's left end
 };
 
+/// A compliant support (pedestal, housing) under one auxiliary bearing: a massless spring of
+/// `stiffness_n_per_m` in series with that bearing's contact, so the contact deflection grows by
+/// F / k_s. Acts only while the rotor touches the bearing (drops, rest); the generator applies
+/// it to the rig (apply_to_params: the series stiffness of the plant's linear penalty contact).
+struct AuxSupportCompliance {
+  int bearing = 0;                    ///< aux bearing 0 (A side) or 1 (B side)
+  double stiffness_n_per_m = 1e12;    ///< support stiffness k_s, N/m
+};
+
 /// The base model's own uncertain parameters (model updating, not a model element: never
 /// named as an effect). A real rig differs from its board file in ways no element names; the
 /// residual loop fits these first, so that an element is not used to cover them.
@@ -106,6 +117,7 @@ struct EffectSet {
   std::optional<RotorMode> rotor_mode;
   std::optional<MagneticSaturation> saturation;
   std::optional<SensorMass> sensor_mass;
+  std::optional<AuxSupportCompliance> aux_support;
 
   bool has(EffectKind k) const;
   /// Names of the effects present, in EffectKind order.

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "firmware/board/board.hpp"
+#include "tests/support/test_paths.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/scenario/steady_record.hpp"
@@ -61,12 +62,16 @@ void report(const std::string& injected, const hr::DropResidualOutcome& o) {
   }
   for (const auto& c : o.drop_ranking) std::printf("           drop rank %-20s dBIC %8.1f  %s\n", c.name.c_str(), c.delta_bic, c.evidence.c_str());
   for (const auto& n : o.drop_notes) std::printf("           drop note: %s\n", n.c_str());
+  for (const auto& u : o.unexplained)
+    std::printf("           unexplained (%s) %s %.1f Hz plane %d level %.1f dB snr %.1f\n", u.part.c_str(), u.kind.c_str(), u.f_hz, u.plane,
+                u.level_db, u.snr);
 }
 
-hr::DropResidualOutcome run_case(const std::string& stem, const fx::EffectSet& e) {
+hr::DropResidualOutcome run_case(const std::string& stem, const fx::EffectSet& e, bool tachometer = false) {
   host::SteadyRecordOptions g;
   g.drop_s = 0.4;
   g.seed = 7;
+  g.tachometer = tachometer;
   const std::string path = host::generate_steady_record(temp_dir(), "drop_" + stem, e, g);
   auto o = analyse(path);
   report(stem, o);
@@ -113,31 +118,31 @@ TEST(ResidualDrop, CleanDropAddsNothing) {
 }
 
 TEST(ResidualDrop, AuxBearingOffsetIsNamed) {
+  // A rig with a spin record through the drop (tachometer): the drop model is fitted with the
+  // spin-down, the offset is found from the contact circles, refitted, and kept only because
+  // every drop-part error falls with it. (On a tachless board the spin is not measured after
+  // the cut, friction is not identified by the fit and the refit's errors scatter: the offset
+  // is then found but not kept; the main job's drop shows that case.)
   fx::EffectSet e;
   fx::AuxBearingOffset a;
   a.x_m = {60e-6, -50e-6};
   a.y_m = {-40e-6, 30e-6};
   e.aux_offset = a;
-  const auto o = run_case("aux_bearing_offset", e);
-  // The drop part's candidate is found (contact circles off by ~70 / 58 um, dBIC ~ 900) and
-  // its refit halves the contact misfit; it is kept only if every drop-part error falls. With
-  // the rigid drop model the orbit rms (about one clearance: the model does not match the
-  // plant's compliant contact) rises by 1.6 %, so it is not kept at present (known limit,
-  // docs/residual.md). Asserted: candidate found and significant; if kept, the centres.
-  ASSERT_FALSE(o.drop_ranking.empty());
-  EXPECT_EQ(o.drop_ranking.front().name, "aux_bearing_offset");
-  EXPECT_GT(o.drop_ranking.front().delta_bic, 100.0);
-  for (const auto& x : o.effects_added) EXPECT_EQ(x.name, "aux_bearing_offset") << "a filler was named instead";
-  if (!o.effects_added.empty()) {
-    ASSERT_EQ(o.effects_added.front().parameters.size(), 5u);
-    const auto& p = o.effects_added.front().parameters;
-    // The identified centres: within 15 um of the generator's (clearance 400 um).
-    EXPECT_NEAR(p[0].second, 60e-6, 15e-6);
-    EXPECT_NEAR(p[1].second, -40e-6, 15e-6);
-    EXPECT_NEAR(p[2].second, -50e-6, 15e-6);
-    EXPECT_NEAR(p[3].second, 30e-6, 15e-6);
-    EXPECT_LE(o.drop_after.error.rms, 1.01 * o.drop_before.error.rms);
-  }
+  const auto o = run_case("aux_bearing_offset", e, true);
+  ASSERT_NO_FATAL_FAILURE(expect_named(o, "aux_bearing_offset", false));
+  for (const auto& x : o.effects_added) EXPECT_EQ(x.name, "aux_bearing_offset") << "a filler was named";
+  ASSERT_EQ(o.effects_added.front().parameters.size(), 5u);
+  const auto& p = o.effects_added.front().parameters;
+  // The identified centres: within 15 um of the generator's (clearance 400 um).
+  EXPECT_NEAR(p[0].second, 60e-6, 15e-6);
+  EXPECT_NEAR(p[1].second, -40e-6, 15e-6);
+  EXPECT_NEAR(p[2].second, -50e-6, 15e-6);
+  EXPECT_NEAR(p[3].second, 30e-6, 15e-6);
+  // Kept: no drop-part error rises (1 % counts as unchanged), the contact misfit falls.
+  EXPECT_LE(o.drop_after.error.rms, 1.01 * o.drop_before.error.rms);
+  EXPECT_LE(o.drop_after.error.spectral, 1.01 * o.drop_before.error.spectral);
+  EXPECT_GE(o.drop_after.error.pearson, 0.99 * o.drop_before.error.pearson);
+  EXPECT_LT(o.drop_after.error.statics, 0.9 * o.drop_before.error.statics);
 }
 
 TEST(ResidualDrop, SensorRunoutIsNamed) {
@@ -175,6 +180,74 @@ TEST(ResidualDrop, MagneticSaturationIsNamed) {
   // As ResidualSteady.MagneticSaturationIsNamed: the model update (force scale) takes part of
   // it and saturation is not kept (its rms rises); no filler may be named instead.
   expect_no_filler(run_case("magnetic_saturation", e), "magnetic_saturation");
+}
+
+TEST(ResidualDrop, CleanDropWithSpinRecordAddsNothing) {
+  // With a spin-speed record through the drop the contact-geometry candidates (runout,
+  // support compliance) are testable; on a clean drop none may be added.
+  const auto o = run_case("clean_tach", {}, true);
+  EXPECT_EQ(o.verdict, "none");
+  EXPECT_TRUE(o.drop_runout.testable) << o.drop_runout.why_not;
+  EXPECT_TRUE(o.compliance.testable) << o.compliance.why_not;
+}
+
+TEST(ResidualDrop, AuxSupportComplianceIsFound) {
+  // A soft support (5e6 N/m, a pedestal) under aux bearing 0, in series with its contact.
+  // The candidate must be found at that bearing and be beyond its noise floor; whether it is
+  // kept depends on the refitted drop model (docs/residual.md). No filler may be named.
+  fx::EffectSet e;
+  e.aux_support = fx::AuxSupportCompliance{0, 5e6};
+  const auto o = run_case("aux_support", e, true);
+  for (const auto& x : o.effects_added) EXPECT_EQ(x.name, "aux_support_compliance") << "a filler was named instead";
+  const hr::CandidateScore* c = nullptr;
+  for (const auto& r : o.drop_ranking)
+    if (r.name == "aux_support_compliance") c = &r;
+  ASSERT_NE(c, nullptr);
+  EXPECT_TRUE(c->testable) << c->evidence;
+  EXPECT_GT(c->delta_bic, 10.0) << c->evidence;
+  EXPECT_NE(c->evidence.find("aux bearing 0"), std::string::npos) << c->evidence;
+  EXPECT_EQ(c->evidence.find("below the noise floor"), std::string::npos) << c->evidence;
+  ASSERT_TRUE(o.compliance.testable);
+  // The compliance found beyond the other bearing's: the support's 1 / k_s = 2e-7 m/N, within 30 %.
+  EXPECT_NEAR(o.compliance.compliance_m_per_n[0] - o.compliance.compliance_m_per_n[1], 2e-7, 0.6e-7);
+  if (o.effects_added.empty()) {
+    bool listed = false;
+    for (const auto& u : o.unexplained) listed = listed || (u.part == "drop" && u.kind == "contact_compliance" && u.plane == 0);
+    EXPECT_TRUE(listed) << "a found but not kept support must be reported as unexplained";
+  }
+}
+
+// The two drops of ../shared/data/synthetic (an independent simulator, nothing undeclared in
+// them): nothing may be added. Their truth is not read.
+TEST(ResidualDrop, SyntheticExamplesAddNothing) {
+  for (int n : {1, 2}) {
+    const std::string path = std::string(amb::test::shared_dir()) + "/data/synthetic/bath_drop_example_" + std::to_string(n) + ".json";
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+    const auto o = analyse(path);
+    report("synthetic " + std::to_string(n), o);
+    EXPECT_EQ(o.verdict, "none") << path;
+    EXPECT_TRUE(o.drop_runout.testable) << o.drop_runout.why_not;
+    // The rule that keeps fillers out: an element whose fitted parameters change nothing
+    // within the recorded range is not added, however much its BIC falls. Here the currents
+    // stay within about +-0.1 A, so a fitted saturation current changes the force per ampere
+    // by far less than the noise; the loop must say so (earlier versions added it).
+    ASSERT_TRUE(o.levitated_analysed) << o.levitated_note;
+    bool saturation_ranked = false;
+    for (const auto& c : o.levitated.ranking)
+      if (c.name == "magnetic_saturation") {
+        saturation_ranked = true;
+        EXPECT_NE(c.evidence.find("no effect within the recorded range"), std::string::npos) << c.evidence;
+      }
+    EXPECT_TRUE(saturation_ranked);
+    // What is left is reported with its structure (part, kind, plane, band or order).
+    for (const auto& u : o.unexplained) {
+      EXPECT_TRUE(u.part == "levitated" || u.part == "drop") << u.part;
+      EXPECT_TRUE(u.plane == 0 || u.plane == 1) << u.kind;
+      if (u.kind == "band") {
+        EXPECT_GT(u.f_hz, 0.0);
+      }
+    }
+  }
 }
 
 TEST(ResidualDrop, SteadyRunIsNotADropEvent) {

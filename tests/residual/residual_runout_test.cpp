@@ -5,9 +5,13 @@
 // the PID turns it into currents, but the displacement-current pair then violates that law
 // by the runout. The steady fit solves a two-plane unbalance and, for the candidate, the
 // runout phasors together from the 8 channels' line phasors; the BIC says which.
-// Limit (docs/residual.md): a purely 1x, purely forward runout at one speed is exactly what a
-// two-plane unbalance of a rigid rotor can produce, so it is separable only with another
-// order or another speed; the tests assert what is identifiable.
+// Limit of the levitated part (docs/residual.md): the controller acts on the measured
+// displacement, so the current is the known controller's response to (x_true + r), and a
+// purely 1x forward runout at one speed is exactly what a two-plane unbalance can produce.
+// What tells them apart at one speed is the drop: after the cut no controller acts, the rotor
+// is held on the aux-bearing circles, and runout stays in the readings as a spin-locked
+// departure from those circles, while unbalance only bends the shaft between the contacts
+// (a known, small signature). The drop-event tests below check that on generated drops.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,6 +22,7 @@
 
 #include "firmware/board/board.hpp"
 #include "host-tools/core/events/load_event.hpp"
+#include "host-tools/core/residual/drop_residual.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
 #include "host-tools/core/scenario/steady_record.hpp"
@@ -87,4 +92,66 @@ TEST(ResidualRunout, RunoutWithA2xComponentIsNamedAndSeparatedFromUnbalance) {
   EXPECT_NEAR(b2, std::abs(ro.r_m[1][1]), 0.2 * std::abs(ro.r_m[1][1]));
   // Not asserted: the B-plane 1x runout (true 0) comes out at 4.1 um with this unbalance,
   // the 1x split between unbalance and runout is not unique at one speed (docs/residual.md).
+}
+
+namespace {
+
+// A generated drop event at 45 Hz with a spin-speed record (tachometer): the code under test
+// gets only the sidecar.
+hr::DropResidualOutcome run_drop(const std::string& stem, const fx::EffectSet& e, double unbalance_scale) {
+  const auto dir = std::filesystem::temp_directory_path() / ("amb_residual_runout_drop_" + std::to_string(::getpid()));
+  host::SteadyRecordOptions so;
+  so.unbalance_scale = unbalance_scale;
+  so.drop_s = 0.4;
+  so.tachometer = true;
+  const std::string path = host::generate_steady_record(dir.string(), stem, e, so);
+  const auto rec = host::load_event(path);
+  const auto b = board::load_board(rec.board);
+  auto o = hr::run_drop_residual(rec, b);
+  std::printf("[ RESULT ] drop %-14s -> verdict %s (levitated %s), runout applied from '%s'\n", stem.c_str(), o.verdict.c_str(),
+              o.levitated.verdict.c_str(), o.runout_source.c_str());
+  for (size_t p = 0; p < 2; ++p)
+    for (size_t h = 0; h < 2; ++h)
+      std::printf("           contact runout %c %zux: %.2f um (sigma %.2f um)\n", p == 0 ? 'A' : 'B', h + 1,
+                  std::abs(o.drop_runout.runout.r_m[p][h]) * 1e6, o.drop_runout.sigma_m[p][h] * 1e6);
+  std::printf("           1x floor A %.2f um, B %.2f um\n", o.runout_floor_m[0] * 1e6, o.runout_floor_m[1] * 1e6);
+  for (const auto& c : o.drop_ranking) std::printf("           drop rank %-22s dBIC %8.1f  %s\n", c.name.c_str(), c.delta_bic, c.evidence.c_str());
+  for (const auto& n : o.drop_notes) std::printf("           drop note: %s\n", n.c_str());
+  std::filesystem::remove_all(dir);
+  return o;
+}
+
+double parameter(const hr::EffectAdded& e, const std::string& k) {
+  for (const auto& [n, v] : e.parameters)
+    if (n == k) return v;
+  return -1.0;
+}
+
+}  // namespace
+
+TEST(ResidualRunout, OneSpeedDropTellsA1xRunoutFromUnbalance) {
+  // A 1x runout at plane A only (6.7 um) with the board's unbalance: the levitated part alone
+  // cannot separate it (see above); the drop part must name it, at plane A, and not invent
+  // one at plane B.
+  fx::EffectSet e;
+  fx::SensorRunout ro;
+  ro.r_m[0][0] = {6e-6, 3e-6};
+  e.runout = ro;
+  const auto o = run_drop("runout_1x", e, 1.0);
+  ASSERT_TRUE(o.drop_runout.testable) << o.drop_runout.why_not;
+  const hr::EffectAdded* r = nullptr;
+  for (const auto& a : o.effects_added)
+    if (a.name == "sensor_runout") r = &a;
+  ASSERT_NE(r, nullptr) << "runout not named; verdict " << o.verdict;
+  EXPECT_NEAR(parameter(*r, "amplitude_a_order1_m"), std::abs(ro.r_m[0][0]), 0.25 * std::abs(ro.r_m[0][0]));
+  EXPECT_LT(parameter(*r, "amplitude_b_order1_m"), 2e-6);
+  for (const auto& a : o.effects_added) EXPECT_EQ(a.name, "sensor_runout") << "a filler was named";
+}
+
+TEST(ResidualRunout, OneSpeedDropDoesNotTakeUnbalanceForRunout) {
+  // Unbalance 8 x the board's (about 20 um 1x readings at plane A while levitated), no runout,
+  // the same speed: no runout may be named in either part.
+  const auto o = run_drop("unbalance", {}, 8.0);
+  ASSERT_TRUE(o.drop_runout.testable) << o.drop_runout.why_not;
+  EXPECT_EQ(o.verdict.find("sensor_runout"), std::string::npos) << o.verdict;
 }

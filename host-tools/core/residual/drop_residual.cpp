@@ -6,6 +6,7 @@
 #include <complex>
 #include <cstdio>
 #include <fftw3.h>
+#include <limits>
 #include <stdexcept>
 
 #include "host-tools/core/fit/drop_fit.hpp"
@@ -37,7 +38,8 @@ std::vector<std::array<double, 2>> aux_points(const Readings& s, const model::dr
 }
 
 // One-sided Welch PSD (Hann, 50 % overlap) averaged on 1/3-octave bands from f_lo to 0.4 fs.
-std::vector<double> band_psd(const std::vector<double>& x, double fs, size_t seg, double f_lo) {
+std::vector<double> band_psd(const std::vector<double>& x, double fs, size_t seg, double f_lo,
+                             std::vector<double>* centres = nullptr) {
   std::vector<double> out;
   if (x.size() < seg || seg < 16) return out;
   std::vector<double> win(seg), buf(seg), psd(seg / 2 + 1, 0.0);
@@ -66,7 +68,10 @@ std::vector<double> band_psd(const std::vector<double>& x, double fs, size_t seg
     double s = 0.0;
     int n = 0;
     for (size_t k = std::max<size_t>(a, 1); k <= e && k < psd.size(); ++k, ++n) s += psd[k];
-    if (n > 0) out.push_back(s / (n * count) + 1e-300);
+    if (n > 0) {
+      out.push_back(s / (n * count) + 1e-300);
+      if (centres != nullptr) centres->push_back(f);
+    }
   }
   return out;
 }
@@ -113,14 +118,18 @@ DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, 
   const auto seg = static_cast<size_t>(std::lround(0.05 * m.sample_rate_hz));
   double db2 = 0.0, pear = 0.0;
   int bands = 0, chans = 0;
+  (void)band_psd(std::vector<double>(n, 0.0), m.sample_rate_hz, seg, 20.0, &e.band_hz);
   for (int c = 0; c < 4; ++c) {
     std::vector<double> xm(n), xs(n);
     for (size_t i = 0; i < n; ++i) xm[i] = meas[i][static_cast<size_t>(c)], xs[i] = sim[i][static_cast<size_t>(c)];
     const auto pm = band_psd(xm, m.sample_rate_hz, seg, 20.0), ps = band_psd(xs, m.sample_rate_hz, seg, 20.0);
     if (pm.empty() || pm.size() != ps.size()) continue;
     std::vector<double> lm, ls;
+    auto& plane_db = e.band_db[static_cast<size_t>(c / 2)];
+    if (plane_db.size() < pm.size()) plane_db.resize(pm.size(), 0.0);
     for (size_t k = 0; k < pm.size(); ++k) {
       const double d = 10.0 * std::log10(pm[k] / ps[k]);
+      plane_db[k] += 0.5 * d;
       db2 += d * d;
       ++bands;
       lm.push_back(std::log10(pm[k]));
@@ -137,6 +146,9 @@ DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, 
   e.simulated_circle = estimate_contact_circles(sim, rig, m.sample_rate_hz, o);
   std::array<std::array<double, 2>, 2> ref{};
   for (int k = 0; k < 2; ++k) {
+    const auto& mc = e.measured_circle[static_cast<size_t>(k)];
+    const auto& sc = e.simulated_circle[static_cast<size_t>(k)];
+    e.radius_excess_m[static_cast<size_t>(k)] = mc.valid && sc.valid ? mc.radius_m - sc.radius_m : 0.0;
     e.model_centre_m[static_cast<size_t>(k)] = rig_centre(rig, k);
     ref[static_cast<size_t>(k)] = e.simulated_circle[static_cast<size_t>(k)].valid
                                       ? e.simulated_circle[static_cast<size_t>(k)].centre_m
@@ -160,6 +172,22 @@ DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, 
 double offset_delta_bic(double ssr_before, double ssr_after, int points, double fs, const DropResidualOptions& o) {
   const double n_eff = std::max(1.0, points * std::min(1.0, 1.0 / (fs * o.decorrelation_s)));
   return ssr_before > 0 && ssr_after > 0 ? n_eff * std::log(ssr_before / ssr_after) - 4.0 * std::log(n_eff) : 0.0;
+}
+
+// Samples from `first` on for which a recorded speed stream (Hz) is the rotor's spin: finite,
+// above 5 % of `f_ref`, and changing no faster than `max_accel` (rad/s^2) allows. A stream
+// that drops faster than any friction can brake the rotor (a lost tracker, a speed command
+// set to zero at the fault) is not a spin record from there on.
+size_t spin_record_length(const std::vector<double>& f_hz, size_t first, double f_ref, double fs, double max_accel) {
+  const double max_step = max_accel / (2.0 * M_PI * fs) + 1e-3 * f_ref;
+  double prev = f_ref;
+  size_t n = 0;
+  for (size_t i = first; i < f_hz.size(); ++i, ++n) {
+    const double f = f_hz[i];
+    if (!(std::isfinite(f) && f > 0.05 * f_ref && std::abs(f - prev) <= max_step)) break;
+    prev = f;
+  }
+  return n;
 }
 
 ErrorFigures combine(const ErrorFigures& a, const ErrorFigures& b) {
@@ -303,6 +331,16 @@ fit::DropMeasurement drop_measurement_of(const LoadedEvent& r, const board::Boar
   }
   m.speed_at_trigger_hz = map.speed_hz != nullptr ? (*map.speed_hz)[trig] : r.speed_at_trigger_hz.value_or(0.0);
   m.amplifiers_off = true;
+  // The fit compares spin-down and speed: give it the speed stream only when it is the
+  // rotor's spin through the whole window (else the spin is not measured after the trigger).
+  if (!m.speed_rad_s.empty()) {
+    std::vector<double> f_hz;
+    for (double w : m.speed_rad_s) f_hz.push_back(w / (2.0 * M_PI));
+    const size_t after = m.sensor_m.size() - static_cast<size_t>(m.trigger_index);
+    if (spin_record_length(f_hz, static_cast<size_t>(m.trigger_index), m.speed_at_trigger_hz, m.sample_rate_hz,
+                           o.max_spin_accel_rad_s2) < after)
+      m.speed_rad_s.clear();
+  }
   return m;
 }
 
@@ -313,8 +351,8 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   const double fs = r.sample_rate_hz;
   const auto trig = static_cast<size_t>(r.trigger_index);
 
-  size_t runout_window_start = 0;
-  double runout_spin_hz = 0.0;
+  size_t lev_window_start = 0;
+  double lev_spin_hz = 0.0;
   // Levitated part: the steady loop on the pre-trigger history.
   const double lev_s = static_cast<double>(trig) / fs;
   if (lev_s >= o.min_levitated_s) {
@@ -326,8 +364,8 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       const SteadyData d = extract_steady(pre, b, so);
       out.levitated = run_residual_loop(d, b, o.loop);
       out.levitated_analysed = true;
-      runout_window_start = d.window_start;
-      runout_spin_hz = d.spin_hz;
+      lev_window_start = d.window_start;
+      lev_spin_hz = d.spin_hz;
     } catch (const std::runtime_error& e) {
       out.levitated_note = std::string("levitated part not analysed: ") + e.what();
     }
@@ -335,40 +373,44 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     out.levitated_note = fmt("levitated part not analysed: %.2f s of pre-trigger history < %.2f s", lev_s, o.min_levitated_s);
   }
 
-  // Drop part: fit the drop model, then look at the contact geometry.
+  // Drop part, the measurement as recorded.
   fit::DropMeasurement m = drop_measurement_of(r, b, o);
-  // Runout found in the levitated part is a measurement artefact: it stays in the readings
-  // when the rotor falls. Subtract it, with the rotor angle carried on from the levitated
-  // window through the recorded speed (scaled to the refined speed at the trigger).
-  bool runout_found = false;
-  for (const auto& e : out.levitated.effects_added) runout_found = runout_found || e.name == "sensor_runout";
-  if (out.levitated_analysed && runout_found && out.levitated.after.effects.runout && runout_spin_hz > 0.0) {
-    const auto& ro = *out.levitated.after.effects.runout;
-    const size_t first = trig - static_cast<size_t>(m.trigger_index);
-    const double f_trig = m.speed_rad_s.empty() ? 0.0 : m.speed_rad_s[static_cast<size_t>(m.trigger_index)] / (2.0 * M_PI);
-    double theta = 2.0 * M_PI * runout_spin_hz * (static_cast<double>(first) - static_cast<double>(runout_window_start)) / fs;
-    for (size_t i = 0; i < m.sensor_m.size(); ++i) {
-      for (int k = 0; k < 4; ++k) {
-        const auto dir = model::magnet::axis_direction(b.plant.sensor[static_cast<size_t>(k)].angle_deg);
-        double v = 0.0;
-        for (int h = 1; h <= model::effects::k_runout_orders; ++h)
-          v += (ro.r_m[static_cast<size_t>(k / 2)][static_cast<size_t>(h - 1)] * std::complex<double>(dir[0], -dir[1]) *
-                std::exp(std::complex<double>(0.0, h * theta))).real();
-        m.sensor_m[i][static_cast<size_t>(k)] -= v;
-      }
-      const bool after_trigger = i >= static_cast<size_t>(m.trigger_index) && f_trig > 0.0 && !m.speed_rad_s.empty();
-      const double f_now = after_trigger ? runout_spin_hz * m.speed_rad_s[i] / (2.0 * M_PI) / f_trig : runout_spin_hz;
-      theta += 2.0 * M_PI * f_now / fs;
-    }
-    out.drop_notes.push_back(fmt("runout of the levitated part subtracted from the drop readings (plane A 1x %.1f um, plane B 1x %.1f um)",
-                                 std::abs(ro.r_m[0][0]) * 1e6, std::abs(ro.r_m[1][0]) * 1e6));
-  }
   if (const auto err = m.check(); !err.empty()) throw std::runtime_error("event " + r.source + ": drop part: " + err);
+  const auto first = static_cast<size_t>(m.trigger_index);  // the trigger within m
+  // Rotor angle over m, in the levitated window's reference (so that the levitated part's
+  // runout phasors apply): the refined levitated speed before the trigger, the recorded
+  // speed after it (scaled to the refined speed at the trigger) as long as it is a spin
+  // record -- a stream that drops faster than any friction can brake the rotor (a lost
+  // tracker, a speed command) is not, and from there on the angle is unknown.
+  const SpinAngle angle = [&] {
+    SpinAngle a;
+    const ChannelMap map = match_channels(r);
+    const size_t n = m.sensor_m.size(), rec_first = trig - first;
+    std::vector<double> f_hz;
+    if (map.speed_hz != nullptr) f_hz.assign(map.speed_hz->begin() + static_cast<long>(rec_first), map.speed_hz->begin() + static_cast<long>(rec_first + n));
+    const double f_chan_trig = f_hz.size() > first ? f_hz[first] : 0.0;
+    const double f_ref = lev_spin_hz > 0.0 ? lev_spin_hz : (f_chan_trig > 0.0 ? f_chan_trig : m.speed_at_trigger_hz);
+    const double scale = f_chan_trig > 0.0 && f_ref > 0.0 ? f_ref / f_chan_trig : 1.0;
+    const size_t valid = f_hz.empty() ? 0 : spin_record_length(f_hz, first, f_chan_trig, fs, o.max_spin_accel_rad_s2);
+    double theta = out.levitated_analysed ? 2.0 * M_PI * lev_spin_hz * (static_cast<double>(rec_first) - static_cast<double>(lev_window_start)) / fs : 0.0;
+    for (size_t i = 0; i < n; ++i) {
+      const bool known = f_ref > 0.0 && (i < first || i < first + valid);
+      a.theta_rad.push_back(theta);
+      a.known.push_back(known ? 1 : 0);
+      if (known) theta += 2.0 * M_PI * (i < first ? f_ref : f_hz[i] * scale) / fs;
+    }
+    out.angle_known_after_trigger_s = static_cast<double>(valid) / fs;
+    return a;
+  }();
+  SpinAngle angle_after;
+  angle_after.theta_rad.assign(angle.theta_rad.begin() + static_cast<long>(first), angle.theta_rad.end());
+  angle_after.known.assign(angle.known.begin() + static_cast<long>(first), angle.known.end());
+
   fit::DropFitOptions fo;
   fo.max_window_s = o.window_s;
   // Model updating of the drop part: the contact law is an uncertain part of the drop model
-  // (a real touchdown contact is compliant; the board states one law). The drop model is
-  // fitted with each law (board's first) and the one with the lowest Phase C cost is kept.
+  // (a real touchdown contact is compliant; the board states one law). With the option the
+  // drop model is fitted with each law (board's first) and the lowest Phase C cost is kept.
   board::BoardConfig bu = b;
   fit::DropFitResult base = fit::fit_drop(m, bu, fo);
   const char* law_name[3] = {"rigid", "hertz", "linear"};
@@ -396,13 +438,158 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   out.drop_after = out.drop_before;
   out.drop_notes.push_back(fmt("drop model fitted: friction coefficient %.3f, Phase C cost %.4g", base.friction_coefficient,
                                base.cost.total) + ", contact law " + out.contact_law);
+  out.drop_notes.push_back(out.angle_known_after_trigger_s > 0.0
+                               ? fmt("rotor angle known for %.3f s after the trigger (speed record)", out.angle_known_after_trigger_s)
+                               : std::string("rotor angle unknown after the trigger (no spin-speed record there)"));
+  const double tol = 0.01;  // a change within 1 % counts as unchanged (as in the steady loop)
+  auto none_rises = [&](const ErrorFigures& e0, const ErrorFigures& e1) {
+    return e1.rms <= e0.rms * (1.0 + tol) && e1.spectral <= e0.spectral * (1.0 + tol) && e1.pearson >= e0.pearson * (1.0 - tol) &&
+           e1.statics <= e0.statics * (1.0 + tol);
+  };
+  auto errs = [](const ErrorFigures& e) {
+    return fmt("orbit rms %.4f, spectral %.2f dB, pearson %.3f", e.rms, e.spectral, e.pearson) + fmt(", contact misfit %.4f", e.statics);
+  };
+  std::vector<EffectAdded> drop_added;
+  ContactGeometryOptions geo;
+  geo.contact_band = o.contact_band;
+  geo.decorrelation_s = o.decorrelation_s;
+  auto after_trigger = [&](const fit::DropMeasurement& mm) {
+    return Readings(mm.sensor_m.begin() + static_cast<long>(first), mm.sensor_m.end());
+  };
+
+  // ---- Candidate: sensor_runout (drop part) ----
+  // The fitted unbalance's own signature in contact (shaft bending between the contacts,
+  // contact-deflection modulation): a 1x contact residual below it is not called runout.
+  {
+    std::array<double, 2> fu{}, zu{};
+    if (out.levitated_analysed) {
+      for (size_t j = 0; j < 2; ++j) {
+        fu[j] = std::abs(out.levitated.after.unbalance_force_n[j]);
+        zu[j] = out.levitated.after.unbalance_axial_m[j];
+      }
+    } else {
+      // No levitated fit: the board's two largest disk unbalances at the trigger speed.
+      auto disks = b.plant.rotor.disks;
+      std::sort(disks.begin(), disks.end(), [](const auto& x, const auto& y) { return x.unbalance_kg_m > y.unbalance_kg_m; });
+      const double w = 2.0 * M_PI * m.speed_at_trigger_hz;
+      for (size_t j = 0; j < std::min<size_t>(2, disks.size()); ++j) {
+        fu[j] = disks[j].unbalance_kg_m * w * w;
+        zu[j] = disks[j].axial_m;
+      }
+    }
+    const double spin = lev_spin_hz > 0.0 ? lev_spin_hz : m.speed_at_trigger_hz;
+    try {
+      const auto sig = unbalance_contact_signature_m(bu.plant, fu, zu, spin);
+      for (size_t p = 0; p < 2; ++p) out.runout_floor_m[p] = o.spin_locked_factor * sig[p];
+    } catch (const std::exception& e) {
+      out.drop_notes.push_back(std::string("unbalance contact signature not computed: ") + e.what());
+    }
+  }
+  const Readings raw_after = after_trigger(m);
+  out.drop_runout = estimate_contact_runout(raw_after, angle_after, bu.plant, fs, geo);
+  bool lev_runout = false;
+  for (const auto& e : out.levitated.effects_added) lev_runout = lev_runout || e.name == "sensor_runout";
+  const auto& lev_ro = out.levitated.after.effects.runout;
+  CandidateScore rc;
+  rc.name = "sensor_runout";
+  ContactRunout sel;  // the phasors that pass, refitted alone
+  bool runout_sig = false;
+  RunoutMask mask{};
+  if (!out.drop_runout.testable) {
+    rc.testable = false;
+    rc.evidence = "not testable in the drop part: " + out.drop_runout.why_not;
+  } else {
+    // A phasor belongs to the element when it exceeds min_effect_sigma standard errors and,
+    // at 1x, the fitted unbalance's contact signature (the predicted change of the readings
+    // must be beyond the noise and beyond what the base model's own unknowns make).
+    std::string list;
+    bool any = false;
+    for (size_t p = 0; p < 2; ++p)
+      for (size_t h = 0; h < static_cast<size_t>(model::effects::k_runout_orders); ++h) {
+        const double amp = std::abs(out.drop_runout.runout.r_m[p][h]), sg = out.drop_runout.sigma_m[p][h];
+        const double z = sg > 0.0 ? amp / sg : 0.0;
+        mask[p][h] = z >= o.loop.min_effect_sigma && (h > 0 || amp > out.runout_floor_m[p]);
+        any = any || mask[p][h];
+        list += std::string(list.empty() ? "" : ", ") + (p == 0 ? "A " : "B ") +
+                fmt("%.0fx %.2f um", static_cast<double>(h + 1), amp * 1e6) + fmt(" (%.1f sigma)", z);
+      }
+    if (any) {
+      sel = estimate_contact_runout(raw_after, angle_after, bu.plant, fs, geo, mask);
+      runout_sig = sel.testable && sel.delta_bic > o.loop.min_delta_bic;
+    }
+    rc.delta_bic = any && sel.testable ? sel.delta_bic : out.drop_runout.delta_bic;
+    rc.evidence = "spin-locked departure of the contact points from the clearance circles: " + list +
+                  fmt("; 1x floor (fitted unbalance bending the shaft between the contacts, x%.2f): A %.2f um, ", o.spin_locked_factor,
+                      out.runout_floor_m[0] * 1e6) +
+                  fmt("B %.2f um; %.0f decorrelated contact points", out.runout_floor_m[1] * 1e6, out.drop_runout.n_eff) +
+                  fmt("; BIC decrease %.1f", rc.delta_bic);
+    if (!any) rc.evidence += " (no phasor beyond the noise and the unbalance's signature)";
+  }
+  out.drop_ranking.push_back(rc);
+  // What is subtracted from the drop readings: the drop part's estimate decides the 1x (the
+  // levitated part cannot split a 1x runout from unbalance at one speed) when it is testable;
+  // the levitated part's 2x is taken where the drop part has none; without a testable drop
+  // estimate the levitated runout as found.
+  model::effects::SensorRunout apply;
+  bool have_apply = false;
+  if (runout_sig) {
+    apply = sel.runout;
+    have_apply = true;
+    out.runout_source = "drop";
+    if (lev_runout && lev_ro)
+      for (size_t p = 0; p < 2; ++p)
+        if (!mask[p][1] && std::abs(lev_ro->r_m[p][1]) > 0.0) {
+          apply.r_m[p][1] = lev_ro->r_m[p][1];
+          out.runout_source = "levitated 2x + drop";
+        }
+  } else if (lev_runout && lev_ro) {
+    apply = *lev_ro;
+    have_apply = true;
+    out.runout_source = "levitated";
+    if (out.drop_runout.testable) {
+      for (size_t p = 0; p < 2; ++p) apply.r_m[p][0] = 0.0;  // the contact geometry has no 1x runout beyond the noise
+      out.runout_source = "levitated 2x (1x not confirmed by the contact geometry)";
+    }
+  }
+  const bool angle_through = out.angle_known_after_trigger_s >= 0.9 * static_cast<double>(m.sensor_m.size() - first) / fs;
+  if (have_apply && angle_through) {
+    fit::DropMeasurement mc = m;
+    mc.sensor_m = remove_runout(m.sensor_m, angle, apply, bu.plant);
+    const DropErrors e1 = evaluate(mc, base, bu.plant, o);  // runout is a reading artefact: the drop model's motion is unchanged
+    const bool falls = none_rises(out.drop_before.error, e1.error) && e1.error.statics < out.drop_before.error.statics;
+    out.drop_notes.push_back("runout (" + out.runout_source + ") subtracted from the drop readings: " + errs(out.drop_before.error) +
+                             " -> " + errs(e1.error));
+    if (runout_sig && !lev_runout && !falls) {
+      out.drop_notes.push_back("sensor_runout (drop part) not kept: a drop-part error does not fall with it");
+    } else {
+      out.runout_applied = apply;
+      m = mc;
+      out.drop_after = e1;
+      if (runout_sig && !lev_runout) {
+        EffectAdded e;
+        e.name = "sensor_runout";
+        model::effects::EffectSet es;
+        es.runout = apply;
+        e.parameters = effect_parameters(es, model::effects::EffectKind::sensor_runout);
+        e.evidence = rc.evidence;
+        e.delta_bic = rc.delta_bic;
+        drop_added.push_back(e);
+      }
+    }
+  } else if (have_apply) {
+    out.drop_notes.push_back("runout (" + out.runout_source +
+                             ") not subtracted from the drop readings: the rotor angle is not known through the drop (no spin-speed record)");
+  }
+
+  // ---- Candidate: aux_bearing_offset ----
+  const DropErrors& cur = out.drop_after;
   CandidateScore cand;
   cand.name = "aux_bearing_offset";
   std::array<std::array<double, 2>, 2> delta{};
   bool significant = false, testable = true;
   for (int k = 0; k < 2; ++k) {
-    const auto& mc = out.drop_before.measured_circle[static_cast<size_t>(k)];
-    const auto& sc = out.drop_before.simulated_circle[static_cast<size_t>(k)];
+    const auto& mc = cur.measured_circle[static_cast<size_t>(k)];
+    const auto& sc = cur.simulated_circle[static_cast<size_t>(k)];
     const double R = b.plant.aux[static_cast<size_t>(k)].clearance_m;
     if (!mc.valid || !sc.valid) {
       testable = false;
@@ -415,7 +602,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     // The bias correction is the fitted drop model's: when that model does not match the
     // contact (rigid vs compliant, other friction), its bias can itself be the difference. An
     // offset is claimed only when the raw measured centre is also off the model's centre.
-    const auto& mcen = out.drop_before.model_centre_m[static_cast<size_t>(k)];
+    const auto& mcen = cur.model_centre_m[static_cast<size_t>(k)];
     const double raw = std::hypot(mc.centre_m[0] - mcen[0], mc.centre_m[1] - mcen[1]);
     const bool sig_k = dn > std::max(4.0 * sig, o.min_offset_fraction * R) && raw > std::max(4.0 * mc.sigma_m, o.min_offset_fraction * R);
     significant = significant || sig_k;
@@ -427,14 +614,12 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   if (testable) {
     // Candidate score without refit: the scatter about the measured circles' centres
     // (= the bias-corrected model centres moved by delta).
-    const size_t first = static_cast<size_t>(m.trigger_index);
-    const Readings meas(m.sensor_m.begin() + static_cast<long>(first), m.sensor_m.end());
-    const auto mis = contact_misfit(meas, b.plant,
-                                    {out.drop_before.measured_circle[0].centre_m, out.drop_before.measured_circle[1].centre_m}, o);
+    const Readings meas = after_trigger(m);
+    const auto mis = contact_misfit(meas, b.plant, {cur.measured_circle[0].centre_m, cur.measured_circle[1].centre_m}, o);
     double ssr = 0.0;
     for (const auto& [rms, cnt] : mis) ssr += rms * rms * cnt;
-    cand.delta_bic = offset_delta_bic(out.drop_before.misfit_ssr_m2, ssr, out.drop_before.misfit_points, fs, o);
-    const double n_eff = std::max(1.0, out.drop_before.misfit_points * std::min(1.0, 1.0 / (fs * o.decorrelation_s)));
+    cand.delta_bic = offset_delta_bic(cur.misfit_ssr_m2, ssr, cur.misfit_points, fs, o);
+    const double n_eff = std::max(1.0, cur.misfit_points * std::min(1.0, 1.0 / (fs * o.decorrelation_s)));
     cand.evidence = fmt("contact circles off the model's centres by %.1f and %.1f um (%.0f decorrelated contact points)",
                         std::hypot(delta[0][0], delta[0][1]) * 1e6, std::hypot(delta[1][0], delta[1][1]) * 1e6, n_eff);
     cand.evidence += significant ? "" : "; within the estimator's uncertainty";
@@ -451,44 +636,216 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     }
     const fit::DropFitResult refit = fit::fit_drop(m, b2, fo);
     const DropErrors after = evaluate(m, refit, b2.plant, o);
-    const double dbic = offset_delta_bic(out.drop_before.misfit_ssr_m2, after.misfit_ssr_m2, out.drop_before.misfit_points, fs, o);
-    const bool material = after.error.statics <= (1.0 - o.loop.min_relative_improvement) * out.drop_before.error.statics;
+    const double dbic = offset_delta_bic(cur.misfit_ssr_m2, after.misfit_ssr_m2, cur.misfit_points, fs, o);
+    const bool material = after.error.statics <= (1.0 - o.loop.min_relative_improvement) * cur.error.statics;
     out.drop_notes.push_back(fmt("refit with the offset: friction %.3f, contact misfit %.4g -> %.4g of the clearance, dBIC %.1f",
-                                 refit.friction_coefficient, out.drop_before.error.statics, after.error.statics, dbic));
-    // Kept only if every drop-part error falls (orbit rms, spectral, contact misfit; Pearson rises).
-    const auto& e0 = out.drop_before.error;
-    // (a change within 1 % counts as unchanged, as in the steady loop)
-    const double tol = 0.01;
-    const bool all_fall = after.error.rms <= e0.rms * (1.0 + tol) && after.error.spectral <= e0.spectral * (1.0 + tol) &&
-                          after.error.pearson >= e0.pearson * (1.0 - tol) && after.error.statics <= e0.statics * (1.0 + tol);
-    out.drop_notes.push_back(fmt("with the offset: orbit rms %.4f -> %.4f, spectral %.2f -> %.2f dB", e0.rms, after.error.rms,
-                                 e0.spectral, after.error.spectral) +
-                             fmt(", pearson %.3f -> %.3f", e0.pearson, after.error.pearson));
-    if (dbic > o.loop.min_delta_bic && material && all_fall) {
+                                 refit.friction_coefficient, cur.error.statics, after.error.statics, dbic));
+    // Kept only if no drop-part error rises (orbit rms, spectral, contact misfit, Pearson).
+    const bool all_fall = none_rises(cur.error, after.error);
+    out.drop_notes.push_back("with the offset: " + errs(cur.error) + " -> " + errs(after.error));
+    // A refit that puts a fitted value on its bound where the fit without the element did
+    // not is not identified (the element would stand in for something else).
+    const bool new_bound = refit.bound_active && !base.bound_active;
+    if (new_bound) out.drop_notes.push_back("the refit with the offset puts a fitted value on its bound");
+    if (dbic > o.loop.min_delta_bic && material && all_fall && !new_bound) {
       out.drop_after = after;
+      bu = b2;
+      base = refit;
       EffectAdded e;
       e.name = "aux_bearing_offset";
       e.parameters = {{"x0_m", delta[0][0]}, {"y0_m", delta[0][1]}, {"x1_m", delta[1][0]}, {"y1_m", delta[1][1]},
                       {"friction_coefficient", refit.friction_coefficient}};
       e.evidence = cand.evidence;
       e.delta_bic = dbic;
-      out.effects_added.push_back(e);
+      drop_added.push_back(e);
     } else {
-      out.drop_notes.push_back(all_fall ? "aux_bearing_offset not kept: it does not earn its parameters"
-                                        : "aux_bearing_offset not kept: a drop-part error rises with it");
+      out.drop_notes.push_back(!all_fall ? "aux_bearing_offset not kept: a drop-part error rises with it"
+                               : new_bound ? "aux_bearing_offset not kept: the refit is not identified (a value on its bound)"
+                                           : "aux_bearing_offset not kept: it does not earn its parameters");
     }
   }
 
+  // ---- Candidate: aux_support_compliance ----
+  {
+    const Readings meas = after_trigger(m);
+    std::array<std::array<double, 2>, 2> centres{};
+    for (size_t k = 0; k < 2; ++k)
+      centres[k] = out.drop_runout.testable ? out.drop_runout.centre_m[k]
+                   : out.drop_after.measured_circle[k].valid ? out.drop_after.measured_circle[k].centre_m
+                                                             : rig_centre(bu.plant, static_cast<int>(k));
+    out.compliance = estimate_contact_compliance(meas, bu.plant, fs, centres, geo);
+    CandidateScore sc;
+    sc.name = "aux_support_compliance";
+    const auto& cc = out.compliance;
+    if (!cc.testable) {
+      sc.testable = false;
+      sc.evidence = "not testable: " + cc.why_not;
+      out.drop_ranking.push_back(sc);
+    } else {
+      // A support under one bearing: its deflection grows with the contact force beyond the
+      // contact law AND beyond the other bearing's (the rotor's own bending, seen through the
+      // rigid sensor view, grows with the contact forces at both).
+      const size_t k = cc.compliance_m_per_n[0] >= cc.compliance_m_per_n[1] ? 0 : 1, other = 1 - k;
+      const double dc = cc.compliance_m_per_n[k] - cc.compliance_m_per_n[other];
+      const double sd = std::hypot(cc.sigma_m_per_n[k], cc.sigma_m_per_n[other]);
+      const double z = sd > 0.0 ? dc / sd : 0.0;
+      const double change = dc * cc.mean_force_n[k];
+      // Noise floor of that change: its standard error, and the scatter of single contact
+      // points about the regression (most of it the rotor's bending, itself force-locked, so
+      // a smaller force-locked change cannot be told from it).
+      const double floor = std::max(o.loop.min_effect_sigma * sd * cc.mean_force_n[k], 0.5 * (cc.noise_m[0] + cc.noise_m[1]));
+      const double n_eff = std::max(2.0, static_cast<double>(cc.points[k]) / std::max(1.0, fs * o.decorrelation_s));
+      sc.delta_bic = z * z - std::log(n_eff);
+      const double ks = dc > 0.0 ? 1.0 / dc : 0.0;
+      sc.evidence = fmt("contact deflection grows with the force at aux bearing %.0f by %.3g m/N beyond the other's", static_cast<double>(k), dc) +
+                    fmt(" (%.1f sigma; support stiffness %.3g N/m); ", z, ks) +
+                    fmt("predicted change of the contact radius at the mean force %.0f N: %.1f um", cc.mean_force_n[k], change * 1e6) +
+                    fmt(" against a floor of %.1f um", floor * 1e6) + fmt("; BIC decrease %.1f", sc.delta_bic);
+      const bool sig = z >= o.loop.min_effect_sigma && change > floor && sc.delta_bic > o.loop.min_delta_bic;
+      if (!sig) sc.evidence += " (below the noise floor)";
+      out.drop_ranking.push_back(sc);
+      if (sig) {
+        // The drop model with the support: that bearing's contact in series with k_s (secant
+        // stiffness at the mean contact force), refitted.
+        board::BoardConfig b2 = bu;
+        auto& ab = b2.plant.aux[k];
+        const double fm = std::max(cc.mean_force_n[k], 1.0), kc = ab.contact_stiffness_n_per_m;
+        if (ab.contact_law == model::AuxContactLaw::hertz) {
+          const double kh = kc / std::sqrt(1e-5);
+          const double d = std::pow(fm / kh, 2.0 / 3.0) + fm / ks;
+          ab.contact_stiffness_n_per_m = fm / std::pow(d, 1.5) * std::sqrt(1e-5);
+        } else {
+          ab.contact_stiffness_n_per_m = kc * ks / (kc + ks);
+        }
+        const fit::DropFitResult refit = fit::fit_drop(m, b2, fo);
+        const DropErrors after = evaluate(m, refit, b2.plant, o);
+        const double rx0 = std::abs(out.drop_after.radius_excess_m[k]), rx1 = std::abs(after.radius_excess_m[k]);
+        const bool radius_falls = out.drop_after.measured_circle[k].valid && out.drop_after.simulated_circle[k].valid &&
+                                  after.simulated_circle[k].valid && rx1 <= (1.0 - o.loop.min_relative_improvement) * rx0;
+        const bool all_fall = none_rises(out.drop_after.error, after.error);
+        out.drop_notes.push_back(fmt("refit with a support under aux bearing %.0f (k_s %.3g N/m", static_cast<double>(k), ks) +
+                                 (k == 0 ? "; the present drop fit applies bearing 0's contact stiffness to both bearings"
+                                         : "; the present drop fit applies bearing 0's contact stiffness to both bearings, so this refit is unchanged") +
+                                 "): " + errs(out.drop_after.error) +
+                                 " -> " + errs(after.error) + fmt("; contact radius excess %.1f -> %.1f um", rx0 * 1e6, rx1 * 1e6));
+        const bool new_bound = refit.bound_active && !base.bound_active;
+        if (new_bound) out.drop_notes.push_back(fmt("the refit with the support puts a fitted value on its bound (friction %.3f)", refit.friction_coefficient));
+        if (all_fall && radius_falls && !new_bound) {
+          out.drop_after = after;
+          bu = b2;
+          base = refit;
+          EffectAdded e;
+          e.name = "aux_support_compliance";
+          e.parameters = {{"bearing", static_cast<double>(k)}, {"stiffness_n_per_m", ks}, {"friction_coefficient", refit.friction_coefficient}};
+          e.evidence = sc.evidence;
+          e.delta_bic = sc.delta_bic;
+          drop_added.push_back(e);
+        } else {
+          out.drop_notes.push_back(std::string("aux_support_compliance not kept: ") +
+                                   (!all_fall      ? "a drop-part error rises with it"
+                                    : new_bound    ? "the refit is not identified (a value on its bound)"
+                                                   : "the contact radius of the refitted model does not move towards the measured one"));
+        }
+      }
+    }
+  }
+
+  // ---- Unexplained (drop part) ----
+  std::vector<UnexplainedItem> du;
+  {
+    // Bands: runs of adjacent 1/3-octave bands where the measured drop spectrum is off the
+    // fitted model's by more than 6 dB (mean of the plane's sensors).
+    const auto& e = out.drop_after;
+    for (int p = 0; p < 2; ++p) {
+      const auto& v = e.band_db[static_cast<size_t>(p)];
+      for (size_t i = 0; i < v.size() && i < e.band_hz.size();) {
+        if (std::abs(v[i]) <= 6.0) {
+          ++i;
+          continue;
+        }
+        size_t j = i;
+        double peak = v[i];
+        while (j + 1 < v.size() && j + 1 < e.band_hz.size() && std::abs(v[j + 1]) > 6.0 && (v[j + 1] > 0) == (v[i] > 0)) {
+          ++j;
+          if (std::abs(v[j]) > std::abs(peak)) peak = v[j];
+        }
+        UnexplainedItem u;
+        u.part = "drop";
+        u.kind = "band";
+        u.plane = p;
+        u.f_hz = e.band_hz[i];
+        u.f_hi_hz = e.band_hz[j];
+        u.level_db = peak;
+        du.push_back(u);
+        i = j + 1;
+      }
+    }
+    // Spin-locked contact residuals not taken by an element (beyond the noise).
+    if (out.drop_runout.testable && out.runout_applied.r_m == model::effects::SensorRunout{}.r_m)
+      for (size_t p = 0; p < 2; ++p)
+        for (size_t h = 0; h < static_cast<size_t>(model::effects::k_runout_orders); ++h) {
+          const double amp = std::abs(out.drop_runout.runout.r_m[p][h]), sg = out.drop_runout.sigma_m[p][h];
+          if (sg > 0.0 && amp / sg >= o.loop.min_effect_sigma) {
+            UnexplainedItem u;
+            u.part = "drop";
+            u.kind = "order";
+            u.order = static_cast<int>(h + 1);
+            u.plane = static_cast<int>(p);
+            u.f_hz = static_cast<double>(h + 1) * (lev_spin_hz > 0.0 ? lev_spin_hz : m.speed_at_trigger_hz);
+            u.snr = (amp / sg) * (amp / sg);
+            u.direction = "forward";
+            u.amplitude_m = amp;
+            du.push_back(u);
+          }
+        }
+    // A compliance asymmetry beyond 3 standard errors that no element took.
+    bool support_added = false;
+    for (const auto& e2 : drop_added) support_added = support_added || e2.name == "aux_support_compliance";
+    if (out.compliance.testable && !support_added) {
+      const auto& cc = out.compliance;
+      const size_t k = cc.compliance_m_per_n[0] >= cc.compliance_m_per_n[1] ? 0 : 1;
+      const double dc = cc.compliance_m_per_n[k] - cc.compliance_m_per_n[1 - k];
+      const double sd = std::hypot(cc.sigma_m_per_n[0], cc.sigma_m_per_n[1]);
+      if (sd > 0.0 && dc / sd >= o.loop.min_effect_sigma) {
+        UnexplainedItem u;
+        u.part = "drop";
+        u.kind = "contact_compliance";
+        u.plane = static_cast<int>(k);
+        u.value = dc;
+        u.snr = (dc / sd) * (dc / sd);
+        u.amplitude_m = dc * cc.mean_force_n[k];
+        du.push_back(u);
+      }
+    }
+  }
+
+  std::stable_sort(out.drop_ranking.begin(), out.drop_ranking.end(), [](const CandidateScore& x, const CandidateScore& y) {
+    if (x.testable != y.testable) return x.testable;
+    return x.delta_bic > y.delta_bic;
+  });
+
+  // ---- The event ----
   std::vector<EffectAdded> all = out.levitated_analysed ? out.levitated.effects_added : std::vector<EffectAdded>{};
-  all.insert(all.end(), out.effects_added.begin(), out.effects_added.end());
+  // A runout named in the levitated part carries the drop part's 1x when that decided it.
+  if (!out.runout_source.empty() && out.runout_source != "levitated")
+    for (auto& e : all)
+      if (e.name == "sensor_runout") {
+        model::effects::EffectSet es;
+        es.runout = out.runout_applied;
+        e.parameters = effect_parameters(es, model::effects::EffectKind::sensor_runout);
+        e.evidence += "; 1x from the drop part's contact geometry (" + out.runout_source + ")";
+      }
+  all.insert(all.end(), drop_added.begin(), drop_added.end());
   out.effects_added = all;
   if (out.levitated_analysed) {
     out.before = combine(out.levitated.before.error, out.drop_before.error);
     out.after = combine(out.levitated.after.error, out.drop_after.error);
+    out.unexplained = out.levitated.unexplained;
   } else {
     out.before = out.drop_before.error;
     out.after = out.drop_after.error;
   }
+  out.unexplained.insert(out.unexplained.end(), du.begin(), du.end());
   out.verdict.clear();
   for (const auto& e : out.effects_added) out.verdict += (out.verdict.empty() ? "" : "+") + e.name;
   if (out.verdict.empty()) out.verdict = "none";

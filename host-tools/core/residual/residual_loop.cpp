@@ -197,6 +197,7 @@ struct Fitter {
           with([&](EffectSet& e) { e.saturation = model::effects::MagneticSaturation{r * bd.bias_a}; });
         break;
       case EffectKind::sensor_mass: break;
+      case EffectKind::aux_support_compliance: break;  // drop part only (drop_residual.cpp)
     }
     // Scan the starts; refine the best two (a scan alone resolves the one-parameter ones).
     std::vector<std::pair<double, size_t>> scored;
@@ -255,6 +256,7 @@ std::string evidence_for(EffectKind k, const ResidualStructure& s, double delta_
       e = fmt("static currents %.2f times the model's (force per ampere below the board's ki)", s.static_current_ratio);
       break;
     case EffectKind::sensor_mass: e = "not applicable to displacement-sensor records"; break;
+    case EffectKind::aux_support_compliance: e = "acts only in contact: a drop-part candidate"; break;
   }
   return e + fmt("; BIC decrease %.1f", delta_bic);
 }
@@ -299,6 +301,10 @@ std::vector<std::pair<std::string, double>> effect_parameters(const EffectSet& e
       break;
     case EffectKind::sensor_mass:
       if (e.sensor_mass) p = {{"mass_kg", e.sensor_mass->mass_kg}};
+      break;
+    case EffectKind::aux_support_compliance:
+      if (e.aux_support)
+        p = {{"bearing", e.aux_support->bearing}, {"stiffness_n_per_m", e.aux_support->stiffness_n_per_m}};
       break;
   }
   return p;
@@ -554,6 +560,16 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
     out.model_update = {true, current.update.loop_delay_s, current.update.force_scale, now.force_noise_rms_n, now.noise_rms_m,
                         out.before.bic - now.bic};
   }
+  // A parameter of the update on its bound is not identified: the update then stands in for
+  // something it does not describe (e.g. the force scale taking a saturation's ki loss at
+  // the operating point). The updated model is then no yardstick for the first element: its
+  // errors are judged against the board's model (its BIC still against the updated one, and
+  // the element is fitted together with the update).
+  auto update_at_bound = [&](const EffectSet& e) {
+    return o.update_model && (e.update.force_scale <= k_force_scale_min * 1.001 || e.update.force_scale >= k_force_scale_max * 0.999 ||
+                              e.update.loop_delay_s * d.fs_hz >= k_max_delay_samples * 0.999);
+  };
+  out.model_update.at_bound = update_at_bound(current);
   out.updated = now;
   out.structure = analyse_structure(d, b, now);
   const std::vector<EffectKind> kinds{EffectKind::pedestal_resonance, EffectKind::sensor_runout,
@@ -574,16 +590,20 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
     std::vector<CandidateScore> scores;
     std::vector<EffectSet> fitted;
     std::vector<int> material;
+    // The errors an element must not raise (and must lower materially): the current model's,
+    // or the board model's while the update is not identified (see above).
+    const SteadyEvaluation& err_ref = round == 0 && out.model_update.at_bound ? out.before : now;
     auto significant = [&](const SteadyEvaluation& a, const SteadyEvaluation& c) {
       // Rest-position error counts once it exceeds 2 % of the clearance. Overwhelming
       // evidence (BIC decrease >= strong_delta_bic) may carry half the practical gain.
       const double r = o.min_relative_improvement;
-      if (!none_worse(a, c)) return false;
+      const SteadyEvaluation& ea = err_ref;
+      if (!none_worse(ea, c)) return false;
       if (effect_size_sigma(d, b, c, a) < o.min_effect_sigma) return false;
-      if (a.bic - c.bic >= o.strong_delta_bic && c.error.spectral <= (1.0 - 0.5 * r) * a.error.spectral) return true;
-      return c.error.spectral <= (1.0 - r) * a.error.spectral ||
-             c.error.rms <= (1.0 - o.min_relative_improvement) * a.error.rms ||
-             (a.error.statics > 0.02 && c.error.statics <= (1.0 - o.min_relative_improvement) * a.error.statics);
+      if (a.bic - c.bic >= o.strong_delta_bic && c.error.spectral <= (1.0 - 0.5 * r) * ea.error.spectral) return true;
+      return c.error.spectral <= (1.0 - r) * ea.error.spectral ||
+             c.error.rms <= (1.0 - o.min_relative_improvement) * ea.error.rms ||
+             (ea.error.statics > 0.02 && c.error.statics <= (1.0 - o.min_relative_improvement) * ea.error.statics);
     };
     for (EffectKind k : kinds) {
       if (current.has(k)) continue;
@@ -628,7 +648,7 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
                           100.0 * ki_variation);
       else if (bound) c.evidence += " (a fitted parameter is at its bound or not bounded by the data: not identified)";
       else if (z < o.min_effect_sigma) c.evidence += " (no effect within the recorded range: below the noise)";
-      else if (!none_worse(now, ev)) c.evidence += " (a reported error rises)";
+      else if (!none_worse(err_ref, ev)) c.evidence += " (a reported error rises)";
       else if (!significant(now, ev)) c.evidence += " (not a material improvement)";
       scores.push_back(c);
       fitted.push_back(e);

@@ -37,7 +37,9 @@ struct LoopOptions {
 
 /// A part of the residual that no element explains (after the loop), with its structure.
 struct UnexplainedItem {
-  std::string kind;        ///< "band" (fixed-frequency PSD excess or deficit) or "order" (speed-locked line)
+  std::string part = "levitated"; ///< "levitated" (steady loop) or "drop" (drop part of a drop event)
+  std::string kind;        ///< "band" (fixed-frequency PSD excess or deficit), "order" (speed-locked line), or
+                           ///< (drop part) "contact_compliance" (deflection growing with the contact force at one bearing)
   double f_hz = 0.0;       ///< band centre or line frequency, Hz
   int order = 0;           ///< speed order (kind "order"), else 0
   int plane = -1;          ///< bearing plane carrying most of it (0 = A, 1 = B)
@@ -45,6 +47,8 @@ struct UnexplainedItem {
   double snr = 0.0;        ///< order: residual line power / its noise power
   std::string direction;   ///< order: "forward" or "backward" whirl of the residual line (full spectrum)
   double amplitude_m = 0.0; ///< order: residual line amplitude at that plane, m
+  double f_hi_hz = 0.0;    ///< drop-part band: upper end of a run of adjacent bands (f_hz its lower end), Hz
+  double value = 0.0;      ///< contact_compliance: compliance beyond the other bearing's, m/N
 };
 
 /// Full-spectrum (seed 002) components of one bearing plane at one speed order:
@@ -91,6 +95,7 @@ struct ModelUpdateReport {
   double force_noise_rms_n = 0.0; ///< fitted force disturbance, N rms per sample and axis
   double noise_rms_m = 0.0;       ///< fitted sensor noise, m rms per sample
   double delta_bic = 0.0;         ///< BIC(board values) - BIC(updated)
+  bool at_bound = false;          ///< a fitted value on its bound (not identified): the first element's errors are judged against the board model
 };
 
 struct ResidualOutcome {

@@ -51,6 +51,7 @@ int element_parameters(EffectKind k) {
     case EffectKind::rotor_mode: return 1;
     case EffectKind::magnetic_saturation: return 1;
     case EffectKind::sensor_mass: return 1;
+    case EffectKind::aux_support_compliance: return 1;
   }
   return 0;
 }

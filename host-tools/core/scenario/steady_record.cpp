@@ -31,6 +31,7 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
   b.lifecycle.spin_accel_hz_per_s = o.spin_accel_hz_per_s;
   sil::SilOptions so;
   so.noise_seed = o.seed;
+  so.tachometer = o.tachometer;
   sil::SilRig rig(b, std::move(plant), so);
   Collector sink;
   sink.samples.reserve(static_cast<size_t>((o.rest_s + o.steady_s + 3.0) * b.rate_hz));

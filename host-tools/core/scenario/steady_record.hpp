@@ -27,6 +27,9 @@ struct SteadyRecordOptions {
   /// Scale of the board's disk unbalances in the generator's plant (the rig's truth; the host
   /// model never reads it: the residual loop solves the unbalance as an unknown), 1
   double unbalance_scale = 1.0;
+  /// Give the firmware a tachometer (the rig's true spin speed; the recorded speed channel then
+  /// follows the spin through a drop instead of being lost with the tracker's lock).
+  bool tachometer = false;
 };
 
 /// Steady run or drop event (see drop_s). Writes DIR/STEM.json + DIR/STEM.csv; returns the sidecar path. Throws on a failed run.
