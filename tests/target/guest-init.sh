@@ -53,6 +53,14 @@ start_service() {
   RTPRIO=$(unitval LimitRTPRIO); MEMLOCK=$(unitval LimitMEMLOCK); AFF=$(unitval CPUAffinity)
   [ "$MEMLOCK" = infinity ] && MEMLOCK=unlimited
   EXEC=$(unitval ExecStart)
+  # Type=notify + WatchdogSec: systemd's NOTIFY_SOCKET and WATCHDOG_USEC; socat is the receiver.
+  WDSEC=$(unitval WatchdogSec | tr -d 's')
+  mkdir -p /run
+  socat -u UNIX-RECV:/run/amb-notify,unlink-early OPEN:/tmp/notify.log,creat,append 2>/tmp/socat.err &
+  NOTIFY=$!
+  i=0; while [ ! -S /run/amb-notify ] && [ $i -lt 50 ]; do sleep 0.1; i=$((i+1)); done
+  export NOTIFY_SOCKET=/run/amb-notify WATCHDOG_USEC=$((WDSEC * 1000000))
+  FW_T0=$(cut -d. -f1 /proc/uptime)
   echo "GUEST-UNIT: LimitRTPRIO=$RTPRIO LimitMEMLOCK=$MEMLOCK CPUAffinity=$AFF ExecStart=$EXEC (AMB_BOARD=$AMB_BOARD AMB_DATA_DIR=$AMB_DATA_DIR AMB_OPTIONS=$AMB_OPTIONS)"
   ( ulimit -r "$RTPRIO" && ulimit -l "$MEMLOCK" || echo "GUEST-UNIT: ulimit failed"
     eval "exec taskset -c $AFF $EXEC" ) > /tmp/firmware.log 2>&1 &
@@ -121,6 +129,8 @@ while read -r cmd; do
       kill $FW
       i=0; while kill -0 $FW 2>/dev/null && [ $i -lt 300 ]; do sleep 0.1; i=$((i+1)); done
       sed 's/^/GUEST-FW: /' /tmp/firmware.log | tail -n 6
+      sleep 0.3; kill $NOTIFY 2>/dev/null
+      echo "GUEST-NOTIFY: READY=1 x$(grep -o 'READY=1' /tmp/notify.log | wc -l) WATCHDOG=1 x$(grep -o 'WATCHDOG=1' /tmp/notify.log | wc -l) STOPPING=1 x$(grep -o 'STOPPING=1' /tmp/notify.log | wc -l) in $(( $(cut -d. -f1 /proc/uptime) - FW_T0 )) s, WatchdogSec $WDSEC s $(cat /tmp/socat.err)"
       kill $PLANT 2>/dev/null
       ls -l /var/lib/amb/events /var/lib/amb/wear | sed 's/^/GUEST-DATA: /'
       data_sums GUEST-SHA-STOP

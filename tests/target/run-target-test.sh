@@ -74,6 +74,9 @@ KPKG=$(apt-cache depends linux-image-rt-arm64:arm64 2>/dev/null | sed -n 's/.*De
 KDIR=$(fetch_pkg "$KPKG:arm64") || die "cannot download $KPKG:arm64"
 BBDIR=$(fetch_pkg busybox-static:arm64) || die "cannot download busybox-static:arm64"
 CUDIR=$(fetch_pkg can-utils:arm64) || die "cannot download can-utils:arm64"
+# socat receives the service's sd_notify datagrams in the guest (as systemd's NOTIFY_SOCKET would).
+SOCATDIR=$(fetch_pkg socat:arm64) || die "cannot download socat:arm64"
+WRAPDIR=$(fetch_pkg libwrap0:arm64) || die "cannot download libwrap0:arm64"
 KVER=$(ls "$KDIR/lib/modules" | head -1)
 KIMG=$KDIR/boot/vmlinuz-$KVER
 [ -f "$KIMG" ] || die "no kernel image in $KPKG"
@@ -109,7 +112,7 @@ cp "$BBDIR/bin/busybox" "$R/bin/"
 for a in $("$BBDIR/bin/busybox" --list 2>/dev/null || qemu-aarch64 "$BBDIR/bin/busybox" --list); do
   [ -e "$R/bin/$a" ] || ln -s busybox "$R/bin/$a"
 done
-cp "$PLANT" "$CUDIR/usr/bin/candump" "$CUDIR/usr/bin/cansend" "$R/usr/bin/"
+cp "$PLANT" "$CUDIR/usr/bin/candump" "$CUDIR/usr/bin/cansend" "$SOCATDIR/usr/bin/socat" "$R/usr/bin/"
 cp "$ROOT/boards/arm-virt-hil.toml" "$HERE/arm-virt-tracker.toml" "$R/etc/amb/"
 # The board of this run: the tracker board (tachless speed source, a plant TCG can step in
 # real time; see its header). AMB_TARGET_BOARD=arm-virt-hil runs the older board.
@@ -123,8 +126,8 @@ BOARD_TOML=$HERE/arm-virt-tracker.toml; [ "$BOARD" = arm-virt-hil ] && BOARD_TOM
 ARM_KEY=$(( $(sed -n 's/^arm_key *= *\([0-9xXa-fA-F]*\).*/\1/p' "$BOARD_TOML" | head -1) ))
 cp "$HERE/guest-init.sh" "$R/init" && chmod +x "$R/init"
 # Shared libraries: the NEEDED closure, from the multiarch arm64 install.
-libdirs="/usr/lib/aarch64-linux-gnu /lib/aarch64-linux-gnu"
-todo="$R/usr/bin/amb-firmware $R/usr/bin/amb-plant $R/usr/bin/candump $R/usr/bin/cansend"
+libdirs="/usr/lib/aarch64-linux-gnu /lib/aarch64-linux-gnu $WRAPDIR/lib/aarch64-linux-gnu $WRAPDIR/usr/lib/aarch64-linux-gnu"
+todo="$R/usr/bin/amb-firmware $R/usr/bin/amb-plant $R/usr/bin/candump $R/usr/bin/cansend $R/usr/bin/socat"
 seen=" "
 while [ -n "$todo" ]; do
   next=""
@@ -369,6 +372,14 @@ grep -q 'CANDUMP:.* vcan0 182#' "$LOG" && grep -q 'CANDUMP:.* vcan0 203#' "$LOG"
   || fail "candump did not see the field-bus frames"
 shutdown_vm
 grep 'GUEST-FW: amb-firmware: stopped\|GUEST-FW: amb-firmware: CAN' "$LOG" | sed 's/^/  /'
+# sd_notify: READY=1 once, then WATCHDOG=1 every WatchdogSec/2 while the loop runs.
+NOTE=$(grep -o 'GUEST-NOTIFY: .*' "$LOG" | tail -1)
+echo "  $NOTE"
+NREADY=$(echo "$NOTE" | sed -n 's/.*READY=1 x\([0-9]*\).*/\1/p'); NPET=$(echo "$NOTE" | sed -n 's/.*WATCHDOG=1 x\([0-9]*\).*/\1/p')
+NUP=$(echo "$NOTE" | sed -n 's/.* in \([0-9]*\) s.*/\1/p'); NWD=$(echo "$NOTE" | sed -n 's/.*WatchdogSec \([0-9]*\).*/\1/p')
+if [ "${NREADY:-0}" = 1 ] && [ -n "$NUP" ] && [ -n "$NWD" ] && [ "${NPET:-0}" -ge $(( NUP / NWD )) ] && [ "${NPET:-0}" -le $(( 2 * NUP / NWD + 2 )) ]; then
+  pass "sd_notify on the unit's NOTIFY_SOCKET: READY=1 once, WATCHDOG=1 $NPET times in $NUP s (WatchdogSec ${NWD} s: one per half interval while the loop ran)"
+else fail "sd_notify: expected READY=1 once and about 2 WATCHDOG=1 per WatchdogSec: $NOTE"; fi
 grep -q 'GUEST-FW: amb-firmware: stopped.*memory locked, SCHED_FIFO yes' "$LOG" \
   && pass "the firmware's own summary agrees: memory locked, SCHED_FIFO yes" || fail "firmware summary: $(grep 'GUEST-FW: amb-firmware: stopped' "$LOG")"
 SUMS1=$WORK/sums-first-stop.txt
