@@ -189,7 +189,7 @@ std::string render_envelope_report(const StudySpec& spec, const StudySummary& s)
                    " reused, " + std::to_string(s.cases_failed) + " failed)");
   row("drop", "levitated " + num(spec.settings.settle_s) + " s, then " + num(spec.settings.window_s) + " s after the cut; step " +
                   num(spec.settings.step_s) + " s; contact law " + spec.settings.contact_law);
-  row("life model", "friction-energy budget " + num(spec.settings.friction_energy_budget_j) + " J per aux bearing");
+  row("life model", "friction-energy budget " + num(spec.settings.friction_energy_budget_j, "%.0f") + " J per aux bearing");
   std::string wl;
   for (const auto& [k, n] : whirls) wl += (wl.empty() ? "" : ", ") + k + " " + std::to_string(n);
   row("whirl (worse bearing)", wl);
