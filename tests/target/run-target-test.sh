@@ -277,9 +277,10 @@ echo "loop: periods $(reg32 $((0x402))) (low), overruns $(reg32 $((0x406))) (low
 
 # Levitate, then lose the plant's nodes: the board must go to the safe state (comm_timeout or
 # an earlier fault) and capture a drop event.
-if mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -o 5 -r 4096 127.0.0.1 1 2>&1 | grep -qi 'illegal function'; then
+LV=$(mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -o 5 -r 4096 127.0.0.1 1 2>&1)
+if echo "$LV" | grep -qi 'illegal function'; then
   pass "levitate without the arm sequence refused (exception 1), state $(reg 256)"
-else fail "levitate without the arm sequence not refused"; fi
+else fail "levitate without the arm sequence not refused (state $(reg 256)): $(echo "$LV" | tail -3 | tr '\n' ' ')"; fi
 mb_cmd 1
 sleep 3
 S=$(reg 256); F=$(reg 258)
