@@ -513,6 +513,9 @@ Identifiability identifiability(const UpdateModel& m, const FrfFit& fit, const F
     if (sv(k) > 1e-4 * sv(0)) ++r.rank;
   }
   r.condition = sv(sv.size() - 1) > 0.0 ? sv(0) / sv(sv.size() - 1) : std::numeric_limits<double>::infinity();
+  r.null_share.assign(idx.size(), 0.0);
+  for (Eigen::Index k = r.rank; k < sv.size(); ++k)
+    for (size_t a = 0; a < idx.size(); ++a) r.null_share[a] += std::pow(svd.matrixV()(static_cast<Eigen::Index>(a), k), 2);
   // Covariance (normalised coordinates) = s^2 (J^T J)^+, s^2 = cost / (N - p).
   const double dof = std::max(1.0, static_cast<double>(r0.size()) - static_cast<double>(idx.size()));
   double ss = 0.0;

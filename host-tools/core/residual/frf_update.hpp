@@ -138,6 +138,10 @@ struct Identifiability {
   double condition = 0.0;
   std::vector<std::vector<double>> correlation;  ///< of the estimates, free x free
   std::vector<double> std_normalised;        ///< 1-sigma of each estimate in normalised units (0..1 = bounds)
+  /// Per free parameter, 0..1: its share in the unidentified directions (sum of the squared
+  /// right-singular-vector components over the singular values at or below the rank
+  /// threshold); 0 when the Jacobian has full rank.
+  std::vector<double> null_share;
   std::vector<std::string> notes;            ///< strongly correlated pairs
 };
 Identifiability identifiability(const UpdateModel& m, const FrfFit& fit, const FrfFitData& d);

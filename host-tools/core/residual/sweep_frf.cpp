@@ -499,8 +499,17 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
         {
           const auto id = identifiability(t, f, d);
           std::string why;
+          // A rank deficit counts against the candidate only when its own parameters make up
+          // most of the unidentified directions: a deficit carried by parameters already there
+          // (e.g. a loop delay the data barely see) says nothing about the new element.
           const int deficit = static_cast<int>(id.names.size()) - id.rank;
-          if (deficit > tr.rank_deficit) why = fmt("Jacobian rank %.0f of %.0f", id.rank, static_cast<double>(id.names.size()));
+          double own_share = 0.0;
+          for (size_t a2 = 0; a2 < id.names.size(); ++a2)
+            if (element_of(id.names[a2]) == cs.name || (cs.name == "amplifier_lag" && id.names[a2] == "amplifier_lag_s"))
+              own_share += id.null_share[a2];
+          if (deficit > tr.rank_deficit && own_share > 0.5 * (deficit - tr.rank_deficit))
+            why = fmt("Jacobian rank %.0f of %.0f", id.rank, static_cast<double>(id.names.size())) +
+                  fmt(", its own parameters %.0f %% of the unidentified directions", 100.0 * own_share / deficit);
           for (size_t a2 = 0; a2 < id.names.size(); ++a2)
             for (size_t b2 = 0; b2 < id.names.size(); ++b2)
               if (a2 != b2 && (element_of(id.names[a2]) == cs.name || (cs.name == "amplifier_lag" && id.names[a2] == "amplifier_lag_s")) &&

@@ -17,8 +17,9 @@
 //     selection): the candidate that lowers the BIC most is refitted with everything free and
 //     kept when the BIC falls by more than min_delta_bic, the misfit by min_relative_improvement,
 //     none of its parameters ends on a bound (a parameter on a bound means the element is not
-//     what the data show) and the model stays identifiable (full Jacobian rank, no own parameter
-//     correlated >= 0.99 with another). Candidates:
+//     what the data show) and the model stays identifiable (no own parameter correlated >= 0.99
+//     with another; the Jacobian loses no rank to it: a new deficit counts against the element
+//     when its own parameters make up most of the unidentified directions). Candidates:
 //     accelerometer masses "sensor_mass", the current-amplifier lag freed "amplifier_lag" (held
 //     at the board's bandwidth otherwise), eddy currents
 //     in the AMB iron "eddy_current_lag", a drive coupling on either shaft end
