@@ -1,8 +1,10 @@
 #include "firmware/board/board.hpp"
+#include "firmware/board/board_text.hpp"
 
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "boards/embedded_boards.hpp"
 #include "firmware/board/parse_bearing.hpp"
@@ -196,8 +198,14 @@ void parse_assumed(TableReader r, const toml::table& root, BoardConfig& b) {
 
 BoardConfig parse_board(std::string_view toml_text, const std::string& source) {
   toml::table root;
+  std::string screened;
   try {
-    root = toml::parse(toml_text, source);
+    screened = screen_toml_text(toml_text);
+  } catch (const std::invalid_argument& e) {
+    throw BoardError(source, "", e.what());
+  }
+  try {
+    root = toml::parse(screened, source);
   } catch (const toml::parse_error& e) {
     std::ostringstream os;
     os << "not valid TOML at line " << e.source().begin.line << ", column "

@@ -135,6 +135,32 @@ TEST(Board, BadTomlSyntaxGivesLine) {
   EXPECT_NE(e.find("line 2"), std::string::npos) << e;
 }
 
+TEST(Board, NonAsciiIsRefusedOutsideCommentsAndHarmlessInThem) {
+  // toml++ 3.3 reaches __builtin_unreachable on e.g. U+00B5 while recording a key or a value
+  // (fuzz_board_toml under UBSan): such text is refused with its line and column before parsing.
+  const std::string base = bath_text();
+  const std::string in_key = "schema = \"amb-board/1\"\n[board]\nn\xC2\xB5me = \"x\"\n";
+  std::string e = error_of(in_key);
+  EXPECT_NE(e.find("line 3, column 2"), std::string::npos) << e;
+  EXPECT_NE(e.find("non-ASCII byte 0xC2"), std::string::npos) << e;
+  // In a string value (a description in a local script would be the usual way to meet this).
+  e = error_of(set_key(base, "[board]", "description", "\"Pr\xC3\xBC" "fstand\""));
+  EXPECT_NE(e.find("non-ASCII"), std::string::npos) << e;
+  // In comments (units, names) the file loads as before, with the same values.
+  const auto plain = parse_board(base, "a.toml");
+  const auto commented = parse_board("# r\xC3\xA9glage \xC2\xB5m \xC2\xB0" "C \xE3\x80\x81\n" +
+                                         set_key(base, "[board]", "description", "\"x\" # 40 \xC2\xB5m '\"'"),
+                                     "b.toml");
+  EXPECT_EQ(commented.name, plain.name);
+  EXPECT_EQ(commented.description, "x");
+  EXPECT_EQ(commented.rate_hz, plain.rate_hz);
+  // A '#' inside a string is not a comment: non-ASCII after it is still refused.
+  e = error_of(set_key(base, "[board]", "description", "\"a # \xC2\xB5\""));
+  EXPECT_NE(e.find("non-ASCII"), std::string::npos) << e;
+  // A UTF-8 byte-order mark at the start is accepted.
+  EXPECT_EQ(parse_board("\xEF\xBB\xBF" + base, "c.toml").name, plain.name);
+}
+
 TEST(Board, WrongSchemaIsRefused) {
   std::string t = bath_text();
   t.replace(t.find("amb-board/1"), 11, "amb-board/9");

@@ -1,4 +1,5 @@
 #include "host-tools/core/envelope/envelope_spec.hpp"
+#include "firmware/board/board_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -188,8 +189,14 @@ std::string channels_name(std::uint8_t mask) {
 
 StudySpec parse_spec(const std::string& toml_text, const std::string& source) {
   toml::table root;
+  std::string screened;  // toml++ 3.3 must not see non-ASCII outside comments (board_text.hpp)
   try {
-    root = toml::parse(toml_text, source);
+    screened = amb::board::screen_toml_text(toml_text);
+  } catch (const std::invalid_argument& e) {
+    throw SpecError(source, "(syntax)", e.what());
+  }
+  try {
+    root = toml::parse(screened, source);
   } catch (const toml::parse_error& e) {
     std::ostringstream os;
     os << "line " << e.source().begin.line << ": " << e.description();

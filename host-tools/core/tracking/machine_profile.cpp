@@ -1,4 +1,5 @@
 #include "host-tools/core/tracking/machine_profile.hpp"
+#include "firmware/board/board_text.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -41,8 +42,14 @@ MachineProfile default_machine_profile() { return MachineProfile{}; }
 
 MachineProfile parse_machine_profile(std::string_view toml_text, const std::string& source) {
   toml::table root;
+  std::string screened;  // toml++ 3.3 must not see non-ASCII outside comments (board_text.hpp)
   try {
-    root = toml::parse(toml_text, source);
+    screened = amb::board::screen_toml_text(toml_text);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(source + ": " + e.what());
+  }
+  try {
+    root = toml::parse(screened, source);
   } catch (const toml::parse_error& e) {
     std::ostringstream os;
     os << source << ": TOML syntax error at line " << e.source().begin.line << ": " << e.description();
