@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: install dependencies, build for the host and run every test,
 # cross-build for the aarch64 board and run the unit tests under qemu-user, then run the
-# target test on an emulated ARM board; in between, a short fuzz run of every outside-input parser.
+# target test on an emulated ARM board; in between, a short fuzz run of every outside-input parser
+# and the sanitizer smoke runs (ASan+UBSan, TSan).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
@@ -24,6 +25,13 @@ ctest --test-dir "$BUILD" -j"$JOBS" --output-on-failure --timeout 900 -LE long
 if [ "${AMB_SKIP_FUZZ:-0}" != 1 ]; then
   echo "== fuzz smoke: every outside-input parser, 10 s each under ASan+UBSan (scripts/fuzz.sh)"
   AMB_FUZZ_BUILD_DIR="$ROOT/build-fuzz" bash scripts/fuzz.sh --smoke
+fi
+
+if [ "${AMB_SKIP_SANITIZERS:-0}" != 1 ]; then
+  # Full runs (every host test folder): bash scripts/sanitizers.sh asan|tsan (docs/hardening.md)
+  echo "== sanitizer smoke: ASan+UBSan on the firmware and linux tests, TSan on the threaded parts"
+  AMB_SAN_BUILD_DIR="$ROOT/build-asan" bash scripts/sanitizers.sh asan --smoke
+  AMB_SAN_BUILD_DIR="$ROOT/build-tsan" bash scripts/sanitizers.sh tsan --smoke
 fi
 
 if [ "${AMB_SKIP_ARM:-0}" != 1 ]; then
