@@ -178,6 +178,29 @@ TEST(MatStructure, LibmatioFindingFromFuzzingIsRefusedWithAMessage) {
   EXPECT_THROW((void)amb::host::list_mat_variables(p.string()), std::runtime_error);
 }
 
+TEST(MatStructure, FunctionHandleIsRefusedAndOpaqueTagsAreBounded) {
+  // fuzz_mat_file (1e6 run): a class-16 array whose name tag claims 1.1 GB sent libmatio into
+  // allocating and zeroing it (a 10 s time-out per input under ASan).
+  Bytes c;
+  put32(c, 6, false); put32(c, 8, false); put32(c, 16 /*function*/, false); put32(c, 0, false);
+  put32(c, 5, false); put32(c, 8, false); put32(c, 16, false); put32(c, 1, false);
+  put32(c, 1, false); put32(c, 0x44000007u, false); c.resize(c.size() + 8, 'f');
+  Bytes e;
+  put32(e, 14, false); put32(e, static_cast<std::uint32_t>(c.size()), false);
+  e.insert(e.end(), c.begin(), c.end());
+  std::string why = refusal(file_with(e));
+  EXPECT_NE(why.find("function handle"), std::string::npos) << why;
+  EXPECT_THROW((void)amb::host::list_mat_variables(write_temp(file_with(e), "function-handle.mat")), std::runtime_error);
+  // The same oversized name tag in an opaque object (class 17) is refused by its bound.
+  c[8] = 17;
+  Bytes o;
+  put32(o, 14, false); put32(o, static_cast<std::uint32_t>(c.size() - 16), false);
+  o.insert(o.end(), c.begin(), c.begin() + 16);                      // flags
+  o.insert(o.end(), c.begin() + 32, c.end());                        // name tag straight after
+  why = refusal(file_with(o));
+  EXPECT_NE(why.find("opaque object name declares"), std::string::npos) << why;
+}
+
 TEST(MatStructure, EveryMeasuredRecordingPasses) {
   const fs::path measured = fs::path(amb::test::shared_dir()) / "data/measured";
   if (!fs::exists(measured)) GTEST_SKIP() << "no ../shared/data/measured next to the repository";

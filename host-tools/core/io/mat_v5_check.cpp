@@ -89,7 +89,16 @@ class Walker {
     const std::uint32_t flag_word = u32(flags.data);
     const std::uint32_t cls = flag_word & 0xFF;
     const bool complex = (flag_word & kComplexFlag) != 0;
-    if (cls == kMxOpaque || cls == kMxFunction) return;  // bounds already checked by the parent tag
+    // A function handle is no recording, and libmatio reads its header (a name tag of any
+    // claimed size) before anything else is checked (fuzz_mat_file: a 1.1 GB name in a 326-byte
+    // file, allocated and zeroed). An opaque object (MCOS: name, type system, class name, then
+    // its data) is kept, each of its tags bounded by its parent.
+    if (cls == kMxFunction) fail(data, "a function handle (array class 16) is not recorded data");
+    if (cls == kMxOpaque) {
+      const std::size_t q = tag(flags.next, end, "opaque object name").next;
+      (void)tag(tag(q, end, "opaque type system").next, end, "opaque class name");
+      return;
+    }
     const Tag dims = tag(flags.next, end, "dimensions");
     if (dims.type != kMiInt32 || dims.nbytes % 4 != 0 || dims.nbytes < 8)
       fail(flags.next, "dimensions are not at least two miINT32 values");
