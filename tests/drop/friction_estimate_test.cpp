@@ -15,6 +15,7 @@
 #include "model/drop/drop_simulation.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
 #include "tests/drop/friction_sweep_cell.hpp"
+#include "tests/drop/plant_drop.hpp"
 #include "tests/support/test_paths.hpp"
 
 
@@ -23,29 +24,6 @@ namespace {
 const amb::board::BoardConfig& board() {
   static const auto b = amb::board::load_board("bath-amb-rig");
   return b;
-}
-
-// A drop of the penalty plant with friction `mu` at `spin_hz`: `seconds` at 10 kHz, amplifiers
-// cut at the first sample.
-hf::DropMeasurement plant_drop(double mu, double spin_hz, amb::model::PlantParams p, double seconds) {
-  for (auto& a : p.aux) a.friction_coefficient = mu;
-  amb::model::RotorAmbPlant plant(p);
-  plant.reset(true, spin_hz);
-  amb::model::PlantInputs in;
-  in.amplifiers_enabled = false;
-  hf::DropMeasurement m;
-  m.source = "penalty plant";
-  m.rig = "bath-amb-rig";
-  m.sample_rate_hz = 1e4;
-  m.trigger_index = 0;
-  m.speed_at_trigger_hz = spin_hz;
-  const int n = static_cast<int>(seconds * 1e4);
-  for (int i = 0; i < n; ++i) {
-    m.sensor_m.push_back(plant.outputs().displacement_m);
-    m.speed_rad_s.push_back(2.0 * M_PI * plant.outputs().spin_speed_hz);
-    plant.step(1e-4, in);
-  }
-  return m;
 }
 
 void print(const char* what, double truth, const hf::FrictionEstimate& e) {
@@ -74,7 +52,7 @@ TEST(FrictionEstimate, PlantDrops) {
                {0.5, 50.0, &board().plant, "plant 0.5 50 Hz"},
                {0.15, 45.0, &whirling, "plant heavy ring + unbalance 0.15 45 Hz"}};
   for (const auto& c : cases) {
-    const hf::DropMeasurement m = plant_drop(c.mu, c.spin_hz, *c.p, 0.3);
+    const hf::DropMeasurement m = amb::test::plant_drop(c.mu, c.spin_hz, *c.p, 0.3);
     const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
     print(c.name, c.mu, e);
     ASSERT_TRUE(e.valid) << c.name << ": " << e.note;
@@ -90,7 +68,7 @@ TEST(FrictionEstimate, ShortSlidingIsDeclinedNotGuessed) {
   auto whirling = board().plant;
   for (auto& a : whirling.aux) a.ring_inertia_kg_m2 = 2e-3;
   for (auto& d : whirling.rotor.disks) d.unbalance_kg_m = 1e-4;
-  const hf::DropMeasurement m = plant_drop(0.4, 45.0, whirling, 0.3);
+  const hf::DropMeasurement m = amb::test::plant_drop(0.4, 45.0, whirling, 0.3);
   const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
   print("plant whirl 0.4", 0.4, e);
   if (e.valid) {
@@ -103,7 +81,7 @@ TEST(FrictionEstimate, ShortSlidingIsDeclinedNotGuessed) {
 // No friction at all: no window slides with a ratio worth the name, the estimate stays near 0
 // (it must not find the windows' noise to be friction).
 TEST(FrictionEstimate, FrictionlessPlantDropReadsNearZero) {
-  const hf::DropMeasurement m = plant_drop(0.0, 45.0, board().plant, 0.15);
+  const hf::DropMeasurement m = amb::test::plant_drop(0.0, 45.0, board().plant, 0.15);
   const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
   print("plant frictionless", 0.0, e);
   if (e.valid) {

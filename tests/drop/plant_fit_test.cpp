@@ -10,6 +10,7 @@
 #include "firmware/board/board.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
+#include "tests/drop/plant_drop.hpp"
 
 namespace hf = amb::host::fit;
 
@@ -18,27 +19,6 @@ namespace {
 const amb::board::BoardConfig& board() {
   static const auto b = amb::board::load_board("bath-amb-rig");
   return b;
-}
-
-// A drop of the penalty plant with friction `mu` at `spin_hz`, 0.4 s at 10 kHz.
-hf::DropMeasurement plant_drop(double mu, double spin_hz, amb::model::PlantParams p) {
-  for (auto& a : p.aux) a.friction_coefficient = mu;
-  amb::model::RotorAmbPlant plant(p);
-  plant.reset(true, spin_hz);
-  amb::model::PlantInputs in;
-  in.amplifiers_enabled = false;
-  hf::DropMeasurement m;
-  m.source = "penalty plant";
-  m.rig = "bath-amb-rig";
-  m.sample_rate_hz = 1e4;
-  m.trigger_index = 0;
-  m.speed_at_trigger_hz = spin_hz;
-  for (int i = 0; i < 4000; ++i) {
-    m.sensor_m.push_back(plant.outputs().displacement_m);
-    m.speed_rad_s.push_back(2.0 * M_PI * plant.outputs().spin_speed_hz);
-    plant.step(1e-4, in);
-  }
-  return m;
 }
 
 }  // namespace
@@ -53,7 +33,7 @@ TEST(PlantDropFit, RecoversFrictionBouncingAndBackwardWhirl) {
   for (auto& d : whirling.rotor.disks) d.unbalance_kg_m = 1e-4;
   const Case cases[] = {{0.15, 45.0, board().plant}, {0.4, 45.0, whirling}};
   for (const auto& c : cases) {
-    const hf::DropMeasurement m = plant_drop(c.mu, c.spin_hz, c.p);
+    const hf::DropMeasurement m = amb::test::plant_drop(c.mu, c.spin_hz, c.p, 0.4);
     amb::board::BoardConfig b = board();
     b.plant = c.p;
     for (auto& a : b.plant.aux) a.friction_coefficient = 0.15;  // the board's assumption, not the truth
