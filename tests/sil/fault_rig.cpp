@@ -337,18 +337,21 @@ void flood_client(uint16_t port, int id, const std::atomic<bool>& stop, FloodCou
 /// and long), a truncated header, an unknown function, a wrong unit.
 void malformed_client(uint16_t port, int id, const std::atomic<bool>& stop, FloodCounters& fc, uint64_t max_requests) {
   std::mt19937 rng(static_cast<uint32_t>(77 + id));
+  // Every kind in turn (the one-second hold last), so each is sent within a client's first
+  // seven frames even when a slow build (TSan) lets a client send only a few.
+  unsigned kind = 5 + static_cast<unsigned>(id);
   while (!stop.load() && fc.requests.load() < max_requests) {
     std::vector<uint8_t> b;
     bool linger = true;
     double hold_s = 0.0;
-    switch (rng() % 7) {
+    switch (kind++ % 7) {
       case 0: b.resize(1 + rng() % 40); for (auto& x : b) x = static_cast<uint8_t>(rng()); break;
       case 1: b = {0, 1, 0x12, 0x34, 0, 6, 1, 3, 0, 0, 0, 1}; break;          // protocol id != 0
       case 2: b = {0, 2, 0, 0, 0, 3, 1, 3, 0, 0, 0, 1}; break;                // length says 3, 6 follow
-      case 3: b = {0, 3, 0, 0, 0, 40, 1, 3, 0, 0, 0, 1}; linger = false; hold_s = 1.2; break; // length 40: the rest never comes
-      case 4: b = {0, 4, 0, 0}; linger = false; break;                        // truncated header
-      case 5: b = {0, 5, 0, 0, 0, 2, 1, 0x2B}; break;                         // function not served
-      default: b = {0, 6, 0, 0, 0, 6, 99, 3, 0, 0, 0, 1}; break;              // another unit
+      case 3: b = {0, 4, 0, 0}; linger = false; break;                        // truncated header
+      case 4: b = {0, 5, 0, 0, 0, 2, 1, 0x2B}; break;                         // function not served
+      case 5: b = {0, 6, 0, 0, 0, 6, 99, 3, 0, 0, 0, 1}; break;               // another unit
+      default: b = {0, 3, 0, 0, 0, 40, 1, 3, 0, 0, 0, 1}; linger = false; hold_s = 1.2; break; // length 40: the rest never comes
     }
     raw_exchange(port, b, linger, hold_s);
     fc.malformed_sent.fetch_add(1);
