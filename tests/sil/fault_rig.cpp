@@ -268,9 +268,11 @@ struct WindowHist {
 // ---- Modbus load -------------------------------------------------------------------------------
 
 /// One raw TCP exchange (malformed frames): connect, send, wait briefly for an answer, close.
-void raw_exchange(uint16_t port, const std::vector<uint8_t>& bytes, bool linger, double hold_s = 0.0) {
+/// True when an answer came (only looked for with `linger`).
+bool raw_exchange(uint16_t port, const std::vector<uint8_t>& bytes, bool linger, double hold_s = 0.0) {
+  bool answered = false;
   const int s = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (s < 0) return;
+  if (s < 0) return false;
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_port = htons(port);
@@ -280,14 +282,16 @@ void raw_exchange(uint16_t port, const std::vector<uint8_t>& bytes, bool linger,
   if (::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
     (void)::send(s, bytes.data(), bytes.size(), MSG_NOSIGNAL);
     uint8_t reply[300];
-    if (linger) (void)::recv(s, reply, sizeof reply, 0);
+    if (linger) answered = ::recv(s, reply, sizeof reply, 0) > 0;
     if (hold_s > 0) sleep_s(hold_s);  // a slow (or hostile) client sitting on a partial request
   }
   ::close(s);
+  return answered;
 }
 
 struct FloodCounters {
   std::atomic<uint64_t> requests{0}, answered{0}, exceptions{0}, connect_failures{0}, malformed_sent{0};
+  std::atomic<unsigned> malformed_kinds_answered{0};  ///< bit k: a malformed frame of kind k was answered
 };
 
 /// A client that connects, sends a burst of mixed requests (valid reads, unknown addresses,
@@ -339,12 +343,17 @@ void malformed_client(uint16_t port, int id, const std::atomic<bool>& stop, Floo
   std::mt19937 rng(static_cast<uint32_t>(77 + id));
   // Every kind in turn (the one-second hold last), so each is sent within a client's first
   // seven frames even when a slow build (TSan) lets a client send only a few.
+  // A frame the server should answer (wrong unit, unknown function) that got no answer was
+  // refused for want of a free slot (the flood holds them) or not read yet: it is sent again,
+  // up to four times, before the next kind.
   unsigned kind = 5 + static_cast<unsigned>(id);
+  int unanswered = 0;
   while (!stop.load() && fc.requests.load() < max_requests) {
     std::vector<uint8_t> b;
     bool linger = true;
     double hold_s = 0.0;
-    switch (kind++ % 7) {
+    const unsigned this_kind = kind % 7;
+    switch (this_kind) {
       case 0: b.resize(1 + rng() % 40); for (auto& x : b) x = static_cast<uint8_t>(rng()); break;
       case 1: b = {0, 1, 0x12, 0x34, 0, 6, 1, 3, 0, 0, 0, 1}; break;          // protocol id != 0
       case 2: b = {0, 2, 0, 0, 0, 3, 1, 3, 0, 0, 0, 1}; break;                // length says 3, 6 follow
@@ -353,9 +362,14 @@ void malformed_client(uint16_t port, int id, const std::atomic<bool>& stop, Floo
       case 5: b = {0, 6, 0, 0, 0, 6, 99, 3, 0, 0, 0, 1}; break;               // another unit
       default: b = {0, 3, 0, 0, 0, 40, 1, 3, 0, 0, 0, 1}; linger = false; hold_s = 1.2; break; // length 40: the rest never comes
     }
-    raw_exchange(port, b, linger, hold_s);
+    const bool answered = raw_exchange(port, b, linger, hold_s);
     fc.malformed_sent.fetch_add(1);
     fc.requests.fetch_add(1);
+    const bool expects_answer = this_kind == 4 || this_kind == 5;
+    if (answered) fc.malformed_kinds_answered.fetch_or(1u << this_kind);
+    if (expects_answer && !answered && ++unanswered < 5) continue;
+    unanswered = 0;
+    ++kind;
   }
 }
 
@@ -719,7 +733,11 @@ RigResult run_fault_rig(const RigOptions& o) {
         // takes every free slot (max_clients).
         for (int i = 0; i < o.flood_malformed_clients; ++i)
           flood.emplace_back(malformed_client, server.bound_port(), i, std::cref(stop_flood), std::ref(fc), o.flood_max_requests);
-        sleep_s(0.2);
+        // The frames the server answers (wrong unit, unknown function) have been answered once
+        // before the flood takes every free slot (during it a malformed client gets a slot only
+        // now and then, and in a sanitizer build that may be never within the window).
+        for (int w = 0; w < 500 && (fc.malformed_kinds_answered.load() & 0x30u) != 0x30u; ++w) sleep_s(0.01);
+        sleep_s(0.05);
         for (int i = 0; i < o.flood_clients; ++i)
           flood.emplace_back(flood_client, server.bound_port(), i, std::cref(stop_flood), std::ref(fc), o.flood_max_requests);
         break;

@@ -50,6 +50,11 @@ TEST(Faults, QuietRun) {
 
 TEST(Faults, ModbusFlood) {
   const auto r = run(f::Fault::modbus_flood);
+  std::printf("[ figures ] modbus counters: bad_frames %llu, refused_not_armed %llu, arm_key_mismatch %llu, illegal_address %llu, "
+              "wrong_unit %llu\n",
+              static_cast<unsigned long long>(c(r, "modbus.bad_frames")), static_cast<unsigned long long>(c(r, "modbus.refused_not_armed")),
+              static_cast<unsigned long long>(c(r, "modbus.arm_key_mismatch")), static_cast<unsigned long long>(c(r, "modbus.illegal_address")),
+              static_cast<unsigned long long>(c(r, "modbus.wrong_unit")));
   EXPECT_EQ(r.state_after_fault, "levitating");
   EXPECT_GT(c(r, "modbus.bad_frames"), 0u);
   EXPECT_GT(c(r, "modbus.refused_not_armed"), 0u);
