@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -67,6 +68,42 @@ std::vector<double> power(const std::vector<double>& amp, double scale) {
   std::vector<double> p(amp.size());
   for (size_t i = 0; i < amp.size(); ++i) p[i] = amp[i] * amp[i] / scale;
   return p;
+}
+
+// Kinematic transport of a log PSD from its reference speed to ratio x that speed: the local
+// mean over +-h bins (the transfer path: housing resonances stay at their frequency) is kept,
+// the lines above it (level - local mean) move with the speed. Like the simulated spectra, the
+// result is the expectation over the nominal speed's uncertainty (power mean over `scales`),
+// so a training case (ratio 1) and a prediction see the same kind of input.
+std::vector<double> transport_log_psd(const std::vector<double>& ref, const std::vector<double>& c, double ratio,
+                                      const std::vector<double>& scales, int h) {
+  const auto lm = local_mean(ref, h);
+  std::vector<double> lines(ref.size()), acc(ref.size(), 0.0);
+  for (size_t k = 0; k < ref.size(); ++k) lines[k] = std::pow(10.0, ref[k] - lm[k]);
+  for (double sc : scales) {
+    const auto mv = move_with_speed(lines, c, ratio * sc);
+    for (size_t k = 0; k < acc.size(); ++k) acc[k] += mv[k] / static_cast<double>(scales.size());
+  }
+  std::vector<double> out(ref.size());
+  for (size_t k = 0; k < out.size(); ++k) out[k] = lm[k] + std::log10(std::max(acc[k], 1e-300));
+  return out;
+}
+
+// Envelope (power domain): its content is speed-locked lines over a floor; all of it moves.
+std::vector<double> transport_env(const std::vector<double>& ref, const std::vector<double>& c, double ratio,
+                                  const std::vector<double>& scales) {
+  std::vector<double> acc(ref.size(), 0.0);
+  for (double sc : scales) {
+    const auto mv = move_with_speed(ref, c, ratio * sc);
+    for (size_t k = 0; k < acc.size(); ++k) acc[k] += mv[k] / static_cast<double>(scales.size());
+  }
+  return acc;
+}
+
+std::string case_name(BearingState s, const OperatingPoint& op) {
+  char b[96];
+  std::snprintf(b, sizeof b, "%s@%grpm/%g", state_name(s), op.speed_rpm, op.load);
+  return b;
 }
 
 std::vector<double> centres(const Grid& g) {
@@ -252,38 +289,84 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
   m.physics_env_scale = mean_power(phys);
   m.measured_env_scale = mean_power(meas);
 
-  // 4. The maps.
-  std::vector<MapInput> in_psd, in_env, in_data;
-  std::vector<std::vector<double>> y_psd, y_env;
+  // 4. Reference spectra per training case (mean over its segments) and, for every training
+  // segment, the reference of its case without that segment (leave-one-segment-out: the map
+  // learns how far the transported reference predicts a segment it has not seen; a case with
+  // one segment uses its own).
+  const auto psd_c = centres(psd_grid(o.spectra));
+  const auto env_c = centres(env_grid(o.spectra));
+  const auto scales = speed_scales(o.speed_uncertainty, o.speed_points);
+  std::vector<size_t> seg_case(segments.size());
+  std::vector<std::vector<double>> y_psd(segments.size()), y_env(segments.size());
+  std::vector<std::vector<double>> sum_psd(cases.size(), std::vector<double>(psd_c.size(), 0.0)),
+      sum_env(cases.size(), std::vector<double>(env_c.size(), 0.0));
+  std::vector<int> case_segments(cases.size(), 0);
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const Record& r = records[segments[i].first];
+    seg_case[i] = case_index.at(Key{static_cast<int>(r.state), r.op.speed_rpm, r.op.load});
+    y_psd[i] = meas[i].log_psd;
+    y_env[i] = power(meas[i].env, m.measured_env_scale);
+    for (size_t k = 0; k < psd_c.size(); ++k) sum_psd[seg_case[i]][k] += y_psd[i][k];
+    for (size_t k = 0; k < env_c.size(); ++k) sum_env[seg_case[i]][k] += y_env[i][k];
+    ++case_segments[seg_case[i]];
+  }
+  for (size_t c = 0; c < cases.size(); ++c) {
+    ReferenceSpectra ref;
+    ref.state = cases[c].first;
+    ref.op = cases[c].second;
+    ref.segments = case_segments[c];
+    ref.log_psd = sum_psd[c];
+    ref.env_power = sum_env[c];
+    for (double& v : ref.log_psd) v /= std::max(1, ref.segments);
+    for (double& v : ref.env_power) v /= std::max(1, ref.segments);
+    m.references.push_back(std::move(ref));
+  }
+  const int h = o.psd_map.local_halfwidth_bins;
+
+  // 5. The maps.
+  std::vector<MapInput> in_psd, in_env, in_psd_sim, in_env_sim, in_data;
   std::vector<size_t> seg_count(records.size(), 0);
   for (size_t i = 0; i < segments.size(); ++i) {
     const Record& r = records[segments[i].first];
     ++seg_count[segments[i].first];
-    const Spectra& p = phys[case_index.at(Key{static_cast<int>(r.state), r.op.speed_rpm, r.op.load})];
+    const size_t c = seg_case[i];
+    const Spectra& p = phys[c];
+    const int n = case_segments[c];
+    std::vector<double> loo_psd = sum_psd[c], loo_env = sum_env[c];
+    for (size_t k = 0; k < loo_psd.size(); ++k) loo_psd[k] = n > 1 ? (loo_psd[k] - y_psd[i][k]) / (n - 1) : y_psd[i][k];
+    for (size_t k = 0; k < loo_env.size(); ++k) loo_env[k] = n > 1 ? (loo_env[k] - y_env[i][k]) / (n - 1) : y_env[i][k];
     MapInput d;
     d.state = static_cast<int>(r.state);
     d.op = {r.op.speed_rpm, r.op.load};
-    MapInput hp = d, he = d;
-    hp.physics = {p.log_psd};
-    he.physics = {power(p.env, m.physics_env_scale)};
+    MapInput hp = d, he = d, hps = d, hes = d;
+    hps.physics = {p.log_psd};
+    hes.physics = {power(p.env, m.physics_env_scale)};
+    hp.physics = hps.physics;
+    he.physics = hes.physics;
+    if (o.transport_log_psd) hp.physics.push_back(transport_log_psd(loo_psd, psd_c, 1.0, scales, h));
+    if (o.transport_env) he.physics.push_back(transport_env(loo_env, env_c, 1.0, scales));
     in_data.push_back(d);
     in_psd.push_back(std::move(hp));
     in_env.push_back(std::move(he));
-    y_psd.push_back(meas[i].log_psd);
-    y_env.push_back(power(meas[i].env, m.measured_env_scale));
+    in_psd_sim.push_back(std::move(hps));
+    in_env_sim.push_back(std::move(hes));
   }
-  const auto psd_c = centres(psd_grid(o.spectra));
-  const auto env_c = centres(env_grid(o.spectra));
   SpectralMapOptions po = o.psd_map, eo = o.env_map;
   po.use_physics = eo.use_physics = true;
-  po.physics_channels = eo.physics_channels = 1;
+  po.physics_channels = o.transport_log_psd ? 2 : 1;
+  eo.physics_channels = o.transport_env ? 2 : 1;
+  SpectralMapOptions ps = po, es = eo;
+  ps.physics_channels = es.physics_channels = 1;
   SpectralMapOptions pd = po, ed = eo;
   pd.use_physics = ed.use_physics = false;
+  pd.physics_channels = ed.physics_channels = 1;
   o.psd_map = po;
   o.env_map = eo;
   m.psd_hybrid.train(in_psd, y_psd, psd_c, po);
+  m.psd_hybrid_sim.train(in_psd_sim, y_psd, psd_c, ps);
   m.psd_data_only.train(in_data, y_psd, psd_c, pd);
   m.env_hybrid.train(in_env, y_env, env_c, eo);
+  m.env_hybrid_sim.train(in_env_sim, y_env, env_c, es);
   m.env_data_only.train(in_data, y_env, env_c, ed);
 
   for (size_t i = 0; i < records.size(); ++i) {
@@ -315,7 +398,7 @@ Prediction predict_hybrid(const HybridModel& m, BearingState state, const Operat
   hp.physics = {phys.log_psd};
   he.physics = {power(phys.env, m.physics_env_scale)};
   p.log_psd_physics = phys.log_psd;
-  p.log_psd_hybrid = m.psd_hybrid.predict(hp);
+  p.log_psd_hybrid_sim = m.psd_hybrid_sim.predict(hp);
   p.log_psd_data_only = m.psd_data_only.predict(d);
   p.env_physics = phys.env;
   auto amp = [&](const std::vector<double>& pw) {
@@ -323,8 +406,36 @@ Prediction predict_hybrid(const HybridModel& m, BearingState state, const Operat
     for (size_t i = 0; i < pw.size(); ++i) a[i] = std::sqrt(std::max(0.0, pw[i]) * m.measured_env_scale);
     return a;
   };
-  p.env_hybrid = amp(m.env_hybrid.predict(he));
+  p.env_hybrid_sim = amp(m.env_hybrid_sim.predict(he));
   p.env_data_only = amp(m.env_data_only.predict(d));
+  // Reference: the training case of the same state nearest in speed (log ratio), then load.
+  const ReferenceSpectra* ref = nullptr;
+  double best = 0.0;
+  for (const auto& r : m.references) {
+    if (r.state != state) continue;
+    const double dist = std::abs(std::log(op.speed_rpm / r.op.speed_rpm)) + 1e-6 * std::abs(op.load - r.op.load);
+    if (ref == nullptr || dist < best) {
+      ref = &r;
+      best = dist;
+    }
+  }
+  if (ref == nullptr) {  // state not trained: no measured reference to transport (the maps with
+                         // a transport input fall back to their 8-DOF-only twins)
+    p.log_psd_hybrid = p.log_psd_hybrid_sim;
+    p.env_hybrid = p.env_hybrid_sim;
+    return p;
+  }
+  p.reference = case_name(ref->state, ref->op);
+  const auto scales = speed_scales(m.options.speed_uncertainty, m.options.speed_points);
+  const double ratio = op.speed_rpm / ref->op.speed_rpm;
+  const auto tp = transport_log_psd(ref->log_psd, p.psd_hz, ratio, scales, m.options.psd_map.local_halfwidth_bins);
+  const auto te = transport_env(ref->env_power, p.env_hz, ratio, scales);
+  if (m.psd_hybrid.options().physics_channels == 2) hp.physics.push_back(tp);
+  if (m.env_hybrid.options().physics_channels == 2) he.physics.push_back(te);
+  p.log_psd_hybrid = m.psd_hybrid.predict(hp);
+  p.env_hybrid = amp(m.env_hybrid.predict(he));
+  p.log_psd_transport = tp;
+  p.env_transport = amp(te);
   return p;
 }
 
@@ -340,6 +451,12 @@ Scores score(const Prediction& p, const Spectra& s) {
   c.env_hybrid = pearson(p.env_hybrid, s.env);
   c.env_physics = pearson(p.env_physics, s.env);
   c.env_data_only = pearson(p.env_data_only, s.env);
+  c.log_psd_hybrid_sim = pearson(p.log_psd_hybrid_sim, s.log_psd);
+  c.env_hybrid_sim = pearson(p.env_hybrid_sim, s.env);
+  if (!p.log_psd_transport.empty()) {
+    c.log_psd_transport = pearson(p.log_psd_transport, s.log_psd);
+    c.env_transport = pearson(p.env_transport, s.env);
+  }
   return c;
 }
 
@@ -353,7 +470,9 @@ nlohmann::json HybridModel::training_summary() const {
                       {"note", calibration.note}};
   j["training_rms"] = {{"log_psd_hybrid", psd_hybrid.training_rms()},
                        {"log_psd_data_only", psd_data_only.training_rms()},
+                       {"log_psd_hybrid_sim", psd_hybrid_sim.training_rms()},
                        {"env_power_hybrid", env_hybrid.training_rms()},
+                       {"env_power_hybrid_sim", env_hybrid_sim.training_rms()},
                        {"env_power_data_only", env_data_only.training_rms()}};
   j["train_wall_s"] = train_wall_s;
   return j;
@@ -372,15 +491,28 @@ void save_model(const HybridModel& m, const std::string& path) {
                   {"speed_uncertainty", o.speed_uncertainty},
                   {"speed_points", o.speed_points},
                   {"calibrate_kinematics", o.calibrate_kinematics},
+                  {"transport_env", o.transport_env},
+                  {"transport_log_psd", o.transport_log_psd},
                   {"seed", o.seed},
                   {"threads", o.threads}};
   j["training"] = m.training_summary();
   j["physics_env_scale"] = m.physics_env_scale;
   j["measured_env_scale"] = m.measured_env_scale;
   j["maps"] = {{"psd_hybrid", m.psd_hybrid.to_json()},
+               {"psd_hybrid_sim", m.psd_hybrid_sim.to_json()},
                {"psd_data_only", m.psd_data_only.to_json()},
                {"env_hybrid", m.env_hybrid.to_json()},
+               {"env_hybrid_sim", m.env_hybrid_sim.to_json()},
                {"env_data_only", m.env_data_only.to_json()}};
+  nlohmann::json refs = nlohmann::json::array();
+  for (const auto& r : m.references)
+    refs.push_back({{"state", state_name(r.state)},
+                    {"speed_rpm", r.op.speed_rpm},
+                    {"load", r.op.load},
+                    {"segments", r.segments},
+                    {"log_psd", r.log_psd},
+                    {"env_power", r.env_power}});
+  j["references"] = refs;
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write model file '" + path + "'");
   f << j.dump(1) << '\n';
@@ -413,6 +545,8 @@ HybridModel load_model(const std::string& path) {
     m.options.speed_uncertainty = o.at("speed_uncertainty");
     m.options.speed_points = o.at("speed_points");
     m.options.calibrate_kinematics = o.at("calibrate_kinematics");
+    m.options.transport_env = o.at("transport_env");
+    m.options.transport_log_psd = o.at("transport_log_psd");
     m.options.seed = o.at("seed");
     m.options.threads = o.at("threads");
     m.physics_env_scale = j.at("physics_env_scale");
@@ -422,6 +556,20 @@ HybridModel load_model(const std::string& path) {
     m.psd_data_only = SpectralMap::from_json(maps.at("psd_data_only"));
     m.env_hybrid = SpectralMap::from_json(maps.at("env_hybrid"));
     m.env_data_only = SpectralMap::from_json(maps.at("env_data_only"));
+    m.psd_hybrid_sim = SpectralMap::from_json(maps.at("psd_hybrid_sim"));
+    m.env_hybrid_sim = SpectralMap::from_json(maps.at("env_hybrid_sim"));
+    for (const auto& r : j.at("references")) {
+      ReferenceSpectra ref;
+      ref.state = parse_state(r.at("state").get<std::string>());
+      ref.op = {r.at("speed_rpm").get<double>(), r.at("load").get<double>()};
+      ref.segments = r.at("segments").get<int>();
+      ref.log_psd = r.at("log_psd").get<std::vector<double>>();
+      ref.env_power = r.at("env_power").get<std::vector<double>>();
+      if (!(ref.op.speed_rpm > 0) || ref.log_psd.size() != m.psd_hybrid.bins() || ref.env_power.size() != m.env_hybrid.bins())
+        throw std::invalid_argument("model file '" + path + "': reference spectrum " + state_name(ref.state) +
+                                    " does not match the grids or has no speed");
+      m.references.push_back(std::move(ref));
+    }
     m.options.psd_map = m.psd_hybrid.options();
     m.options.env_map = m.env_hybrid.options();
     const auto& t = j.at("training");
@@ -439,7 +587,8 @@ HybridModel load_model(const std::string& path) {
   std::string why;
   if (!m.options.valid(&why)) throw std::invalid_argument("model file '" + path + "': " + why);
   if (m.psd_hybrid.bins() != psd_grid(m.options.spectra).bins() || m.env_hybrid.bins() != env_grid(m.options.spectra).bins() ||
-      m.psd_data_only.bins() != m.psd_hybrid.bins() || m.env_data_only.bins() != m.env_hybrid.bins())
+      m.psd_data_only.bins() != m.psd_hybrid.bins() || m.env_data_only.bins() != m.env_hybrid.bins() ||
+      m.psd_hybrid_sim.bins() != m.psd_hybrid.bins() || m.env_hybrid_sim.bins() != m.env_hybrid.bins())
     throw std::invalid_argument("model file '" + path + "': map grids do not match the spectral options");
   if (!(m.physics_env_scale > 0) || !(m.measured_env_scale > 0))
     throw std::invalid_argument("model file '" + path + "': envelope scales must be > 0");

@@ -9,9 +9,13 @@
 //     (effective contact angle; physics.hpp);
 //  2. physics: the 8-DOF model simulates the drive-end acceleration of each (state, operating
 //     point); its spectra are the expected spectra over the nominal speed's uncertainty;
-//  3. the learned map (spectral_map.hpp), trained on segments of the measured records, per
-//     spectrum: log PSD in the log domain, envelope spectrum in the power domain;
-//  4. prediction at any operating point: physics at that point, then the map.
+//  3. kinematic transport: the measured training spectrum of the same state, its lines moved
+//     to the queried speed (every bearing and shaft line is at a fixed order of the speed,
+//     seed 001 eq. 14-16) while its local mean (the transfer path) stays in place;
+//  4. the learned map (spectral_map.hpp), trained on segments of the measured records, per
+//     spectrum: log PSD in the log domain, envelope spectrum in the power domain; its physics
+//     inputs are the simulated spectrum (8-DOF) and the transported one (kinematics);
+//  5. prediction at any operating point: physics at that point, then the map.
 // Deterministic: the only randomness is the simulated sensor noise, seeded from `seed`.
 #include <cstdint>
 #include <string>
@@ -27,7 +31,7 @@ namespace amb::host::hybrid {
 
 /// Model-file format name and version written by save_model(); load_model() refuses others.
 inline constexpr const char* k_model_format = "amb-hybrid-model";
-inline constexpr int k_model_version = 1;
+inline constexpr int k_model_version = 2;
 
 /// One measured record and its condition.
 struct Record {
@@ -54,31 +58,57 @@ struct TrainOptions {
   double speed_uncertainty = 0.005;  ///< relative uncertainty of a nominal speed (CWRU README: +-0.5 %)
   int speed_points = 9;              ///< speed scales averaged over the uncertainty (odd, >= 1)
   bool calibrate_kinematics = true;  ///< fit the drive-end bearing's effective contact angle
+  /// Give the map the kinematically transported reference as a second physics input, per
+  /// spectrum. Off by default (docs/hybrid.md, "Kinematic transport"): on CWRU it raises the
+  /// envelope figure at the held-back speed, on generated data with a 20 % speed change it
+  /// lowers it below the physics alone; the map, trained at one speed, cannot learn which of
+  /// the two physics inputs to trust at another.
+  bool transport_env = false;
+  bool transport_log_psd = false;
   uint64_t seed = 1;                 ///< seed of the simulated sensor noise
   int threads = 2;                   ///< worker threads for simulation and spectra (>= 1)
   TrainOptions();                    ///< the defaults of docs/hybrid.md
   bool valid(std::string* why = nullptr) const;
 };
 
-/// The three predictions of one case, on the model's grids.
+/// The three predictions of one case, on the model's grids, and two ablations of the hybrid.
 struct Prediction {
   std::vector<double> psd_hz, env_hz;  ///< bin centres, Hz
   std::vector<double> log_psd_hybrid, log_psd_physics, log_psd_data_only;  ///< log10 PSD (g^2/Hz)
   std::vector<double> env_hybrid, env_physics, env_data_only;              ///< envelope amplitude (g^2)
+  /// Ablations: the map with the 8-DOF simulation as its only physics input (`hybrid_sim`), and
+  /// the kinematically transported reference alone, no map (`transport`; empty without a reference).
+  std::vector<double> log_psd_hybrid_sim, env_hybrid_sim, log_psd_transport, env_transport;
+  /// The training case whose spectrum was transported ("state@rpm/load"); empty if the state was
+  /// not trained (then the hybrid is the 8-DOF-only map).
+  std::string reference;
   double physics_s = 0.0;  ///< time spent simulating, s
 };
 
-/// Pearson correlations of one prediction against one measured record.
+/// Pearson correlations of one prediction against one measured record (ablations 0 when absent).
 struct Scores {
   double log_psd_hybrid = 0, log_psd_physics = 0, log_psd_data_only = 0;
   double env_hybrid = 0, env_physics = 0, env_data_only = 0;
+  double log_psd_hybrid_sim = 0, env_hybrid_sim = 0, log_psd_transport = 0, env_transport = 0;
+};
+
+/// Mean measured spectra of one training case (state, operating point), in the maps' domains.
+struct ReferenceSpectra {
+  BearingState state = BearingState::healthy;
+  OperatingPoint op;
+  int segments = 0;
+  std::vector<double> log_psd;    ///< mean log10 PSD of the segments
+  std::vector<double> env_power;  ///< mean envelope power of the segments / measured_env_scale
 };
 
 /// A trained hybrid model (with its two baselines).
 struct HybridModel {
   TrainOptions options;            ///< as trained (spectral grids, rig incl. calibrated contact angle)
   KinematicCalibration calibration;
-  SpectralMap psd_hybrid, psd_data_only, env_hybrid, env_data_only;
+  /// hybrid: physics inputs 8-DOF + kinematic transport; hybrid_sim: 8-DOF only (used for a
+  /// state without a training record, and reported as an ablation); data_only: no physics.
+  SpectralMap psd_hybrid, psd_hybrid_sim, psd_data_only, env_hybrid, env_hybrid_sim, env_data_only;
+  std::vector<ReferenceSpectra> references;  ///< one per training case
   double physics_env_scale = 1.0;  ///< normalisation of the physics envelope power (training mean)
   double measured_env_scale = 1.0;  ///< normalisation of the measured envelope power (training mean)
   nlohmann::json training_summary() const;  ///< records, cases, calibration, timings

@@ -214,6 +214,53 @@ std::vector<std::vector<double>> split_segments(const std::vector<double>& x, do
   return out;
 }
 
+std::vector<double> move_with_speed(const std::vector<double>& y, const std::vector<double>& c, double ratio) {
+  if (y.size() != c.size() || y.empty()) throw std::invalid_argument("move_with_speed: spectrum and centres differ in size");
+  if (!(ratio > 0.2) || !(ratio < 5.0)) throw std::invalid_argument("move_with_speed: speed ratio out of (0.2, 5)");
+  std::vector<double> out(y.size());
+  for (size_t k = 0; k < y.size(); ++k) {
+    const double f = c[k] / ratio;
+    if (f <= c.front()) {
+      out[k] = y.front();
+    } else if (f >= c.back()) {
+      out[k] = y.back();
+    } else {
+      const auto j = static_cast<size_t>(std::upper_bound(c.begin(), c.end(), f) - c.begin());  // c[j-1] < f <= c[j]
+      const double t = (f - c[j - 1]) / (c[j] - c[j - 1]);
+      out[k] = (1.0 - t) * y[j - 1] + t * y[j];
+    }
+  }
+  return out;
+}
+
+std::vector<double> local_mean(const std::vector<double>& y, int halfwidth) {
+  const auto n = static_cast<long>(y.size());
+  const long h = std::max(0, halfwidth);
+  std::vector<double> out(y.size());
+  for (long k = 0; k < n; ++k) {
+    const long lo = std::max(0L, k - h), hi = std::min(n - 1, k + h);
+    double m = 0.0;
+    for (long j = lo; j <= hi; ++j) m += y[static_cast<size_t>(j)];
+    out[static_cast<size_t>(k)] = m / static_cast<double>(hi - lo + 1);
+  }
+  return out;
+}
+
+Reliability split_half_reliability(const std::vector<double>& x, double fs_hz, const SpectralOptions& o) {
+  const size_t n = x.size() / 2;
+  if (!(fs_hz > 0) || static_cast<double>(n) / fs_hz < o.min_record_s())
+    throw std::invalid_argument("split-half reliability: each half must be at least " + std::to_string(o.min_record_s()) + " s");
+  const std::vector<double> a(x.begin(), x.begin() + static_cast<long>(n)), b(x.begin() + static_cast<long>(n), x.begin() + static_cast<long>(2 * n));
+  const auto sa = compute_spectra(a, fs_hz, o), sb = compute_spectra(b, fs_hz, o);
+  Reliability r;
+  r.log_psd_half = pearson(sa.log_psd, sb.log_psd);
+  r.env_half = pearson(sa.env, sb.env);
+  auto sb_ext = [](double h) { return h > -1.0 ? 2.0 * h / (1.0 + h) : -1.0; };
+  r.log_psd_full = sb_ext(r.log_psd_half);
+  r.env_full = sb_ext(r.env_half);
+  return r;
+}
+
 double pearson(const std::vector<double>& a, const std::vector<double>& b) {
   if (a.size() != b.size() || a.size() < 2) throw std::invalid_argument("pearson: sizes differ or < 2");
   const double n = static_cast<double>(a.size());

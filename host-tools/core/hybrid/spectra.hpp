@@ -67,6 +67,26 @@ std::vector<double> speed_scales(double relative_uncertainty, int points);
 /// segment is dropped).
 std::vector<std::vector<double>> split_segments(const std::vector<double>& x, double fs_hz, double segment_s);
 
+/// Kinematic transport of a grid spectrum (seed 001 eq. 14-16: every bearing and shaft line is
+/// at a fixed order of the shaft speed). `y` was read at speed s0; the result is `y` as it would
+/// read at s1 = ratio x s0 if all of it moved with the speed: the value at bin centre f is
+/// taken at f / ratio (linear interpolation between bin centres `centres_hz`, ends held).
+std::vector<double> move_with_speed(const std::vector<double>& y, const std::vector<double>& centres_hz, double ratio);
+
+/// Mean of y over +-halfwidth bins (shorter at the ends).
+std::vector<double> local_mean(const std::vector<double>& y, int halfwidth);
+
+/// Split-half reliability of a record's two spectra under options `o`: the Pearson correlation
+/// between the spectra of the record's first and second halves, and its Spearman-Brown
+/// extension to the full record, r_full = 2 r / (1 + r). sqrt(r_full) bounds the correlation
+/// any prediction, however good, can reach against this record's estimate (estimation
+/// variance alone). Throws std::invalid_argument if a half is shorter than o.min_record_s().
+struct Reliability {
+  double log_psd_half = 0, env_half = 0;  ///< halves against each other
+  double log_psd_full = 0, env_full = 0;  ///< Spearman-Brown, full record
+};
+Reliability split_half_reliability(const std::vector<double>& x, double fs_hz, const SpectralOptions& o);
+
 /// Pearson correlation of two equally long vectors (0 if either is constant). Throws
 /// std::invalid_argument if the sizes differ or are < 2.
 double pearson(const std::vector<double>& a, const std::vector<double>& b);
