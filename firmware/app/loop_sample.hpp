@@ -44,6 +44,10 @@ struct LoopSample {
   uint8_t fault = 0;                          ///< fw::FaultReason
   uint8_t speed_quality = 0;                  ///< bits 0..6: confidence of speed_hz, percent (0..100); bit 7: lost (speed_hz is NaN)
   uint32_t flags = 0;                         ///< SampleFlags
+  /// The rig's tachometer (key-phasor) reading this period, Hz, whatever the board's speed
+  /// source (speed_hz may be the tracker's): the rotor's spin-down during a drop. < 0: the rig
+  /// has none; NaN: present but invalid. Stored from AMBE v3 on (older files read as -1).
+  float tach_hz = -1.0f;
 };
 
 inline double speed_confidence(const LoopSample& s) { return static_cast<double>(s.speed_quality & 0x7Fu) / 100.0; }

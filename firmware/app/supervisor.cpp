@@ -368,6 +368,7 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
   }
   sample_.speed_hz = static_cast<float>(speed);
   sample_.speed_command_hz = static_cast<float>(speed_cmd_hz_);
+  sample_.tach_hz = static_cast<float>(tach);
   sample_.speed_quality = pack_speed_quality(speed_conf, speed_lost);
   sample_.state = static_cast<uint8_t>(state_);
   sample_.phase = static_cast<uint8_t>(phase_);

@@ -82,7 +82,7 @@ void read_meta(ByteReader& r, EventMetadata& m) {
   m.current_trigger_limit_a = r.f64();
 }
 
-void write_sample(ByteWriter& w, const LoopSample& s) {
+void write_sample(ByteWriter& w, const LoopSample& s, uint16_t version) {
   w.u64(s.seq);
   w.i64(s.t_ns);
   for (float v : s.displacement_m) w.f32(v);
@@ -95,9 +95,10 @@ void write_sample(ByteWriter& w, const LoopSample& s) {
   w.u8(s.fault);
   w.u8(s.speed_quality);
   w.u32(s.flags);
+  if (version >= 3) w.f32(s.tach_hz);
 }
 
-void read_sample(ByteReader& r, LoopSample& s) {
+void read_sample(ByteReader& r, LoopSample& s, uint16_t version) {
   s.seq = r.u64();
   s.t_ns = r.i64();
   for (float& v : s.displacement_m) v = r.f32();
@@ -110,6 +111,7 @@ void read_sample(ByteReader& r, LoopSample& s) {
   s.fault = r.u8();
   s.speed_quality = r.u8();
   s.flags = r.u32();
+  s.tach_hz = version >= 3 ? r.f32() : -1.0f;  // older files: no tachometer channel recorded
 }
 
 void write_diagnosis(ByteWriter& w, const diag::Diagnosis& d) {
@@ -213,7 +215,8 @@ std::vector<uint8_t> encode(const EventRecord& r, uint16_t version) {
   const size_t n = r.samples.size();
   const size_t diag_bytes = r.has_diagnosis ? k_event_diagnosis_bytes_v1 : 0;
   const size_t analysis_bytes = version >= 2 ? k_event_analysis_bytes_v2 : 0;
-  const uint64_t total = k_event_preamble_bytes + k_event_meta_bytes_v1 + n * k_event_sample_bytes_v1 + diag_bytes +
+  const size_t sample_bytes = version >= 3 ? k_event_sample_bytes_v3 : k_event_sample_bytes_v1;
+  const uint64_t total = k_event_preamble_bytes + k_event_meta_bytes_v1 + n * sample_bytes + diag_bytes +
                          analysis_bytes + 4;
   std::vector<uint8_t> out;
   out.reserve(static_cast<size_t>(total));
@@ -224,10 +227,10 @@ std::vector<uint8_t> encode(const EventRecord& r, uint16_t version) {
   w.u64(total);
   w.u32(static_cast<uint32_t>(k_event_meta_bytes_v1));
   w.u32(static_cast<uint32_t>(n));
-  w.u32(static_cast<uint32_t>(k_event_sample_bytes_v1));
+  w.u32(static_cast<uint32_t>(sample_bytes));
   w.u32(static_cast<uint32_t>(diag_bytes));
   write_meta(w, r.meta);
-  for (const LoopSample& s : r.samples) write_sample(w, s);
+  for (const LoopSample& s : r.samples) write_sample(w, s, version);
   if (r.has_diagnosis) write_diagnosis(w, r.diagnosis);
   if (version >= 2) write_analysis(w, r.has_analysis ? r.analysis : EventAnalysis{});
   w.u32(crc32_fast(out));
@@ -237,6 +240,7 @@ std::vector<uint8_t> encode(const EventRecord& r, uint16_t version) {
 
 std::vector<uint8_t> encode_event(const EventRecord& r) { return encode(r, k_event_format_version); }
 std::vector<uint8_t> encode_event_v1(const EventRecord& r) { return encode(r, 1); }
+std::vector<uint8_t> encode_event_v2(const EventRecord& r) { return encode(r, 2); }
 
 bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string& error) {
   const size_t size = bytes.size();
@@ -286,7 +290,8 @@ bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string&
   const uint32_t count = pre.u32();
   const uint32_t sample_bytes = pre.u32();
   const uint32_t diag_bytes = pre.u32();
-  if (meta_bytes != k_event_meta_bytes_v1 || sample_bytes != k_event_sample_bytes_v1 ||
+  const size_t expected_sample_bytes = version >= 3 ? k_event_sample_bytes_v3 : k_event_sample_bytes_v1;
+  if (meta_bytes != k_event_meta_bytes_v1 || sample_bytes != expected_sample_bytes ||
       (diag_bytes != 0 && diag_bytes != k_event_diagnosis_bytes_v1) ||
       total != k_event_preamble_bytes + meta_bytes + static_cast<uint64_t>(count) * sample_bytes + diag_bytes +
                    analysis_bytes + 4) {
@@ -299,11 +304,12 @@ bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string&
   ByteReader rd(bytes.data() + k_event_preamble_bytes, size - k_event_preamble_bytes - 4);
   read_meta(rd, r.meta);
   r.samples.resize(count);
-  for (LoopSample& s : r.samples) read_sample(rd, s);
+  for (LoopSample& s : r.samples) read_sample(rd, s, version);
   r.has_diagnosis = diag_bytes != 0;
   if (r.has_diagnosis) read_diagnosis(rd, r.diagnosis);
   r.has_analysis = version >= 2;
   if (r.has_analysis) read_analysis(rd, r.analysis);
+  r.format_version = version;
   if (!rd.ok() || rd.remaining() != 0) {
     error = "inconsistent sizes: body does not match the declared layout";
     return false;

@@ -1,7 +1,9 @@
 #pragma once
-// The board's binary event file, `AMBE` version 2 (little-endian, CRC-32): layout in
-// docs/event-format.md. Version 2 adds the board-analysis section (speed source and quality,
-// quick-look aux-bearing load); version 1 files are still read (no analysis section).
+// The board's binary event file, `AMBE` version 3 (little-endian, CRC-32): layout in
+// docs/event-format.md. Version 2 added the board-analysis section (speed source and quality,
+// quick-look aux-bearing load); version 3 adds the tachometer channel to every sample (84-byte
+// samples: the rotor speed during a drop whatever the board's speed source). Versions 1 and 2
+// are still read (no analysis section in v1; no tachometer channel: tach_hz -1, "none").
 // Non-real-time.
 #include <cstdint>
 #include <span>
@@ -12,19 +14,22 @@
 
 namespace amb::fw {
 
-inline constexpr uint16_t k_event_format_version = 2;      ///< written
+inline constexpr uint16_t k_event_format_version = 3;      ///< written
 inline constexpr uint16_t k_event_format_oldest_read = 1;  ///< oldest version read
 inline constexpr size_t k_event_preamble_bytes = 32;
 inline constexpr size_t k_event_meta_bytes_v1 = 616;
-inline constexpr size_t k_event_sample_bytes_v1 = 80;
+inline constexpr size_t k_event_sample_bytes_v1 = 80;      ///< versions 1 and 2
+inline constexpr size_t k_event_sample_bytes_v3 = 84;      ///< + f32 tach_hz
 inline constexpr size_t k_event_diagnosis_bytes_v1 = 392;
 inline constexpr size_t k_event_analysis_bytes_v2 = 120;
 
-/// Encode `r` (with its diagnosis if has_diagnosis) into a complete version-2 file image
+/// Encode `r` (with its diagnosis if has_diagnosis) into a complete version-3 file image
 /// (the analysis section is always written; zeros when has_analysis is false).
 std::vector<uint8_t> encode_event(const EventRecord& r);
-/// Encode as version 1 (no analysis section): for tests of the old-file reader.
+/// Encode as version 1 (no analysis section, no tachometer): for tests of the old-file reader.
 std::vector<uint8_t> encode_event_v1(const EventRecord& r);
+/// Encode as version 2 (no tachometer channel): for tests of the old-file reader.
+std::vector<uint8_t> encode_event_v2(const EventRecord& r);
 
 /// Decode a file image. Returns false with `error` saying what is wrong: "truncated: ...",
 /// "bad checksum: ...", "unsupported version ...", "not an AMBE event file: ...",

@@ -88,8 +88,11 @@ struct EventRecord {
   std::vector<LoopSample> samples;
   bool has_diagnosis = false;
   diag::Diagnosis diagnosis;
-  bool has_analysis = false;   ///< AMBE v2 files always carry it; v1 files never
+  bool has_analysis = false;   ///< AMBE v2 and v3 files always carry it; v1 files never
   EventAnalysis analysis;
+  /// The AMBE version the record was decoded from (decode_event); 0 for a record built in
+  /// memory (encode_event writes the current version).
+  uint16_t format_version = 0;
 };
 
 /// Build the record of a frozen window: copies the samples, takes the static metadata from

@@ -1,6 +1,9 @@
-// AMBE event files (v2, and v1 still read): round trip, refusal of truncated / corrupted / wrong-version files
+// AMBE event files (v3, and v1/v2 still read): round trip, refusal of truncated / corrupted / wrong-version files
 // with a message saying what is wrong, and the event store's full-storage policy.
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
 
 #include "firmware/board/board.hpp"
 #include "firmware/common/crc32.hpp"
@@ -41,10 +44,18 @@ EventRecord sample_record(size_t n = 300, bool with_diag = true) {
   return r;
 }
 
+// A tachometer channel on the samples (v3): seq-dependent speeds, one sample invalid (NaN).
+EventRecord with_tach(EventRecord r) {
+  for (auto& s : r.samples) s.tach_hz = 45.0f - 0.01f * static_cast<float>(s.seq % 1000);
+  r.samples[17].tach_hz = std::numeric_limits<float>::quiet_NaN();
+  return r;
+}
+
 TEST(EventFormat, RoundTripKeepsEverything) {
-  const EventRecord r = sample_record();
+  const EventRecord r = with_tach(sample_record());
   const auto bytes = encode_event(r);
-  EXPECT_EQ(bytes.size(), k_event_preamble_bytes + k_event_meta_bytes_v1 + 300 * k_event_sample_bytes_v1 +
+  EXPECT_EQ(bytes[4], 3);
+  EXPECT_EQ(bytes.size(), k_event_preamble_bytes + k_event_meta_bytes_v1 + 300 * k_event_sample_bytes_v3 +
                               k_event_diagnosis_bytes_v1 + k_event_analysis_bytes_v2 + 4);
   EventRecord back;
   std::string err;
@@ -63,9 +74,17 @@ TEST(EventFormat, RoundTripKeepsEverything) {
   EXPECT_EQ(back.meta.actuators[1].angle_deg, -45.0);
   EXPECT_EQ(back.meta.orbit_trigger_limit_m, 0.2e-3);
   ASSERT_EQ(back.samples.size(), 300u);
+  EXPECT_EQ(back.format_version, 3);
   for (size_t i = 0; i < 300; ++i) {
     EXPECT_EQ(back.samples[i].seq, 1000 + i);
-    EXPECT_TRUE(amb::test::is_intact(back.samples[i]));
+    LoopSample s = back.samples[i];
+    if (i == 17) {
+      EXPECT_TRUE(std::isnan(s.tach_hz));
+    } else {
+      EXPECT_EQ(s.tach_hz, r.samples[i].tach_hz) << i;
+    }
+    s.tach_hz = -1.0f;  // the rest as synthetic_sample made it
+    EXPECT_TRUE(amb::test::is_intact(s));
   }
   ASSERT_TRUE(back.has_diagnosis);
   EXPECT_EQ(back.diagnosis.type, diag::FaultType::misalignment);
@@ -86,7 +105,7 @@ TEST(EventFormat, RoundTripKeepsEverything) {
 
 // Files written before the analysis section (AMBE v1) are still read, without one.
 TEST(EventFormat, Version1FilesAreStillRead) {
-  const EventRecord r = sample_record();
+  const EventRecord r = with_tach(sample_record());
   const auto bytes = encode_event_v1(r);
   EXPECT_EQ(bytes[4], 1);
   EXPECT_EQ(bytes.size(), k_event_preamble_bytes + k_event_meta_bytes_v1 + 300 * k_event_sample_bytes_v1 +
@@ -95,10 +114,36 @@ TEST(EventFormat, Version1FilesAreStillRead) {
   std::string err;
   ASSERT_TRUE(decode_event(bytes, back, err)) << err;
   EXPECT_FALSE(back.has_analysis);
+  EXPECT_EQ(back.format_version, 1);
   ASSERT_EQ(back.samples.size(), 300u);
-  EXPECT_TRUE(amb::test::is_intact(back.samples[299]));
+  EXPECT_TRUE(amb::test::is_intact(back.samples[299]));  // tach_hz -1: no tachometer channel in v1
   ASSERT_TRUE(back.has_diagnosis);
   EXPECT_EQ(back.diagnosis.summary, "misalignment towards 30 deg");
+}
+
+// Files written before the tachometer channel (AMBE v2, 80-byte samples) are still read: the
+// analysis section is there, every sample says "no tachometer" (tach_hz -1).
+TEST(EventFormat, Version2FilesAreStillReadWithoutTachometer) {
+  const EventRecord r = with_tach(sample_record());
+  const auto bytes = encode_event_v2(r);
+  EXPECT_EQ(bytes[4], 2);
+  EXPECT_EQ(bytes.size(), k_event_preamble_bytes + k_event_meta_bytes_v1 + 300 * k_event_sample_bytes_v1 +
+                              k_event_diagnosis_bytes_v1 + k_event_analysis_bytes_v2 + 4);
+  EventRecord back;
+  std::string err;
+  ASSERT_TRUE(decode_event(bytes, back, err)) << err;
+  EXPECT_EQ(back.format_version, 2);
+  ASSERT_TRUE(back.has_analysis);
+  EXPECT_EQ(back.analysis.speed_confidence_at_trigger, r.analysis.speed_confidence_at_trigger);
+  ASSERT_EQ(back.samples.size(), 300u);
+  for (size_t i = 0; i < 300; ++i) EXPECT_TRUE(amb::test::is_intact(back.samples[i])) << i;
+  // A v2 header with v3-sized samples (or the reverse) does not add up: refused, not misread.
+  auto v3 = encode_event(r);
+  v3[4] = 2;
+  const uint32_t crc = crc32(std::span(v3).first(v3.size() - 4));
+  for (int i = 0; i < 4; ++i) v3[v3.size() - 4 + static_cast<size_t>(i)] = static_cast<uint8_t>(crc >> (8 * i));
+  EXPECT_FALSE(decode_event(v3, back, err));
+  EXPECT_NE(err.find("inconsistent sizes"), std::string::npos) << err;
 }
 
 TEST(EventFormat, FastCrcMatchesTheReferenceCrc) {
@@ -132,13 +177,13 @@ TEST(EventFormat, CorruptedByteIsRefusedAsBadChecksum) {
 
 TEST(EventFormat, WrongVersionIsRefusedAsSuch) {
   auto bytes = encode_event(sample_record());
-  bytes[4] = 3;  // version 3 (newer than this reader), with a valid checksum
+  bytes[4] = 4;  // version 4 (newer than this reader), with a valid checksum
   const uint32_t crc = crc32(std::span(bytes).first(bytes.size() - 4));
   for (int i = 0; i < 4; ++i) bytes[bytes.size() - 4 + static_cast<size_t>(i)] = static_cast<uint8_t>(crc >> (8 * i));
   EventRecord out;
   std::string err;
   EXPECT_FALSE(decode_event(bytes, out, err));
-  EXPECT_NE(err.find("unsupported version 3"), std::string::npos) << err;
+  EXPECT_NE(err.find("unsupported version 4"), std::string::npos) << err;
 }
 
 TEST(EventFormat, NotAnEventFile) {

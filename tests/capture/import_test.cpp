@@ -3,7 +3,9 @@
 // of malformed files with a message naming the file and the row or field.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -29,11 +31,22 @@ class Import : public ::testing::Test {
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
 
-  std::string board_event_file(bool corrupt = false) const {
+  /// `tach`: the samples carry a tachometer channel (the rotor slowing from 45 Hz) while the
+  /// board's own estimate (the tracker's) is lost (NaN) after the trigger.
+  std::string board_event_file(bool corrupt = false, bool tach = false, bool v2 = false) const {
     const auto board = board::load_board("bath-amb-rig");
     fw::FrozenEvent e;
     e.samples.resize(400);
-    for (size_t i = 0; i < 400; ++i) e.samples[i] = test::synthetic_sample(5000 + i);
+    for (size_t i = 0; i < 400; ++i) {
+      e.samples[i] = test::synthetic_sample(5000 + i);
+      if (tach) {
+        e.samples[i].tach_hz = 45.0f - (i > 150 ? 0.02f * static_cast<float>(i - 150) : 0.0f);
+        if (i > 150) {
+          e.samples[i].speed_hz = std::numeric_limits<float>::quiet_NaN();
+          e.samples[i].speed_quality = fw::pack_speed_quality(0.0, true);
+        }
+      }
+    }
     e.header.sample_count = 400;
     e.header.trigger_index = 150;
     e.header.cause = fw::TriggerCause::channel_cutoff;
@@ -45,9 +58,9 @@ class Import : public ::testing::Test {
     r.diagnosis.current_factor = {1, 0, 1, 1};
     r.diagnosis.confidence = 0.9;
     r.diagnosis.summary = "cut-off";
-    auto bytes = fw::encode_event(r);
+    auto bytes = v2 ? fw::encode_event_v2(r) : fw::encode_event(r);
     if (corrupt) bytes[1000] ^= 1;
-    const std::string p = path(corrupt ? "bad.ambe" : "event_00000003.ambe");
+    const std::string p = path(corrupt ? "bad.ambe" : (tach ? (v2 ? "tach_v2.ambe" : "tach.ambe") : "event_00000003.ambe"));
     std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<long>(bytes.size()));
     return p;
   }
@@ -102,7 +115,9 @@ std::string refusal(const std::string& file) {
 
 TEST_F(Import, BoardEventFileLoadsWithSiChannelsAndPhaseB) {
   const host::LoadedEvent e = host::load_event(board_event_file());
-  EXPECT_EQ(e.format, "AMBE/2");  // written by the current firmware (v2: board-analysis section)
+  EXPECT_EQ(e.format, "AMBE/3");  // written by the current firmware (v3: tachometer channel)
+  EXPECT_EQ(e.speed_channel, "board speed estimate");  // no tachometer on these samples
+  EXPECT_TRUE(e.speed_estimate_hz.empty());
   EXPECT_EQ(e.rig, "bath-amb-rig");
   EXPECT_EQ(e.sample_rate_hz, 10000.0);
   EXPECT_EQ(e.samples(), 400u);
@@ -120,6 +135,32 @@ TEST_F(Import, BoardEventFileLoadsWithSiChannelsAndPhaseB) {
   EXPECT_EQ(e.phase_b->type, fw::diag::FaultType::channel_cutoff);
   ASSERT_TRUE(e.speed_at_trigger_hz.has_value());
   EXPECT_DOUBLE_EQ(*e.speed_at_trigger_hz, 45.0);
+}
+
+// A rig with a tachometer, a board whose speed source is the tracker (lost once the rotor
+// drops): the event's speed channel is the tachometer's (the spin-down during the drop), the
+// board's estimate rides along; the export declares the tachometer as the speed channel.
+TEST_F(Import, BoardEventWithTachometerGivesTheMeasuredSpeedChannel) {
+  const host::LoadedEvent e = host::load_event(board_event_file(false, true));
+  EXPECT_EQ(e.speed_channel, "tachometer");
+  ASSERT_EQ(e.speed_hz.size(), 400u);
+  EXPECT_EQ(e.speed_hz[100], 45.0);
+  EXPECT_EQ(static_cast<float>(e.speed_hz[350]), 45.0f - 0.02f * 200.0f);
+  ASSERT_EQ(e.speed_estimate_hz.size(), 400u);
+  EXPECT_TRUE(std::isnan(e.speed_estimate_hz[350]));
+  EXPECT_NE(e.notes.find("speed channel: tachometer"), std::string::npos) << e.notes;
+  host::export_measured_event(e, path("tach_export"));
+  const host::LoadedEvent b = host::load_event(path("tach_export.json"));
+  ASSERT_EQ(b.speed_hz.size(), 400u);  // a declared speed channel (finite throughout)
+  EXPECT_EQ(static_cast<float>(b.speed_hz[350]), static_cast<float>(e.speed_hz[350]));
+  // The same samples in an AMBE v2 file (no tachometer channel): the board's estimate, NaN
+  // after the trigger, which the export keeps as an undeclared column.
+  const host::LoadedEvent old = host::load_event(board_event_file(false, true, true));
+  EXPECT_EQ(old.format, "AMBE/2");
+  EXPECT_EQ(old.speed_channel, "board speed estimate");
+  EXPECT_TRUE(std::isnan(old.speed_hz[350]));
+  host::export_measured_event(old, path("v2_export"));
+  EXPECT_TRUE(host::load_event(path("v2_export.json")).speed_hz.empty());
 }
 
 TEST_F(Import, CorruptedBoardEventIsRefusedNamingTheFile) {

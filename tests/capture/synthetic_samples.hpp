@@ -37,7 +37,8 @@ inline bool is_intact(const fw::LoopSample& s) {
   return s.t_ns == r.t_ns && s.displacement_m == r.displacement_m && s.coil_current_a == r.coil_current_a &&
          s.current_demand_a == r.current_demand_a && s.speed_hz == r.speed_hz &&
          s.speed_command_hz == r.speed_command_hz && s.state == r.state && s.phase == r.phase &&
-         s.speed_quality == r.speed_quality && (s.flags & r.flags) == r.flags;
+         s.speed_quality == r.speed_quality && (s.flags & r.flags) == r.flags &&
+         (s.tach_hz == r.tach_hz || (std::isnan(s.tach_hz) && std::isnan(r.tach_hz)));
 }
 
 }  // namespace amb::test

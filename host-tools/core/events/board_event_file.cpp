@@ -1,5 +1,6 @@
 #include "host-tools/core/events/board_event_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -31,7 +32,7 @@ LoadedEvent to_loaded_event(const fw::EventRecord& r, const std::string& source)
   LoadedEvent e;
   const auto& m = r.meta;
   e.source = source;
-  e.format = r.has_analysis ? "AMBE/2" : "AMBE/1";
+  e.format = "AMBE/" + std::to_string(r.format_version != 0 ? r.format_version : fw::k_event_format_version);
   e.rig = m.rig_name;
   e.board = m.board_name;
   e.sample_rate_hz = m.rate_hz;
@@ -59,10 +60,21 @@ LoadedEvent to_loaded_event(const fw::EventRecord& r, const std::string& source)
     e.current_demand.push_back(std::move(q));
   }
   e.t_s.resize(n);
+  for (size_t i = 0; i < n; ++i) e.t_s[i] = static_cast<double>(r.samples[i].t_ns - r.samples.front().t_ns) * 1e-9;
+  // The rotor speed: the tachometer channel when the event recorded one (AMBE v3, a rig with a
+  // tachometer: tach_hz >= 0 or NaN on every sample), whatever source stamped the board's
+  // estimate; else the board's estimate (tracker or command; NaN where it was lost). With a
+  // tachometer the board's estimate is kept beside it (speed_estimate_hz).
+  const bool tach = n > 0 && std::all_of(r.samples.begin(), r.samples.end(),
+                                         [](const fw::LoopSample& s) { return !(s.tach_hz < 0.0f); });
   e.speed_hz.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    e.t_s[i] = static_cast<double>(r.samples[i].t_ns - r.samples.front().t_ns) * 1e-9;
-    e.speed_hz[i] = r.samples[i].speed_hz;
+  for (size_t i = 0; i < n; ++i) e.speed_hz[i] = tach ? r.samples[i].tach_hz : r.samples[i].speed_hz;
+  if (tach) {
+    e.speed_channel = "tachometer";
+    e.speed_estimate_hz.resize(n);
+    for (size_t i = 0; i < n; ++i) e.speed_estimate_hz[i] = r.samples[i].speed_hz;
+  } else if (n > 0) {
+    e.speed_channel = "board speed estimate";
   }
   if (r.has_diagnosis) e.phase_b = r.diagnosis;
   if (r.has_analysis && r.analysis.speed_lost_at_trigger)
@@ -79,6 +91,7 @@ LoadedEvent to_loaded_event(const fw::EventRecord& r, const std::string& source)
                   a.speed_lost_at_trigger ? ", lost" : "");
     e.notes += buf;
   }
+  if (!e.speed_channel.empty()) e.notes += "; speed channel: " + e.speed_channel;
   return e;
 }
 

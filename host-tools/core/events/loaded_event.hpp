@@ -26,7 +26,7 @@ struct LoadedChannel {
 
 struct LoadedEvent {
   std::string source;                 ///< the path it was loaded from
-  std::string format;                 ///< "AMBE/1" (board event) or "amb-measured-event/1"
+  std::string format;                 ///< "AMBE/1".."AMBE/3" (board event) or "amb-measured-event/1"
   std::string rig;                    ///< rig name
   std::string board;                  ///< board name (board event) or the board the rig resolved to
   double sample_rate_hz = 0.0;        ///< Hz, uniform
@@ -36,7 +36,13 @@ struct LoadedEvent {
   std::vector<LoadedChannel> current;         ///< measured control currents
   std::vector<LoadedChannel> current_demand;  ///< board events only: demands, A
   std::vector<LoadedChannel> other;           ///< acceleration, voltage
-  std::vector<double> speed_hz;               ///< per sample, Hz; empty when not recorded
+  std::vector<double> speed_hz;               ///< rotor speed per sample, Hz; empty when not recorded
+  /// Board events: what speed_hz is ("tachometer": the event's tach channel, AMBE v3 on a rig
+  /// with one; "board speed estimate": the board's speed source, NaN where it was lost).
+  std::string speed_channel;
+  /// Board events with a tachometer channel: the board's own speed estimate (its speed source,
+  /// e.g. the tracker; NaN where lost), Hz; empty otherwise.
+  std::vector<double> speed_estimate_hz;
   std::optional<double> speed_at_trigger_hz;  ///< Hz
   std::vector<std::string> declared_faults;   ///< from the sidecar; empty for board events
   std::optional<fw::diag::Diagnosis> phase_b; ///< the board's Phase B result, if present

@@ -428,6 +428,10 @@ void export_measured_event(const LoadedEvent& e, const std::string& stem) {
       std::all_of(e.speed_hz.begin(), e.speed_hz.end(), [](double v) { return std::isfinite(v); });
   if (!e.speed_hz.empty())
     out.columns.push_back({"speed_hz", "speed", "Hz", false, 0, 0, &e.speed_hz, speed_measured});
+  // Beside a tachometer channel, the board's own speed estimate (e.g. the tracker's, NaN where
+  // lost) is an extra, undeclared column: one speed channel per record.
+  if (!e.speed_estimate_hz.empty())
+    out.columns.push_back({"speed_estimate_hz", "speed", "Hz", false, 0, 0, &e.speed_estimate_hz, false});
   for (const auto& c : e.current_demand) out.columns.push_back({"demand_" + c.name, "current", "A", false, 0, 0, &c.values, false});
   out.columns.push_back({"t_clock_s", "time", "s", false, 0, 0, &e.t_s, false});
   write_measured_event(stem, out);

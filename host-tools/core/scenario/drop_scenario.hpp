@@ -21,8 +21,10 @@ struct DropScenarioOptions {
   bool fit = true;                     ///< run the Phase C fit on the captured drop
   bool residual = true;                ///< steady run with an undeclared effect + the residual loop
   /// The board's speed source for the run ("tracker": tachless, the board's STFT tracker;
-  /// "tach", "command"; empty: the board file's). The tachometer stays wired either way (it
-  /// feeds the tracker/tach disagreement diagnostic only when the source is "tracker").
+  /// "tach", "command"; empty: the board file's). The tachometer stays wired either way: it
+  /// feeds the tracker/tach disagreement diagnostic, and the capture records it in every
+  /// sample (AMBE v3 `tach_hz`), so the event has the rotor's spin-down during the drop for
+  /// Phase C whichever source stamps the board's speed estimate.
   std::string speed_source = "tracker";
   std::function<void(const std::string&)> progress;  ///< optional progress lines
 };
@@ -65,7 +67,7 @@ struct DropScenarioSummary {
   double simulated_s = 0.0;
   // Phase A/B: the captured event.
   bool event_captured = false;
-  std::string event_path;                 ///< board event file (AMBE v1)
+  std::string event_path;                 ///< board event file (AMBE v3)
   std::string event_export_stem;          ///< measured-event export (CSV + JSON) of it
   std::string trigger_cause;
   double trigger_delay_ms = 0.0;          ///< cut -> capture trigger, ms
