@@ -16,21 +16,17 @@
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/tracking/track_speed.hpp"
 #include "tests/support/test_paths.hpp"
+#include "tests/tracking/windturbine_records.hpp"
 
 namespace {
-double pulse_rate(const std::vector<double>& tach, double t0, double t1) {
-  auto lo = std::lower_bound(tach.begin(), tach.end(), t0);
-  auto hi = std::upper_bound(tach.begin(), tach.end(), t1);
-  if (hi - lo < 3) return std::nan("");
-  return static_cast<double>(hi - lo - 1) / (*(hi - 1) - *lo);
-}
+using namespace amb::test::windturbine;
 // Mean relative error over valid updates; 1.0 if the run failed or lost more than a quarter.
 double error(const amb::host::TrackSpeedResult& r, const std::vector<double>& tach) {
   if (r.status != "ok") return 1.0;
   double sum = 0.0;
   size_t valid = 0, all = 0;
   for (size_t i = 0; i < r.t_s.size(); ++i) {
-    const double truth = pulse_rate(tach, r.t_s[i] - 0.5 * r.window_s, r.t_s[i] + 0.5 * r.window_s) / 2.0;
+    const double truth = shaft_speed_hz(tach, r.t_s[i] - 0.5 * r.window_s, r.t_s[i] + 0.5 * r.window_s);
     if (!std::isfinite(truth)) continue;
     ++all;
     if (r.lost[i]) continue;
@@ -43,13 +39,8 @@ double error(const amb::host::TrackSpeedResult& r, const std::vector<double>& ta
 }  // namespace
 
 TEST(TrackingLeaveOneOut, WindTurbineRecords) {
-  const std::string dir = std::string(amb::test::shared_dir()) + "/data/measured/windturbine-hss";
-  std::vector<std::string> files;
-  if (std::filesystem::is_directory(dir))
-    for (const auto& e : std::filesystem::directory_iterator(dir))
-      if (e.path().extension() == ".mat") files.push_back(e.path().string());
-  std::sort(files.begin(), files.end());
-  if (files.size() < 2) GTEST_SKIP() << "records missing in " << dir;
+  const std::vector<std::string> files = records();
+  if (files.size() < 2) GTEST_SKIP() << "records missing in " << record_dir();
   const auto prof = amb::host::load_machine_profile(std::string(amb::test::source_dir()) + "/profiles/windturbine-hss.toml");
   std::vector<amb::host::ProfileRunConstants> grid;
   for (double a : {0.5, 0.3, 0.8})
@@ -60,7 +51,7 @@ TEST(TrackingLeaveOneOut, WindTurbineRecords) {
     const auto x = amb::host::read_mat_vector(files[i], "vibration");
     const auto tach = amb::host::read_mat_vector(files[i], "tach");
     for (size_t c = 0; c < grid.size(); ++c)
-      err[i][c] = error(amb::host::track_speed_with_profile(x, 97656.0, prof, grid[c]), tach);
+      err[i][c] = error(amb::host::track_speed_with_profile(x, k_fs_hz, prof, grid[c]), tach);
   }
   double worst_held_out = 0.0;
   for (size_t h = 0; h < files.size(); ++h) {

@@ -14,27 +14,10 @@
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/tracking/track_speed.hpp"
 #include "tests/support/test_paths.hpp"
+#include "tests/tracking/windturbine_records.hpp"
 
 namespace {
-const std::string k_dir = std::string(amb::test::shared_dir()) + "/data/measured/windturbine-hss";
-constexpr double k_fs_hz = 97656.0;
-constexpr double k_pulses_per_rev = 2.0;  // windturbine_test.cpp: PulsesPerRevolutionEvidence
-
-std::vector<std::string> records() {
-  std::vector<std::string> files;
-  if (!std::filesystem::is_directory(k_dir)) return files;
-  for (const auto& e : std::filesystem::directory_iterator(k_dir))
-    if (e.path().extension() == ".mat") files.push_back(e.path().string());
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-double pulse_rate(const std::vector<double>& tach, double t0, double t1) {
-  auto lo = std::lower_bound(tach.begin(), tach.end(), t0);
-  auto hi = std::upper_bound(tach.begin(), tach.end(), t1);
-  if (hi - lo < 3) return std::nan("");
-  return static_cast<double>(hi - lo - 1) / (*(hi - 1) - *lo);
-}
+using namespace amb::test::windturbine;
 
 // Mean relative error over valid updates, worst valid update, valid count.
 struct Score {
@@ -44,7 +27,7 @@ struct Score {
 Score score(const amb::host::TrackSpeedResult& r, const std::vector<double>& tach) {
   Score s;
   for (size_t i = 0; i < r.t_s.size(); ++i) {
-    const double truth = pulse_rate(tach, r.t_s[i] - 0.5 * r.window_s, r.t_s[i] + 0.5 * r.window_s) / k_pulses_per_rev;
+    const double truth = shaft_speed_hz(tach, r.t_s[i] - 0.5 * r.window_s, r.t_s[i] + 0.5 * r.window_s);
     if (!std::isfinite(truth)) continue;
     ++s.all;
     if (r.lost[i]) continue;
@@ -60,7 +43,7 @@ Score score(const amb::host::TrackSpeedResult& r, const std::vector<double>& tac
 
 TEST(MachineProfile, WindTurbineProfileTracksEveryRecord) {
   const auto files = records();
-  if (files.empty()) GTEST_SKIP() << "no records in " << k_dir;
+  if (files.empty()) GTEST_SKIP() << "no records in " << record_dir();
   const auto prof = amb::host::load_machine_profile(std::string(amb::test::source_dir()) + "/profiles/windturbine-hss.toml");
   for (const auto& f : files) {
     const auto tach = amb::host::read_mat_vector(f, "tach");
@@ -78,7 +61,7 @@ TEST(MachineProfile, WindTurbineProfileTracksEveryRecord) {
 
 TEST(MachineProfile, DefaultsNeverReportAWrongSpeed) {
   const auto files = records();
-  if (files.empty()) GTEST_SKIP() << "no records in " << k_dir;
+  if (files.empty()) GTEST_SKIP() << "no records in " << record_dir();
   for (const auto& f : files) {
     const auto tach = amb::host::read_mat_vector(f, "tach");
     const auto r = amb::host::track_speed_with_profile(amb::host::read_mat_vector(f, "vibration"), k_fs_hz,

@@ -19,28 +19,10 @@
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/tracking/track_speed.hpp"
 #include "tests/support/test_paths.hpp"
+#include "tests/tracking/windturbine_records.hpp"
 
 namespace {
-const std::string k_dir = std::string(amb::test::shared_dir()) + "/data/measured/windturbine-hss";
-constexpr double k_fs_hz = 97656.0;
-constexpr double k_pulses_per_rev = 2.0;
-
-std::vector<std::string> records() {
-  std::vector<std::string> files;
-  if (!std::filesystem::is_directory(k_dir)) return files;
-  for (const auto& e : std::filesystem::directory_iterator(k_dir))
-    if (e.path().extension() == ".mat") files.push_back(e.path().string());
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-// Mean pulse rate (pulses/s) over [t0, t1] from the pulse times; NaN if < 3 pulses.
-double pulse_rate(const std::vector<double>& tach, double t0, double t1) {
-  auto lo = std::lower_bound(tach.begin(), tach.end(), t0);
-  auto hi = std::upper_bound(tach.begin(), tach.end(), t1);
-  if (hi - lo < 3) return std::nan("");
-  return static_cast<double>(hi - lo - 1) / (*(hi - 1) - *lo);
-}
+using namespace amb::test::windturbine;
 
 // window_s: 1.5 s for this machine (its speed drifts <= 2 % over 3 s, so a long window
 // costs no tracking error and buys 5 dB of line SNR: the 20130331 record's 1x line is only
@@ -62,7 +44,7 @@ amb::host::TrackSpeedOptions turbine_options(double window_s = 1.5) {
 
 TEST(WindTurbine, PulsesPerRevolutionEvidence) {
   const auto files = records();
-  if (files.empty()) GTEST_SKIP() << "no records in " << k_dir;
+  if (files.empty()) GTEST_SKIP() << "no records in " << record_dir();
   for (const auto& f : files) {
     const auto tach = amb::host::read_mat_vector(f, "tach");
     const double rate = static_cast<double>(tach.size() - 1) / (tach.back() - tach.front());
@@ -76,7 +58,7 @@ TEST(WindTurbine, PulsesPerRevolutionEvidence) {
 
 TEST(WindTurbine, TrackedSpeedAgainstTachometer) {
   const auto files = records();
-  if (files.empty()) GTEST_SKIP() << "no records in " << k_dir;
+  if (files.empty()) GTEST_SKIP() << "no records in " << record_dir();
   for (double window_s : {1.5, 0.5}) {
     const amb::host::TrackSpeedOptions opt = turbine_options(window_s);
     const double half_window_s = 0.5 * opt.tracker.stft.window_s;
@@ -88,7 +70,7 @@ TEST(WindTurbine, TrackedSpeedAgainstTachometer) {
       for (size_t i = 0; i < r.t_s.size(); ++i) {
         // Reference: mean pulse rate over the same window as the STFT frame / 2 pulses per rev.
         const double truth =
-            pulse_rate(tach, r.t_s[i] - half_window_s, r.t_s[i] + half_window_s) / k_pulses_per_rev;
+            shaft_speed_hz(tach, r.t_s[i] - half_window_s, r.t_s[i] + half_window_s);
         if (!std::isfinite(truth)) continue;
         ++n_all;
         if (r.lost[i]) {
