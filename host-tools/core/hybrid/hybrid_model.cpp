@@ -343,8 +343,24 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
     hes.physics = {power(p.env, m.physics_env_scale)};
     hp.physics = hps.physics;
     he.physics = hes.physics;
-    if (o.transport_log_psd) hp.physics.push_back(transport_log_psd(loo_psd, psd_c, 1.0, scales, h));
-    if (o.transport_env) he.physics.push_back(transport_env(loo_env, env_c, 1.0, scales));
+    // Cross-fitting across operating points: if the state was also trained at another speed,
+    // the segment's transport input is the nearest such case moved to the segment's speed, so
+    // the map learns from real speed changes how far to trust the transported spectrum.
+    // Otherwise its own case without it (ratio 1).
+    const ReferenceSpectra* other = nullptr;
+    double best = 0.0;
+    for (const auto& ref : m.references) {
+      if (ref.state != r.state || std::abs(ref.op.speed_rpm - r.op.speed_rpm) <= 1e-9 * r.op.speed_rpm) continue;
+      const double dist = std::abs(std::log(r.op.speed_rpm / ref.op.speed_rpm)) + 1e-6 * std::abs(r.op.load - ref.op.load);
+      if (other == nullptr || dist < best) {
+        other = &ref;
+        best = dist;
+      }
+    }
+    const double ratio = other ? r.op.speed_rpm / other->op.speed_rpm : 1.0;
+    if (o.transport_log_psd)
+      hp.physics.push_back(transport_log_psd(other ? other->log_psd : loo_psd, psd_c, ratio, scales, h));
+    if (o.transport_env) he.physics.push_back(transport_env(other ? other->env_power : loo_env, env_c, ratio, scales));
     in_data.push_back(d);
     in_psd.push_back(std::move(hp));
     in_env.push_back(std::move(he));
