@@ -74,4 +74,16 @@ LinearJournal place_journal(const PlantParams& rig, const JournalBearingParams& 
   return j;
 }
 
+LinearJournal relinearise_journal(const LinearJournal& j, const JournalBearingParams& jb, double x_m, double y_m) {
+  if (!j.enabled) throw std::invalid_argument("journal re-linearisation: the element is not enabled");
+  if (!(std::hypot(x_m, y_m) < 0.98 * jb.geometry.clearance_m))
+    throw std::invalid_argument("journal re-linearisation: position outside 0.98 of the clearance");
+  ReynoldsSolver solver(jb.geometry, jb.wear, jb.grid);
+  LinearJournal r = j;
+  r.lin_x_m = x_m;
+  r.lin_y_m = y_m;
+  r.coeff = perturbation_coefficients(solver, {x_m, y_m, 0.0, 0.0}, j.ref_spin_rad_s);
+  return r;
+}
+
 }  // namespace amb::model::journal

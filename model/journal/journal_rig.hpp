@@ -72,4 +72,11 @@ std::array<double, 2> static_displacement_m(const PlantParams& rig, double at_ax
 /// Throws std::invalid_argument for an unusable bearing description.
 LinearJournal place_journal(const PlantParams& rig, const JournalBearingParams& jb, double spin_rad_s);
 
+/// The same element linearised afresh about another journal position (x_m, y_m from the bore
+/// centre, m) at the element's reference speed: the static force and the coefficients of
+/// the film at that position (the bore and its wear unchanged). For a plant whose journal
+/// settled slightly away from the placement point (the AMBs' integral action is slow): a
+/// real film's coefficients are those of where the journal actually sits.
+LinearJournal relinearise_journal(const LinearJournal& j, const JournalBearingParams& jb, double x_m, double y_m);
+
 }  // namespace amb::model::journal

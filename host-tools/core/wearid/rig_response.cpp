@@ -56,6 +56,7 @@ void RigResponse::set_static_film_force(std::array<double, 2> f) {
   for (size_t b = 0; b < 2; ++b) {
     const model::magnet::AxisLaw law = model::magnet::make_axis_law(p.amb[b]);
     ks_xy_[b] = Eigen::Matrix2d::Zero();
+    ki_xy_[b] = Eigen::Matrix2d::Zero();
     for (size_t a = 0; a < 2; ++a) {
       const auto d = model::magnet::axis_direction(p.amb[b].actuator_angle_deg[a]);
       double f_axis = 0.0, z_axis = 0.0;
@@ -66,9 +67,14 @@ void RigResponse::set_static_film_force(std::array<double, 2> f) {
         z_axis += d[i] * zi;
       }
       const double ic = f_axis / p.amb[b].ki_n_per_a;
-      const double ks = model::magnet::linearise(law, z_axis, ic).ks_n_per_m;
+      const model::magnet::Linearisation lin = model::magnet::linearise(law, z_axis, ic);
       const Eigen::Vector2d dv(d[0], d[1]);
-      ks_xy_[b] += ks * dv * dv.transpose();
+      ks_xy_[b] += lin.ks_n_per_m * dv * dv.transpose();
+      // The firmware divides its force demand by the board's ki; the coil pair delivers the
+      // local dF/dic at the static gap and current, which differs from ki when the actuator
+      // plane is not at zero (the sensors hold their own plane at zero) and the pair carries a
+      // static load: 2 k ((i0 + ic)/(g0 - z)^2 + (i0 - ic)/(g0 + z)^2).
+      ki_xy_[b] += lin.ki_n_per_a / p.amb[b].ki_n_per_a * dv * dv.transpose();
     }
   }
 }
@@ -114,7 +120,7 @@ Eigen::VectorXcd RigResponse::modal_response(double speed_hz, const Eigen::Matri
     for (int r = 0; r < 2; ++r)
       for (int q = 0; q < 2; ++q) {
         a.block(r * m, q * m, m, m) -= ks_xy_[b](r, q) * aa.cast<cplx>();
-        if (r == q) a.block(r * m, q * m, m, m) += loop * as.cast<cplx>();
+        a.block(r * m, q * m, m, m) += ki_xy_[b](r, q) * loop * as.cast<cplx>();
       }
   }
   // Film.
@@ -147,9 +153,21 @@ FullSpectrum pair_spectrum(const Eigen::RowVectorXd& b, const Eigen::VectorXcd& 
 
 std::array<FullSpectrum, 3> RigResponse::all_probes(const Eigen::Matrix2d& kj, const Eigen::Matrix2d& cj) const {
   const Eigen::VectorXcd e = modal_response(speed_hz_, kj, cj);
-  return {pair_spectrum(b_journal_, e, m_, probe_dir_[0], probe_dir_[1]),
-          pair_spectrum(b_sensor_[0], e, m_, sensor_dir_[0], sensor_dir_[1]),
-          pair_spectrum(b_sensor_[1], e, m_, sensor_dir_[2], sensor_dir_[3])};
+  // The AMB sensors' readings pass their first-order roll-off (the plant's sensor model);
+  // the journal probes read the shaft directly. A common complex gain s on x' and y' scales
+  // Z+ by s and Z- by conj(s).
+  std::array<FullSpectrum, 3> z = {pair_spectrum(b_journal_, e, m_, probe_dir_[0], probe_dir_[1]),
+                                   pair_spectrum(b_sensor_[0], e, m_, sensor_dir_[0], sensor_dir_[1]),
+                                   pair_spectrum(b_sensor_[1], e, m_, sensor_dir_[2], sensor_dir_[3])};
+  const double w = k_two_pi * speed_hz_;
+  for (size_t b = 0; b < 2; ++b) {
+    const double fs = b_.plant.sensor[2 * b].bandwidth_hz;
+    if (!(fs > 0.0)) continue;
+    const cplx sen = 1.0 / (1.0 + cplx(0.0, w / (k_two_pi * fs)));
+    z[b + 1].forward_m *= sen;
+    z[b + 1].backward_m *= std::conj(sen);
+  }
+  return z;
 }
 
 std::array<cplx, 2> RigResponse::journal_xy_at(double speed_hz, const Eigen::Matrix2d& kj,

@@ -71,6 +71,7 @@ class RigResponse {
   Eigen::RowVectorXd b_journal_;
   Eigen::VectorXd unb_s_, unb_c_;
   std::array<Eigen::Matrix2d, 2> ks_xy_;   // per AMB: linearised negative stiffness in (x, y), N/m
+  std::array<Eigen::Matrix2d, 2> ki_xy_;   // per AMB: local current gain / board ki in (x, y), 1
   // Static AMB force/position per unit film force: st0 + fx * stx + fy * sty.
   std::array<std::array<std::array<double, 2>, 2>, 3> amb_force_basis_{}, amb_disp_basis_{};
   std::array<std::array<double, 2>, 2> probe_dir_{};

@@ -26,7 +26,8 @@ struct WearIdOptions {
   std::array<double, 2> position_deg{-45.0, 45.0}; ///< bounds on gamma, deg
   std::array<double, 2> span_deg{30.0, 150.0};     ///< bounds on beta (3p only), deg
   int doe_points = 9;                              ///< grid points per parameter (>= 2)
-  int polished_starts = 8;                         ///< best DOE points polished by the local optimiser
+  int polished_starts = 8;                         ///< DOE grid local minima (then other non-adjacent points) polished by the local optimiser
+  int max_restarts = 4;                            ///< BOBYQA restarts from a polish's end point (stop when the gain < 1e-3 of the cost)
   int max_evaluations = 400;                       ///< per local polish
   double xtol_rel = 1e-5;                          ///< on the scaled parameters
   int threads = 2;                                 ///< DOE evaluations in parallel
@@ -46,6 +47,7 @@ struct WearIdResult {
   double d0_uncertainty_um = 0.0, gamma_uncertainty_deg = 0.0, beta_uncertainty_deg = 0.0;
   double cost = 0.0;
   int doe_evaluations = 0, evaluations = 0;
+  int doe_local_minima = 0;          ///< starting points that were local minima of the DOE grid
   double wall_s = 0.0;
   std::string stop_reason;           ///< NLopt's result for the winning polish
   bool bound_active = false;         ///< a parameter ended on a bound (within 0.5 % of the range)
