@@ -48,7 +48,11 @@ struct LoopSample {
   /// source (speed_hz may be the tracker's): the rotor's spin-down during a drop. < 0: the rig
   /// has none; NaN: present but invalid. Stored from AMBE v3 on (older files read as -1).
   float tach_hz = -1.0f;
+  /// Explicit padding to the 8-byte alignment, always 0, not stored: a sample has no
+  /// indeterminate bytes (replay compares samples byte for byte).
+  uint32_t reserved = 0;
 };
+static_assert(sizeof(LoopSample) == 88, "LoopSample: no implicit padding");
 
 inline double speed_confidence(const LoopSample& s) { return static_cast<double>(s.speed_quality & 0x7Fu) / 100.0; }
 inline bool speed_lost(const LoopSample& s) { return (s.speed_quality & k_speed_lost_bit) != 0; }
