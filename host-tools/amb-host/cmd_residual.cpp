@@ -16,6 +16,7 @@
 #include "host-tools/core/events/measured_event.hpp"
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
+#include "host-tools/core/residual/journal_residual.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
 #include "host-tools/core/residual/sweep_frf.hpp"
@@ -175,6 +176,11 @@ int run_steady(const Args& a) {
   const auto b = a.board.empty() ? amb::host::resolve_rig(rec.rig, std::filesystem::path(rec.source).parent_path().string(), rec.source)
                                  : amb::board::load_board(a.board);
   if (hr::is_drop_event(rec, b)) return run_drop(a, rec, b);
+  if (hr::is_journal_event(rec, b)) {  // journal-bearing record (seed 002): journal_bearing_wear
+    const auto o = hr::run_journal_residual(rec, b);
+    std::printf("%s\n", a.json ? hr::journal_residual_json(o).c_str() : hr::journal_residual_text(o).c_str());
+    return 0;
+  }
   const auto d = hr::extract_steady(rec, b);
   const auto o = hr::run_residual_loop(d, b);
   if (a.json) {
