@@ -19,18 +19,12 @@
 
 #include "host-tools/core/envelope/envelope_study.hpp"
 #include "host-tools/core/envelope/slurm_array.hpp"
+#include "tests/support/read_text.hpp"
 
 namespace ev = amb::host::envelope;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 int sh(const std::string& cmd) {
   const int rc = std::system(cmd.c_str());
@@ -56,7 +50,7 @@ class OneNodeCluster {
     if (sh("munged --force --socket='" + sock.string() + "' --key-file='" + key.string() + "' --pid-file='" +
            (dir_ / "munge" / "munged.pid").string() + "' --log-file='" + (dir_ / "munge" / "munged.log").string() +
            "' --seed-file='" + (dir_ / "munge" / "seed").string() + "'") != 0) {
-      why_ = "munged did not start: " + slurp(dir_ / "munge" / "munged.log");
+      why_ = "munged did not start: " + amb::test::read_text(dir_ / "munge" / "munged.log");
       return;
     }
     char host[256] = {};
@@ -81,7 +75,7 @@ class OneNodeCluster {
     c.close();
     ::setenv("SLURM_CONF", conf_.c_str(), 1);
     if (sh("slurmctld -f '" + conf_.string() + "'") != 0 || sh(std::string("slurmd -f '") + conf_.string() + "' -N " + host) != 0) {
-      why_ = "slurmctld/slurmd did not start: " + slurp(dir_ / "slurmctld.log") + slurp(dir_ / "slurmd.log");
+      why_ = "slurmctld/slurmd did not start: " + amb::test::read_text(dir_ / "slurmctld.log") + amb::test::read_text(dir_ / "slurmd.log");
       return;
     }
     // Up when the node is idle.
@@ -92,11 +86,11 @@ class OneNodeCluster {
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(500));
     }
-    why_ = "the node never became idle: " + slurp(dir_ / "slurmctld.log") + slurp(dir_ / "slurmd.log");
+    why_ = "the node never became idle: " + amb::test::read_text(dir_ / "slurmctld.log") + amb::test::read_text(dir_ / "slurmd.log");
   }
   ~OneNodeCluster() {
     for (const char* pf : {"slurmd.pid", "slurmctld.pid", "munge/munged.pid"}) {
-      const std::string pid = slurp(dir_ / pf);
+      const std::string pid = amb::test::read_text(dir_ / pf);
       if (!pid.empty()) ::kill(static_cast<pid_t>(std::atol(pid.c_str())), SIGTERM);
     }
     std::this_thread::sleep_for(std::chrono::seconds(1));
@@ -149,8 +143,8 @@ TEST(EnvelopeSlurm, ArrayOnOneNodeClusterGivesTheLocalFigures) {
     const fs::path out = dir / "slurm-out", log = dir / "envelope.log";
     const std::string cmd = std::string(AMB_HOST_EXE) + " envelope '" + spec_path.string() + "' --slurm --slurm-tasks 3 --threads 1 --out '" +
                             out.string() + "' --json > '" + (dir / "envelope.json").string() + "' 2> '" + log.string() + "'";
-    ASSERT_EQ(sh(cmd), 0) << slurp(log);
-    j = nlohmann::json::parse(slurp(dir / "envelope.json"));
+    ASSERT_EQ(sh(cmd), 0) << amb::test::read_text(log);
+    j = nlohmann::json::parse(amb::test::read_text(dir / "envelope.json"));
     // Every task wrote its own output: the array really ran.
     int task_logs = 0;
     for (const auto& e : fs::directory_iterator(out / "slurm")) task_logs += e.path().filename().string().rfind("task-", 0) == 0;
@@ -162,8 +156,8 @@ TEST(EnvelopeSlurm, ArrayOnOneNodeClusterGivesTheLocalFigures) {
   EXPECT_EQ(j["slurm"]["tasks"], 3);
   // Identical case files (the same figures) for identical cases.
   for (const auto& c : local.outcomes) {
-    const nlohmann::json a = nlohmann::json::parse(slurp(ev::case_file_path(lo.out_dir, c.hash)));
-    const nlohmann::json b = nlohmann::json::parse(slurp(ev::case_file_path((dir / "slurm-out").string(), c.hash)));
+    const nlohmann::json a = nlohmann::json::parse(amb::test::read_text(ev::case_file_path(lo.out_dir, c.hash)));
+    const nlohmann::json b = nlohmann::json::parse(amb::test::read_text(ev::case_file_path((dir / "slurm-out").string(), c.hash)));
     nlohmann::json ra = a["result"], rb = b["result"];
     ra.erase("wall_s");
     rb.erase("wall_s");

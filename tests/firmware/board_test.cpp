@@ -8,6 +8,7 @@
 #include "boards/embedded_boards.hpp"
 #include "firmware/board/board.hpp"
 #include "tests/support/test_paths.hpp"
+#include "tests/support/read_text.hpp"
 
 using amb::board::BoardError;
 using amb::board::load_board;
@@ -15,14 +16,7 @@ using amb::board::parse_board;
 
 namespace {
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string bath_text() { return read_file(std::string(amb::test::source_dir()) + "/boards/bath-amb-rig.toml"); }
+std::string bath_text() { return amb::test::read_text(std::string(amb::test::source_dir()) + "/boards/bath-amb-rig.toml"); }
 
 // Replace the first line that starts with `key =` after `section` with `key = value`.
 std::string set_key(std::string text, const std::string& section, const std::string& key,

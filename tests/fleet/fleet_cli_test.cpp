@@ -11,18 +11,12 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/fleet/fleet_fixture.hpp"
+#include "tests/support/read_text.hpp"
 
 namespace tf = amb::test::fleet;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 /// Run amb-host fleet with `args`; stdout parsed as JSON into `out`. Returns the exit code.
 int fleet(const fs::path& dir, const std::string& args, nlohmann::json& out, std::string& err) {
@@ -30,8 +24,8 @@ int fleet(const fs::path& dir, const std::string& args, nlohmann::json& out, std
   const std::string cmd = std::string(AMB_HOST_EXE) + " fleet --store '" + (dir / "cli.sqlite").string() + "' " + args + " > '" +
                           o.string() + "' 2> '" + e.string() + "'";
   const int rc = std::system(cmd.c_str());
-  err = slurp(e);
-  const std::string text = slurp(o);
+  err = amb::test::read_text(e);
+  const std::string text = amb::test::read_text(o);
   out = nlohmann::json::parse(text, nullptr, false);
   EXPECT_FALSE(out.is_discarded()) << "stdout is not JSON: " << text;
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
@@ -68,6 +62,6 @@ TEST(FleetCli, AddListTrendReport) {
   ASSERT_EQ(fleet(dir, "report --out '" + page.string() + "' --json", j, err), 0) << err;
   EXPECT_EQ(j["nearest"].size(), 10u);
   EXPECT_EQ(j["nearest"][0]["machine"], "board-3");
-  EXPECT_NE(slurp(page).find("<svg id=\"trend\""), std::string::npos);
+  EXPECT_NE(amb::test::read_text(page).find("<svg id=\"trend\""), std::string::npos);
   fs::remove_all(dir);
 }

@@ -14,6 +14,7 @@
 #include "host-tools/core/fleet/fleet_schema.hpp"
 #include "host-tools/core/fleet/fleet_store.hpp"
 #include "tests/fleet/fleet_fixture.hpp"
+#include "tests/support/read_text.hpp"
 
 namespace fl = amb::host::fleet;
 namespace tf = amb::test::fleet;
@@ -28,13 +29,6 @@ std::string pg_bin() {
   for (const auto& e : fs::directory_iterator("/usr/lib/postgresql", ec))
     if (fs::exists(e.path() / "bin" / "initdb") && (best.empty() || e.path().string() > best)) best = e.path().string();
   return best.empty() ? "" : best + "/bin";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 /// A PostgreSQL server of its own in `dir`, stopped and removed by the destructor.
@@ -70,7 +64,7 @@ class LocalPostgres {
   int run(const std::string& cmd, const std::string& log) {
     const fs::path lp = dir_ / log;
     const int rc = std::system((cmd + " > '" + lp.string() + "' 2>&1").c_str());
-    if (rc != 0) log_ += cmd + ":\n" + slurp(lp) + slurp(dir_ / "server.log");
+    if (rc != 0) log_ += cmd + ":\n" + amb::test::read_text(lp) + amb::test::read_text(dir_ / "server.log");
     return rc;
   }
 

@@ -7,10 +7,11 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <utility>
+
+#include "tests/support/read_text.hpp"
 
 namespace amb::test::chromium {
 
@@ -18,12 +19,7 @@ namespace amb::test::chromium {
 inline const char* const k_binary = "/usr/bin/chromium";
 
 /// The whole file as bytes ("" if it cannot be read).
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+inline std::string slurp(const std::filesystem::path& p) { return amb::test::read_text(p); }
 
 /// Run Chromium headless on `url` with extra `args` and its own profile directory `profile`;
 /// stdout to `out`, stderr to `log`; killed after 120 s. Returns the exit status (-1 if killed
