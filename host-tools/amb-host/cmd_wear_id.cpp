@@ -6,6 +6,7 @@
 #include <exception>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +30,7 @@ struct Args {
   int threads = 2;
   double window_s = 2.0;
   bool json = false;
+  std::vector<std::string> with;  // further records of the same bearing fitted together
 };
 
 nlohmann::json component(std::complex<double> z) {
@@ -63,7 +65,13 @@ int run(const Args& a) {
     const wi::JournalMeasurement m = wi::measure_journal(ev, b, o.window_s);
     std::fprintf(stderr, "wear-id: %s, %.3f Hz, static eccentricity %.3f, %d revolutions, model %s\n",
                  a.event.c_str(), m.speed_hz, m.eccentricity, m.revolutions, a.model.c_str());
-    r = wi::identify_wear(b, m, o);
+    std::vector<wi::JournalMeasurement> ms{m};
+    for (const auto& w : a.with) {
+      ms.push_back(wi::measure_journal(amb::host::load_event(w), b, o.window_s));
+      std::fprintf(stderr, "wear-id: with %s, %.3f Hz, static eccentricity %.3f\n", w.c_str(), ms.back().speed_hz,
+                   ms.back().eccentricity);
+    }
+    r = wi::identify_wear(b, ms, o);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "amb-host wear-id: error: %s\n", e.what());
     return 1;
@@ -83,6 +91,7 @@ int run(const Args& a) {
         {"cost", r.cost},
         {"evaluations", r.evaluations},
         {"doe_evaluations", r.doe_evaluations},
+        {"records", r.records},
         {"wall_s", r.wall_s},
         {"stop_reason", r.stop_reason},
         {"bound_active", r.bound_active},
@@ -125,6 +134,8 @@ const amb::host::Registration reg{
       sub.add_option("--starts", args->starts, "best DOE points polished by the local optimiser (default 8)");
       sub.add_option("--threads", args->threads, "threads (default 2)");
       sub.add_option("--window", args->window_s, "analysed time at the end of the record, s (default 2)");
+      sub.add_option("--with", args->with,
+                     "further records of the same bearing (e.g. the other static eccentricity) fitted together");
       sub.add_flag("--amb-planes", args->amb_planes,
                    "also fit the +1x/-1x at the AMB sensor planes (default: journal probes only, as the seed)");
       sub.add_flag("--json", args->json, "print the figures as JSON");

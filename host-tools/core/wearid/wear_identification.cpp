@@ -18,18 +18,30 @@ constexpr double k_deg = M_PI / 180.0;
 // One evaluator per thread: its own Reynolds solver workspace and rig response.
 class Evaluator {
  public:
-  Evaluator(const board::BoardConfig& b, const JournalMeasurement& meas, const WearIdOptions& o)
-      : b_(b), meas_(meas), o_(o), rig_(b, meas.speed_hz, {0.0, 0.0}) {
+  // One or more records of the same bearing (e.g. the seed's two static eccentricities):
+  // the residuals of each are normalised by its own measured spectrum, so each record
+  // weighs by its relative misfit.
+  Evaluator(const board::BoardConfig& b, const std::vector<JournalMeasurement>& ms, const WearIdOptions& o)
+      : b_(b), ms_(ms), o_(o) {
     n_ = o.model == mj::WearModel::two_parameter ? 2 : 3;
-    planes_ = o.use_amb_planes && meas.has_amb_planes;
-    double s2 = std::norm(meas.spectrum.forward_m) + std::norm(meas.spectrum.backward_m);
-    if (planes_)
-      for (const auto& p : meas.amb_planes) s2 += std::norm(p.forward_m) + std::norm(p.backward_m);
-    scale_ = std::sqrt(s2);
+    planes_ = o.use_amb_planes;
+    for (const auto& m : ms) planes_ = planes_ && m.has_amb_planes;
+    for (const auto& m : ms) {
+      rigs_.emplace_back(b, m.speed_hz, std::array<double, 2>{0.0, 0.0});
+      double s2 = std::norm(m.spectrum.forward_m) + std::norm(m.spectrum.backward_m);
+      if (planes_)
+        for (const auto& p : m.amb_planes) s2 += std::norm(p.forward_m) + std::norm(p.backward_m);
+      scales_.push_back(std::sqrt(s2));
+      // Noise of each real residual (complex noise per component split evenly), normalised.
+      const double sg = std::max(m.noise_m / std::sqrt(2.0), 1e-15) / scales_.back();
+      for (int k = 0; k < (planes_ ? 12 : 4); ++k) sigma_.push_back(sg);
+    }
   }
   bool planes() const { return planes_; }
-  int residual_count() const { return planes_ ? 12 : 4; }
+  int residual_count() const { return static_cast<int>(sigma_.size()); }
   int dims() const { return n_; }
+  /// Noise standard deviation of residual k (normalised units).
+  double sigma(int k) const { return sigma_[static_cast<size_t>(k)]; }
 
   mj::WearParams wear_of(const std::vector<double>& u) const {
     mj::WearParams w;
@@ -40,29 +52,36 @@ class Evaluator {
     return w;
   }
 
-  std::array<FullSpectrum, 3> spectra(const mj::WearParams& w) {
+  std::array<FullSpectrum, 3> spectra(const mj::WearParams& w, size_t rec = 0) {
     mj::ReynoldsSolver s(b_.journal.geometry, w, b_.journal.grid);
-    const double spin = 2.0 * M_PI * meas_.speed_hz;
-    const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, meas_.journal, spin);
-    rig_.set_static_film_force({d.fx0_n, d.fy0_n});
-    return rig_.all_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
+    const JournalMeasurement& m = ms_[rec];
+    const double spin = 2.0 * M_PI * m.speed_hz;
+    const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, m.journal, spin);
+    rigs_[rec].set_static_film_force({d.fx0_n, d.fy0_n});
+    return rigs_[rec].all_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
   }
-  FullSpectrum spectrum(const mj::WearParams& w) { return spectra(w)[0]; }
+  FullSpectrum spectrum(const mj::WearParams& w, size_t rec = 0) { return spectra(w, rec)[0]; }
 
-  // Residuals in units of the measured spectra's norm: journal pair, then the AMB planes.
+  // Residuals in units of each record's measured spectra's norm: journal pair, then the AMB
+  // planes, record after record.
   std::vector<double> residual(const std::vector<double>& u) {
     ++evaluations;
-    const auto z = spectra(wear_of(u));
+    const mj::WearParams w = wear_of(u);
     std::vector<double> r;
-    r.reserve(12);
-    auto add = [&](const FullSpectrum& mdl, const FullSpectrum& mea) {
-      const cplx a = (mdl.forward_m - mea.forward_m) / scale_, c = (mdl.backward_m - mea.backward_m) / scale_;
-      r.insert(r.end(), {a.real(), a.imag(), c.real(), c.imag()});
-    };
-    add(z[0], meas_.spectrum);
-    if (planes_) {
-      add(z[1], meas_.amb_planes[0]);
-      add(z[2], meas_.amb_planes[1]);
+    r.reserve(sigma_.size());
+    for (size_t rec = 0; rec < ms_.size(); ++rec) {
+      const auto z = spectra(w, rec);
+      const JournalMeasurement& m = ms_[rec];
+      const double sc = scales_[rec];
+      auto add = [&](const FullSpectrum& mdl, const FullSpectrum& mea) {
+        const cplx a = (mdl.forward_m - mea.forward_m) / sc, c = (mdl.backward_m - mea.backward_m) / sc;
+        r.insert(r.end(), {a.real(), a.imag(), c.real(), c.imag()});
+      };
+      add(z[0], m.spectrum);
+      if (planes_) {
+        add(z[1], m.amb_planes[0]);
+        add(z[2], m.amb_planes[1]);
+      }
     }
     return r;
   }
@@ -75,16 +94,15 @@ class Evaluator {
     }
     return 0.5 * s;
   }
-  double scale() const { return scale_; }
   int evaluations = 0;
 
  private:
   const board::BoardConfig& b_;
-  const JournalMeasurement& meas_;
+  const std::vector<JournalMeasurement>& ms_;
   const WearIdOptions& o_;
-  RigResponse rig_;
+  std::vector<RigResponse> rigs_;
+  std::vector<double> scales_, sigma_;
   int n_ = 3;
-  double scale_ = 1.0;
   bool planes_ = false;
 };
 
@@ -132,12 +150,19 @@ FullSpectrum predict_spectrum(const board::BoardConfig& board, const mj::WearPar
 }
 
 WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasurement& meas, const WearIdOptions& o) {
+  return identify_wear(board, std::vector<JournalMeasurement>{meas}, o);
+}
+
+WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas,
+                           const WearIdOptions& o) {
+  if (meas.empty()) throw std::invalid_argument("wear-id: no measurement");
   if (const std::string why = o.check(); !why.empty()) throw std::invalid_argument("wear-id: " + why);
   if (!board.journal.present) throw std::invalid_argument("wear-id: board has no [journal_bearing]");
   const auto t0 = std::chrono::steady_clock::now();
   WearIdResult r;
   r.model = mj::to_string(o.model);
-  r.measured = meas;
+  r.measured = meas.front();
+  r.records = static_cast<int>(meas.size());
 
   // Design of experiments: full grid over the scaled box [0, 1]^n, split over threads.
   const int n = o.model == mj::WearModel::two_parameter ? 2 : 3;
@@ -304,7 +329,6 @@ WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasure
 
   // Uncertainty: noise of each real residual component = noise_m / sqrt(2) (complex noise
   // split evenly), Jacobian by central differences in physical units (um, deg).
-  const double sigma = std::max(meas.noise_m / std::sqrt(2.0), 1e-15) / e.scale();
   const double range[3] = {o.depth_um[1] - o.depth_um[0], o.position_deg[1] - o.position_deg[0],
                            o.span_deg[1] - o.span_deg[0]};
   r.used_amb_planes = e.planes();
@@ -318,7 +342,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasure
     try {
       const auto rp = e.residual(xp), rm = e.residual(xm);
       const double du = (xp[static_cast<size_t>(i)] - xm[static_cast<size_t>(i)]) * range[i];
-      for (int k = 0; k < e.residual_count(); ++k) jac(k, i) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * sigma);
+      for (int k = 0; k < e.residual_count(); ++k) jac(k, i) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * e.sigma(k));
     } catch (const std::invalid_argument&) {
       ok = false;
     }

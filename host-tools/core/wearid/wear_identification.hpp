@@ -51,13 +51,19 @@ struct WearIdResult {
   double wall_s = 0.0;
   std::string stop_reason;           ///< NLopt's result for the winning polish
   bool bound_active = false;         ///< a parameter ended on a bound (within 0.5 % of the range)
-  JournalMeasurement measured;
+  JournalMeasurement measured;       ///< the (first) record
+  int records = 1;                   ///< records fitted together
   FullSpectrum fitted;               ///< model spectrum at the optimum (journal probes)
   bool used_amb_planes = false;
 };
 
 /// Run the identification on a measurement. Throws std::invalid_argument on bad options.
 WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasurement& meas, const WearIdOptions& o);
+/// The same with several records of one bearing fitted together (seed 002 measures each wear
+/// at static eccentricities 0.1 and 0.7): each record's residuals are normalised by its own
+/// spectrum, the cost is their sum. `fitted`/`measured` refer to the first record.
+WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas,
+                           const WearIdOptions& o);
 
 /// Forward model for one wear (for sweeps, reports and tests): full spectrum at the journal
 /// probes with the journal at `state` and the speed given.
