@@ -93,21 +93,22 @@ size_t free_fall_samples(const model::PlantParams& rig, const md::SensorOrbit& v
 // Returns false (state unchanged) when the free fall is too short or the model touches.
 bool estimate_rigid_state(md::DropModel& model, md::DropState& levitated, const md::DropScenario& sc,
                           const std::vector<std::array<double, 4>>& meas_s, size_t n, std::vector<double>& dq_out,
-                          std::vector<double>& du_out) {
+                          std::vector<double>& du_out, double* residual_rms_m = nullptr, size_t min_samples = 10,
+                          bool contact_may_follow = false, size_t skip_samples = 0) {
   const int m = model.modes_per_plane();
   std::vector<int> rigid;  // lateral DOF indices of the rigid-body modes (x then y)
   for (int axis = 0; axis < 2; ++axis)
     for (int i = 0; i < m; ++i)
       if (model.modal_omega2()(i) == 0.0) rigid.push_back(axis * m + i);
   const int nr = static_cast<int>(rigid.size());
-  if (nr == 0 || n < 10) return false;
+  if (nr == 0 || n < min_samples) return false;
   md::DropScenario s = sc;
   s.pre_trigger_s = 0.0;
   s.window_s = static_cast<double>(n) / sc.sample_rate_hz;
-  auto run = [&](const md::DropState& st, Eigen::VectorXd& y) {
+  auto run = [&](const md::DropState& st, Eigen::VectorXd& y, bool contact_ok = false) {
     model.restore(st);
     const md::DropTrace tr = md::record_drop(model, s, false);
-    if (tr.counters.contact_steps > 0 || tr.samples.size() < n) return false;
+    if ((tr.counters.contact_steps > 0 && !contact_ok) || tr.samples.size() < n) return false;
     y.resize(static_cast<Eigen::Index>(4 * n));
     for (size_t i = 0; i < n; ++i)
       for (size_t k = 0; k < 4; ++k) y(static_cast<Eigen::Index>(4 * i + k)) = tr.samples[i].sensor_m[k];
@@ -131,6 +132,13 @@ bool estimate_rigid_state(md::DropModel& model, md::DropState& levitated, const 
   for (size_t i = 0; i < n; ++i)
     for (size_t k = 0; k < 4; ++k) r(static_cast<Eigen::Index>(4 * i + k)) = meas_s[i][k];
   r -= base;
+  // Rows of the first skip_samples samples carry no weight (the model's first step after the
+  // cut still holds the levitated state's transient).
+  for (size_t i = 0; i < std::min(skip_samples, n); ++i)
+    for (size_t k = 0; k < 4; ++k) {
+      r(static_cast<Eigen::Index>(4 * i + k)) = 0.0;
+      sens.row(static_cast<Eigen::Index>(4 * i + k)).setZero();
+    }
   const Eigen::VectorXd d = sens.colPivHouseholderQr().solve(r);
   md::DropState st = levitated;
   dq_out.assign(static_cast<size_t>(nr), 0.0);
@@ -142,7 +150,16 @@ bool estimate_rigid_state(md::DropModel& model, md::DropState& levitated, const 
     dq_out[static_cast<size_t>(j)] = d(j);
     du_out[static_cast<size_t>(j)] = d(nr + j);
   }
-  if (!run(st, y)) return false;  // the corrected fall must stay contact-free too
+  if (!run(st, y, contact_may_follow)) return false;  // the corrected fall must stay contact-free too
+  if (residual_rms_m != nullptr) {
+    double ss = 0.0;
+    for (size_t i = std::min(skip_samples, n); i < n; ++i)
+      for (size_t k = 0; k < 4; ++k) {
+        const double e = y(static_cast<Eigen::Index>(4 * i + k)) - meas_s[i][k];
+        ss += e * e;
+      }
+    *residual_rms_m = std::sqrt(ss / static_cast<double>(4 * (n - std::min(skip_samples, n))));
+  }
   levitated = st;
   return true;
 }
@@ -165,10 +182,6 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
   if (n < 10) throw std::invalid_argument("measurement " + m.source + ": fewer than 10 samples after the trigger");
   const std::vector<std::array<double, 4>> meas_s(m.sensor_m.begin() + static_cast<long>(first),
                                                   m.sensor_m.begin() + static_cast<long>(first + n));
-  std::vector<double> meas_w;
-  if (!m.speed_rad_s.empty())
-    meas_w.assign(m.speed_rad_s.begin() + static_cast<long>(first), m.speed_rad_s.begin() + static_cast<long>(first + n));
-  const DropFeatures meas = drop_features(rig, view, meas_s, meas_w, period, spin_sign, o.rubbing);
 
   // Friction from the measured contact forces (friction_estimate.hpp), when asked and found.
   FrictionEstimate fe;
@@ -205,12 +218,56 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
   md::DropState levitated = models[0]->state();
   std::vector<double> rigid_dq, rigid_du;
   int free_fall_used = 0;
+  double free_fall_rms = 0.0;
   if (o.estimate_initial_state && m.amplifiers_off) {
     const size_t nf = free_fall_samples(rig, view, meas_s, o.free_fall_radius_fraction);
-    if (estimate_rigid_state(*models[0], levitated, sc, meas_s, nf, rigid_dq, rigid_du)) free_fall_used = static_cast<int>(nf);
+    if (nf >= o.min_free_fall_samples &&
+        estimate_rigid_state(*models[0], levitated, sc, meas_s, nf, rigid_dq, rigid_du, &free_fall_rms))
+      free_fall_used = static_cast<int>(nf);
+    // State at the trigger from the samples before it: a rotor that reached its aux bearing
+    // at (or right after) the trigger leaves no free fall after it to estimate from. In the
+    // main job the board triggers 4.1 ms after the AMB cut, when the bias flux's negative
+    // stiffness (control currents cut, amplifiers still on until the safe state) has pulled
+    // bearing A's end to the clearance. Its motion up to the trigger is smooth (no contact):
+    // a quadratic least-squares fit per sensor over the last pre_trigger_fit_samples samples
+    // up to the trigger gives each sensor's reading and rate there, extrapolated over the next
+    // 3 samples (0.3 ms at 10 kHz); the rigid-body state is the least-squares one whose model
+    // readings match them (samples 1-3: 12 readings, 8 unknowns; the first model step still
+    // carries the levitated state's transient; contact may follow at once).
+    if (free_fall_used == 0 && o.state_from_pre_trigger && m.trigger_index + 1 >= o.pre_trigger_fit_samples &&
+        o.pre_trigger_fit_samples >= 3) {
+      const int k = o.pre_trigger_fit_samples;
+      constexpr int k_targets = 4;  // model samples 0..3; sample 0 not weighted
+      std::vector<std::array<double, 4>> target(k_targets);
+      for (size_t c = 0; c < 4; ++c) {
+        // Quadratic LS in t (samples, 0 = trigger) over t = -(k-1) .. 0.
+        Eigen::MatrixXd a(k, 3);
+        Eigen::VectorXd yv(k);
+        for (int i = 0; i < k; ++i) {
+          const double t = static_cast<double>(i - (k - 1));
+          a(i, 0) = 1.0;
+          a(i, 1) = t;
+          a(i, 2) = t * t;
+          yv(i) = m.sensor_m[static_cast<size_t>(m.trigger_index - (k - 1) + i)][c];
+        }
+        const Eigen::Vector3d coef = a.colPivHouseholderQr().solve(yv);
+        for (int j = 0; j < k_targets; ++j) target[static_cast<size_t>(j)][c] = coef(0) + coef(1) * j + coef(2) * j * j;
+      }
+      if (estimate_rigid_state(*models[0], levitated, sc, target, k_targets, rigid_dq, rigid_du, &free_fall_rms, k_targets,
+                               true, 1)) {
+        free_fall_used = -k;  // < 0: samples before the trigger
+        if (o.progress)
+          o.progress("fit: no free fall after the trigger; rigid-body state at the trigger from the " + std::to_string(k) +
+                     " samples before it");
+      }
+    }
     models[0]->restore(levitated);
     models[0]->clear_counters();
   }
+  std::vector<double> meas_w;
+  if (!m.speed_rad_s.empty())
+    meas_w.assign(m.speed_rad_s.begin() + static_cast<long>(first), m.speed_rad_s.begin() + static_cast<long>(first + n));
+  const DropFeatures meas = drop_features(rig, view, meas_s, meas_w, period, spin_sign, o.rubbing);
 
   const bool compliant = models[0]->compliant();
   const bool fit_k = compliant && o.fit_contact_stiffness, fit_c = compliant && o.fit_contact_damping;
@@ -419,6 +476,7 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
   r.initial_rigid_dq = rigid_dq;
   r.initial_rigid_du = rigid_du;
   r.free_fall_samples = free_fall_used;
+  r.free_fall_residual_rms_m = free_fall_rms;
   r.evaluations += s.evaluations + polish_evals + 1;
   r.converged = s.converged && !r.bound_active;
   r.contact_law = models[0]->contact_law() == model::AuxContactLaw::hertz    ? "hertz"

@@ -35,7 +35,7 @@ struct DropFitOptions {
   // Compliant contact laws (board contact_law "hertz"/"linear"): further unknowns. Ignored
   // under the rigid law. Stiffness fitted as log10 of a factor on the board's value.
   bool fit_contact_stiffness = true;           ///< contact_stiffness_n_per_m
-  double stiffness_factor_min = 0.25, stiffness_factor_max = 4.0;  ///< bounds, x the board's, 1
+  double stiffness_factor_min = 0.1, stiffness_factor_max = 10.0;  ///< bounds, x the board's, 1
   bool fit_contact_damping = true;             ///< linear contact damping
   double damping_max_n_s_per_m = 4000.0;       ///< bound (lower 0), N s/m
   /// Friction law shape (compliant laws): fit the tanh regularisation velocity eps of the
@@ -70,6 +70,14 @@ struct DropFitOptions {
   /// The free fall used for that estimate ends where the measured orbit radius at either aux
   /// bearing first reaches this fraction of the clearance, 1.
   double free_fall_radius_fraction = 0.8;
+  /// Fewest free-fall samples the initial-state estimate needs, 1.
+  size_t min_free_fall_samples = 10;
+  /// No free fall after the trigger (the rotor reached its aux bearing at or right after it:
+  /// the board's detection delay after an AMB cut): take the rigid-body state at the trigger
+  /// from a quadratic least-squares fit of each sensor over the last pre_trigger_fit_samples
+  /// samples up to the trigger (no contact there). Off: keep the model's levitated state.
+  bool state_from_pre_trigger = true;
+  int pre_trigger_fit_samples = 6;             ///< samples of that fit (>= 3), trigger included
   model::drop::DropOptions model;              ///< step, restitution, solver (noise is switched off)
   model::drop::RubbingOptions rubbing;
   DropCostWeights weights;
@@ -112,7 +120,10 @@ struct DropFitResult {
   /// Rigid-body state change applied at the trigger by the free-fall estimate (zero when
   /// not estimated): per rigid mode (x modes, then y modes) position and velocity, modal units.
   std::vector<double> initial_rigid_dq, initial_rigid_du;
-  int free_fall_samples = 0;                   ///< samples used by that estimate (0: not estimated)
+  /// Samples used by that estimate: > 0 free fall after the trigger, < 0 (-k) the state at the
+  /// trigger from the k samples up to it (DropFitOptions::state_from_pre_trigger), 0 not estimated.
+  int free_fall_samples = 0;
+  double free_fall_residual_rms_m = 0.0;       ///< RMS sensor residual of that estimate, m
   int evaluations = 0;
   double wall_s = 0.0;                         ///< host wall time of the fit, s
   bool converged = false;                      ///< optimiser converged AND no bound active
