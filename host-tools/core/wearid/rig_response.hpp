@@ -5,7 +5,9 @@
 //   rotor: the board's modal reduction (the SIL plant's basis), gyroscopic at the speed,
 //          Rayleigh damping;
 //   AMBs:  the force law linearised at the static operating point (ks grows with the
-//          static coil current: dF/dz = 4 k (i0^2 + ic^2) / g0^3), ki at z = 0;
+//          static coil current: dF/dz = 4 k (i0^2 + ic^2) / g0^3 at z = 0), and each coil
+//          pair's current gain at its static gap and load current relative to the board's
+//          ki, by which the firmware divides (the actuator plane is not held at zero);
 //   loop:  sensors with their first-order roll-off -> (x, y) -> the firmware's discrete PID
 //          (backward-difference derivative with its first-order filter, integral updated
 //          after the output) -> half a period of zero-order hold -> first-order amplifiers;

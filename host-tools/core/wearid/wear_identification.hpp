@@ -3,8 +3,9 @@
 // section 2.5, eq. 24-25): the model's +1x/-1x full-spectrum components at the journal
 // probes are fitted to the measured ones by varying the wear parameters within bounds:
 // a design of experiments (full grid over the bounds, bounds included) picks the starting
-// points, then NLopt's BOBYQA (bounded, derivative-free local optimiser) polishes the best
-// few; the best polish wins. Cost: eq. 24 normalised by the measured spectrum,
+// points (the grid's local minima first, then other non-adjacent points), then NLopt's
+// BOBYQA (bounded, derivative-free local optimiser) polishes each, restarted from its end
+// point while that still gains; the best polish wins. Cost: eq. 24 normalised by the measured spectrum,
 //   cost = 1/2 sum_c |Z_c(model) - Z_c(measured)|^2 / (|Z+|^2 + |Z-|^2)_measured.
 // Uncertainty (1 sigma): the measured components' noise propagated through the Jacobian of
 // the residuals at the optimum, cov = sigma^2 (J^T J)^-1 (Gauss-Newton).
