@@ -246,20 +246,42 @@ TEST(HybridMap, LearnsBandGainAndIgnoresConstantInputs) {
   EXPECT_THROW(map.predict(probe), std::invalid_argument);
 }
 
+namespace {
+
+// Every bearing state of the generated data.
+const hy::BearingState k_generated_states[] = {hy::BearingState::healthy, hy::BearingState::inner_race,
+                                               hy::BearingState::outer_race, hy::BearingState::ball};
+
+// One state of a generated case: the prediction at the held-back speed and its scores.
+struct GeneratedOutcome {
+  hy::BearingState state;
+  hy::Prediction prediction;
+  hy::Scores scores;
+};
+
+// Train with `o` on the generated records of every state at 1500 rpm, predict each state at
+// 1800 rpm and score it against the generated "measurement" there.
+std::vector<GeneratedOutcome> train_1500_predict_1800(const hy::TrainOptions& o) {
+  std::vector<hy::Record> train;
+  for (auto s : k_generated_states) train.push_back(generated(s, 1500.0, 4.0));
+  const auto m = hy::train_hybrid(train, o);
+  std::vector<GeneratedOutcome> out;
+  for (auto s : k_generated_states) {
+    const auto truth = generated(s, 1800.0, 4.0);
+    auto p = hy::predict_hybrid(m, s, truth.op);
+    const auto c = hy::score(p, hy::measured_spectra(m, truth));
+    out.push_back({s, std::move(p), c});
+  }
+  return out;
+}
+
+}  // namespace
+
 // Generated data with a known transfer path: "measurements" from a different rig through two
 // housing resonances; train at 1500 rpm, predict at 1800 rpm, every state.
 TEST(HybridGenerated, KnownTransferPathCarriesToAnotherSpeed) {
-  const hy::BearingState states[] = {hy::BearingState::healthy, hy::BearingState::inner_race,
-                                     hy::BearingState::outer_race, hy::BearingState::ball};
-  std::vector<hy::Record> train;
-  for (auto s : states) train.push_back(generated(s, 1500.0, 4.0));
-  hy::TrainOptions o;
-  const auto m = hy::train_hybrid(train, o);
   nlohmann::json out = nlohmann::json::array();
-  for (auto s : states) {
-    const auto truth = generated(s, 1800.0, 4.0);
-    const auto p = hy::predict_hybrid(m, s, truth.op);
-    const auto c = hy::score(p, hy::measured_spectra(m, truth));
+  for (const auto& [s, p, c] : train_1500_predict_1800(hy::TrainOptions{})) {
     std::printf("generated %-10s 1800 rpm  log spectrum: hybrid %.3f physics %.3f data %.3f | envelope: hybrid %.3f "
                 "physics %.3f data %.3f\n",
                 hy::state_name(s), c.log_psd_hybrid, c.log_psd_physics, c.log_psd_data_only, c.env_hybrid,
@@ -285,18 +307,10 @@ TEST(HybridGenerated, KnownTransferPathCarriesToAnotherSpeed) {
 // Ablation behind the transport default (docs/hybrid.md, "Ablations"): the same generated
 // case with the transported training spectrum as a second physics input of the envelope map.
 TEST(HybridGenerated, TransportAblation) {
-  const hy::BearingState states[] = {hy::BearingState::healthy, hy::BearingState::inner_race,
-                                     hy::BearingState::outer_race, hy::BearingState::ball};
-  std::vector<hy::Record> train;
-  for (auto s : states) train.push_back(generated(s, 1500.0, 4.0));
   hy::TrainOptions o;
   o.transport_env = true;
-  const auto m = hy::train_hybrid(train, o);
   nlohmann::json out = nlohmann::json::array();
-  for (auto s : states) {
-    const auto truth = generated(s, 1800.0, 4.0);
-    const auto p = hy::predict_hybrid(m, s, truth.op);
-    const auto c = hy::score(p, hy::measured_spectra(m, truth));
+  for (const auto& [s, p, c] : train_1500_predict_1800(o)) {
     std::printf("generated %-10s 1800 rpm, transport on the envelope | envelope: hybrid %.3f (8-DOF-only map %.3f, "
                 "transport alone %.3f) physics %.3f data %.3f\n",
                 hy::state_name(s), c.env_hybrid, c.env_hybrid_sim, c.env_transport, c.env_physics, c.env_data_only);
