@@ -337,15 +337,21 @@ void DropModel::refactor(double h, double spin_rad_s, StepMatrices& mm) {
 }
 
 bool DropModel::compliant_contact_near(double h) const {
-  // A compliant contact is closed now, or the rotor may reach the ring within the step
-  // (end-of-step radius by the current velocity, plus a margin of the velocity over the step).
+  // Sub-step when a compliant contact is closed and moving along its normal, or the rotor may
+  // reach the ring within the step (end-of-step radius by the current velocity, plus a margin
+  // of the velocity over the step). A closed contact whose normal velocity changes the
+  // penetration by less than quiet_contact_share of it over the full step (rolling, sustained
+  // whirl) takes the full step: its spring is linearised about a penetration that hardly moves.
   for (size_t b = 0; b < 2; ++b) {
     const auto& a = p_.aux[b];
     const ModeVec& bb = b_aux_[b];
     const double x = bb.dot(s_.q.head(m_)) - a.centre_offset_x_m, y = bb.dot(s_.q.tail(m_)) - a.centre_offset_y_m;
     const double vx = bb.dot(s_.u.head(m_)), vy = bb.dot(s_.u.tail(m_));
-    const double reach = radius(x, y) + 2.0 * h * radius(vx, vy);
-    if (reach >= a.clearance_m) return true;
+    const double r = radius(x, y);
+    if (r + 2.0 * h * radius(vx, vy) < a.clearance_m) continue;
+    const double d0 = r - a.clearance_m;
+    const bool quiet = d0 > 0.0 && std::abs(x * vx + y * vy) / r * h <= o_.quiet_contact_share * d0;
+    if (!quiet) return true;
   }
   return false;
 }
@@ -381,16 +387,15 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
     s.controller_clock_s -= h;
   }
 
-  // 1. Smooth forces at the predicted midpoint.
-  LatVec qm = s.q + 0.5 * h * s.u;
+  // 1. Smooth forces at the predicted midpoint (the AMBs' only while the amplifiers are on).
   ModeVec fx = fext_x_, fy = fext_y_;
-  for (size_t b = 0; b < 2; ++b) {
-    const double xb = b_amb_[b].dot(qm.head(m)), yb = b_amb_[b].dot(qm.tail(m));
-    double fxb = 0.0, fyb = 0.0;
-    for (size_t a = 0; a < 2; ++a) {
-      const size_t j = 2 * b + a;
-      double force = 0.0;
-      if (in.amplifiers_enabled) {
+  if (in.amplifiers_enabled) {
+    const LatVec qm = s.q + 0.5 * h * s.u;
+    for (size_t b = 0; b < 2; ++b) {
+      const double xb = b_amb_[b].dot(qm.head(m)), yb = b_amb_[b].dot(qm.tail(m));
+      double fxb = 0.0, fyb = 0.0;
+      for (size_t a = 0; a < 2; ++a) {
+        const size_t j = 2 * b + a;
         double cmd = s.faults.current_factor[j] * (o_.internal_controller ? s.demand_a[j] : in.current_demand_a[j]);
         if (s.t_s >= s.faults.disturbance_start_s)
           cmd += s.faults.disturbance_amplitude_a[j] *
@@ -399,16 +404,17 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
         cmd = std::clamp(cmd, -lim, lim);
         s.current_a[j] += M.amp_alpha[b] * (cmd - s.current_a[j]);
         const double z = act_dir_[j][0] * xb + act_dir_[j][1] * yb;
-        force = magnet::axis_force_n(law_[b], z, s.current_a[j]);
-      } else {
-        s.current_a[j] = 0.0;
+        const double force = magnet::axis_force_n(law_[b], z, s.current_a[j]);
+        s.amb_force_n[j] = force;
+        fxb += force * act_dir_[j][0];
+        fyb += force * act_dir_[j][1];
       }
-      s.amb_force_n[j] = force;
-      fxb += force * act_dir_[j][0];
-      fyb += force * act_dir_[j][1];
+      fx += fxb * b_amb_[b];
+      fy += fyb * b_amb_[b];
     }
-    fx += fxb * b_amb_[b];
-    fy += fyb * b_amb_[b];
+  } else {
+    s.current_a.fill(0.0);
+    s.amb_force_n.fill(0.0);
   }
   {
     const double th = s.spin_angle_rad + 0.5 * h * s.spin_rad_s;
@@ -450,12 +456,14 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
   for (size_t b = 0; b < 2; ++b) {
     const auto& a = p_.aux[b];
     const ModeVec& bb = b_aux_[b];
-    const double xe = bb.dot(s.q.head(m) + h * s.u.head(m)) - a.centre_offset_x_m;
-    const double ye = bb.dot(s.q.tail(m) + h * s.u.tail(m)) - a.centre_offset_y_m;
+    // The rotor centre at this aux plane now (relative to the bearing centre) and its velocity;
+    // the predicted end and midpoint follow from them (q is advanced by h u below).
+    const double x0 = bb.dot(s.q.head(m)) - a.centre_offset_x_m, y0 = bb.dot(s.q.tail(m)) - a.centre_offset_y_m;
+    const double vx = bb.dot(s.u.head(m)), vy = bb.dot(s.u.tail(m));
+    const double xe = x0 + h * vx, ye = y0 + h * vy;
     cp.active[b] = radius(xe, ye) >= a.clearance_m;
     if (compliant_law) {
       // Penetration now and at the predicted step end; the spring linearised about d_lin.
-      const double x0 = bb.dot(s.q.head(m)) - a.centre_offset_x_m, y0 = bb.dot(s.q.tail(m)) - a.centre_offset_y_m;
       const double d0 = radius(x0, y0) - a.clearance_m, d_end = radius(xe, ye) - a.clearance_m;
       cp.active[b] = d0 > 0.0 || d_end > 0.0;
       const double d_lin = std::max({d0, 0.5 * (d0 + d_end), 0.0});
@@ -464,7 +472,7 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
       ccp.force0_n[b] = f_lin + k_t * (d0 - d_lin);
       ccp.force_rate_n_s_m[b] = 0.5 * h * k_t + a.contact_damping_n_s_per_m + o_.hunt_crossley_s_per_m * f_lin;
     }
-    double xm = bb.dot(qm.head(m)) - a.centre_offset_x_m, ym = bb.dot(qm.tail(m)) - a.centre_offset_y_m;
+    double xm = x0 + 0.5 * h * vx, ym = y0 + 0.5 * h * vy;
     double r = radius(xm, ym);
     if (r < 1e-12) {
       xm = xe;
@@ -473,7 +481,6 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
     }
     nrm[b] = r > 1e-12 ? std::array<double, 2>{xm / r, ym / r} : std::array<double, 2>{0.0, -1.0};
     tng[b] = {-nrm[b][1], nrm[b][0]};
-    const double vx = bb.dot(s.u.head(m)), vy = bb.dot(s.u.tail(m));
     const double fvx = bb.dot(u_free.head(m)), fvy = bb.dot(u_free.tail(m));
     const int n = 2 * static_cast<int>(b), t = n + 1, d = 4 + static_cast<int>(b);
     cp.pre_velocity(n) = -(nrm[b][0] * vx + nrm[b][1] * vy);
@@ -609,20 +616,19 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
   rec.h_s = h;
 
   bool any = false;
+  std::array<double, 2> pen_end{};  // penetration at the step end per bearing, m
   for (size_t b = 0; b < 2; ++b) {
     any = any || cp.active[b];
     const auto p = aux_position_m(static_cast<int>(b));
-    const double pen = radius(p[0] - p_.aux[b].centre_offset_x_m, p[1] - p_.aux[b].centre_offset_y_m) - p_.aux[b].clearance_m;
-    counters_.max_penetration_m = std::max(counters_.max_penetration_m, pen);
+    pen_end[b] = radius(p[0] - p_.aux[b].centre_offset_x_m, p[1] - p_.aux[b].centre_offset_y_m) - p_.aux[b].clearance_m;
+    counters_.max_penetration_m = std::max(counters_.max_penetration_m, pen_end[b]);
   }
   if (any) ++counters_.contact_steps;
   if (compliant_law) {
     // The normal impulses' work went partly into the contact springs: book only the rest
     // (damping and the linearisation's residue) as impact dissipation.
     for (size_t b = 0; b < 2; ++b) {
-      const auto p = aux_position_m(static_cast<int>(b));
-      const double d = radius(p[0] - p_.aux[b].centre_offset_x_m, p[1] - p_.aux[b].centre_offset_y_m) - p_.aux[b].clearance_m;
-      const double e_new = contact_energy_at(b, d);
+      const double e_new = contact_energy_at(b, pen_end[b]);
       L.impact_dissipated_j -= e_new - s.contact_energy_j[b];
       s.contact_energy_j[b] = e_new;
     }
