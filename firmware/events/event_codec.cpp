@@ -5,20 +5,10 @@
 #include <cstdio>
 
 #include "firmware/common/byte_codec.hpp"
+#include "firmware/common/crc32.hpp"
 
 namespace amb::fw {
 namespace {
-
-constexpr std::array<uint32_t, 256> make_table() {
-  std::array<uint32_t, 256> t{};
-  for (uint32_t i = 0; i < 256; ++i) {
-    uint32_t c = i;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
-    t[i] = c;
-  }
-  return t;
-}
-constexpr std::array<uint32_t, 256> k_table = make_table();
 
 void write_meta(ByteWriter& w, const EventMetadata& m) {
   w.str(m.board_name, 64);
@@ -204,12 +194,6 @@ std::string hex32(uint32_t v) {
 
 }  // namespace
 
-uint32_t crc32_fast(std::span<const uint8_t> data, uint32_t crc) {
-  crc = ~crc;
-  for (uint8_t b : data) crc = k_table[(crc ^ b) & 0xFFu] ^ (crc >> 8);
-  return ~crc;
-}
-
 namespace {
 std::vector<uint8_t> encode(const EventRecord& r, uint16_t version) {
   const size_t n = r.samples.size();
@@ -233,7 +217,7 @@ std::vector<uint8_t> encode(const EventRecord& r, uint16_t version) {
   for (const LoopSample& s : r.samples) write_sample(w, s, version);
   if (r.has_diagnosis) write_diagnosis(w, r.diagnosis);
   if (version >= 2) write_analysis(w, r.has_analysis ? r.analysis : EventAnalysis{});
-  w.u32(crc32_fast(out));
+  w.u32(crc32(out));
   return out;
 }
 }  // namespace
@@ -275,7 +259,7 @@ bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string&
   }
   const uint32_t stored = static_cast<uint32_t>(bytes[size - 4]) | (static_cast<uint32_t>(bytes[size - 3]) << 8) |
                           (static_cast<uint32_t>(bytes[size - 2]) << 16) | (static_cast<uint32_t>(bytes[size - 1]) << 24);
-  const uint32_t computed = crc32_fast(bytes.first(size - 4));
+  const uint32_t computed = crc32(bytes.first(size - 4));
   if (stored != computed) {
     error = "bad checksum: stored CRC-32 " + hex32(stored) + ", computed " + hex32(computed) + " (file corrupted)";
     return false;

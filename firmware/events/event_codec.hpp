@@ -36,8 +36,5 @@ std::vector<uint8_t> encode_event_v2(const EventRecord& r);
 /// "inconsistent sizes: ...". `out` is only written on success.
 bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string& error);
 
-/// Standard CRC-32 (same value as firmware/common/crc32.hpp), table-driven for the
-/// megabyte-sized event files in the non-real-time writer and on the host.
-uint32_t crc32_fast(std::span<const uint8_t> data, uint32_t crc = 0);
 
 }  // namespace amb::fw
