@@ -57,7 +57,6 @@ std::vector<uint8_t> encode_wear_record(const WearRecord& r) {
   return out;
 }
 
-size_t wear_record_size() { return encode_wear_record(WearRecord{}).size(); }
 
 bool decode_wear_record(const std::vector<uint8_t>& bytes, WearRecord& out, std::string& error) {
   const size_t expected = wear_record_size();

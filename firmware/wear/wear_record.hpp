@@ -42,7 +42,10 @@ std::vector<uint8_t> encode_wear_record(const WearRecord& r);
 /// what is wrong in `error`; `out` is untouched.
 bool decode_wear_record(const std::vector<uint8_t>& bytes, WearRecord& out, std::string& error);
 
-/// Size of an encoded record, bytes.
-size_t wear_record_size();
+/// Size of an encoded record, bytes (fixed: header 124, per bearing two maps of k_load_bins
+/// floats and six floats, CRC 4).
+constexpr size_t wear_record_size() {
+  return 4 + 2 + 2 + 4 + 32 + 64 + 4 + 4 + 8 + 2 * (2 * static_cast<size_t>(k_load_bins) + 6) * 4 + 4;
+}
 
 }  // namespace amb::fw

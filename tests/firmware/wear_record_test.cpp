@@ -51,6 +51,9 @@ TEST(WearRecordDecode, ValidRecordRoundTripsByteForByte) {
   ASSERT_TRUE(amb::fw::decode_wear_record(bytes, out, error)) << error;
   EXPECT_EQ(amb::fw::encode_wear_record(out), bytes);
   EXPECT_EQ(out.board_name, "bath-amb-rig");
+  // The fixed size the register map announces is what the encoder writes, for any record.
+  EXPECT_EQ(bytes.size(), amb::fw::wear_record_size());
+  EXPECT_EQ(amb::fw::encode_wear_record(amb::fw::WearRecord{}).size(), amb::fw::wear_record_size());
 }
 
 TEST(WearRecordDecode, RefusesNonZeroReservedField) {
