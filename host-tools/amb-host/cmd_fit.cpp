@@ -131,6 +131,7 @@ int run(const Args& a) {
                                 {"smoothing_change", fe.smoothing_change},
                                 {"windows_used", fe.windows_used},
                                 {"windows_total", fe.windows_total},
+                                {"window_s", fe.window_s},
                                 {"sliding_time_s", fe.sliding_time_s},
                                 {"measured_spin_down_rad_s2", fe.measured_spin_down_rad_s2},
                                 {"force_spin_down_rad_s2", fe.force_spin_down_rad_s2},
@@ -180,9 +181,9 @@ int run(const Args& a) {
                 u.bound_active ? " BOUND ACTIVE" : "");
   std::printf("friction from %s", r.friction_method.c_str());
   if (r.friction_estimate.valid)
-    std::printf(": %.4f +- %.4f over %d of %d windows (%.3f s sliding; spin-down there %.2f rad/s^2 measured, %.2f from the contact forces)",
+    std::printf(": %.4f +- %.4f over %d of %d windows of %.2f ms (%.3f s sliding; spin-down there %.2f rad/s^2 measured, %.2f from the contact forces)",
                 r.friction_estimate.friction, r.friction_estimate.uncertainty, r.friction_estimate.windows_used,
-                r.friction_estimate.windows_total, r.friction_estimate.sliding_time_s, r.friction_estimate.measured_spin_down_rad_s2,
+                r.friction_estimate.windows_total, 1e3 * r.friction_estimate.window_s, r.friction_estimate.sliding_time_s, r.friction_estimate.measured_spin_down_rad_s2,
                 r.friction_estimate.force_spin_down_rad_s2);
   std::printf("\n");
   std::printf("spin-down %.3f rad/s^2 measured, %.3f fitted\n", r.spin_down_rad_s2, r.fitted_spin_down_rad_s2);

@@ -14,6 +14,7 @@ std::string FrictionEstimateOptions::check() const {
   if (!(smoothing_half_window_s > 0.0)) return "smoothing_half_window_s must be > 0";
   if (!(skip_s >= 0.0)) return "skip_s must be >= 0";
   if (!(window_s > 0.0) || !(max_window_s > window_s)) return "need 0 < window_s < max_window_s";
+  if (!(min_window_s >= 0.0 && min_window_s <= window_s)) return "need 0 <= min_window_s <= window_s";
   if (!(contact_radius_fraction > 0.0 && contact_radius_fraction < 1.0)) return "contact_radius_fraction must be in (0, 1)";
   if (!(min_impulse_fraction >= 0.0 && min_impulse_fraction < 1.0)) return "min_impulse_fraction must be in [0, 1)";
   if (!(sliding_fraction > 0.0 && sliding_fraction < 1.0)) return "sliding_fraction must be in (0, 1)";
@@ -225,20 +226,32 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
     throw std::invalid_argument("friction estimate: " + m.source + ": record too short after the trigger");
 
   FrictionEstimate r;
-  Pass p = run_pass(m, rig, o, first, last, h, rotor);
+  // Windows of window_s; too few sliding ones: halve them (down to min_window_s).
+  FrictionEstimateOptions ow = o;
+  Pass p = run_pass(m, rig, ow, first, last, h, rotor);
+  const auto too_few = [&](const Pass& q) { return q.cluster.used < o.min_sliding_windows || !(q.cluster.mu > 0.0); };
+  while (too_few(p) && 0.5 * ow.window_s >= o.min_window_s && o.min_window_s > 0.0) {
+    ow.window_s *= 0.5;
+    p = run_pass(m, rig, ow, first, last, h, rotor);
+  }
+  r.window_s = ow.window_s;
   r.windows = p.windows;
   r.windows_total = static_cast<int>(p.windows.size());
   r.windows_used = p.cluster.used;
-  if (p.cluster.used < o.min_sliding_windows || !(p.cluster.mu > 0.0)) {
-    r.note = "sliding contact found in " + std::to_string(p.cluster.used) + " windows, fewer than " +
-             std::to_string(o.min_sliding_windows) + " (the ring spun up or the rotor locked into a rolling whirl at once)";
+  if (too_few(p)) {
+    r.note = "sliding contact found in " + std::to_string(p.cluster.used) + " windows of " +
+             std::to_string(ow.window_s * 1e3) + " ms, fewer than " + std::to_string(o.min_sliding_windows) +
+             " (the ring spun up or the rotor locked into a rolling whirl at once)";
     r.friction = p.cluster.mu;
     return r;
   }
+  if (ow.window_s < o.window_s)
+    r.note = "too few sliding windows of " + std::to_string(o.window_s * 1e3) + " ms; " +
+             std::to_string(ow.window_s * 1e3) + " ms windows used";
   r.valid = true;
   r.friction = p.cluster.mu;
   r.standard_error = p.cluster.se;
-  const Pass p2 = run_pass(m, rig, o, first, last, h2, rotor);
+  const Pass p2 = run_pass(m, rig, ow, first, last, h2, rotor);
   r.smoothing_change = p2.cluster.used > 0 ? p2.cluster.mu - p.cluster.mu : 0.0;
   r.uncertainty = std::sqrt(r.standard_error * r.standard_error + r.smoothing_change * r.smoothing_change);
 

@@ -42,6 +42,11 @@ struct FrictionEstimateOptions {
   double skip_s = 5e-3;                   ///< left out after the trigger (coil currents decaying), s
   double max_window_s = 0.5;              ///< end of the analysed record after the trigger, s
   double window_s = 0.005;                ///< length of one ratio window, s
+  /// When fewer than min_sliding_windows windows of window_s slide (the rotor locks into a
+  /// rolling whirl within a few ms at high speed and friction), the windows are halved, down
+  /// to this length, s (0: no retry). About two derivative half-widths: shorter windows hold
+  /// one impact's smeared force.
+  double min_window_s = 0.00125;
   /// A sample counts as in contact at a bearing when the aux-plane orbit radius is at least
   /// this fraction of the clearance (the derivative fit smears an impact over its half width,
   /// while the rotor moves away from the ring), 1.
@@ -87,6 +92,7 @@ struct FrictionEstimate {
   double standard_error = 0.0;     ///< the first part, 1
   double smoothing_change = 0.0;   ///< the second part (signed: half-width estimate - this), 1
   int windows_used = 0, windows_total = 0;
+  double window_s = 0.0;           ///< window length the estimate used (window_s, or shorter: min_window_s), s
   double sliding_time_s = 0.0;     ///< total length of the time windows with a sliding bearing, s
   /// Spin-down over those time windows: measured from the speed channel (sum of speed drops /
   /// sliding time) and implied by the estimated contact forces (r sum T / Ip, both bearings,
