@@ -78,7 +78,7 @@ void Supervisor::configure(const board::BoardConfig& board) {
   // The weight each AMB carries (rigid-rotor lever rule about the two actuator planes);
   // the y integrators start there so lift-off does not wait for them to wind up.
   {
-    const model::rotor::RotorMassProperties rotor = model::rotor::rotor_mass_properties(board.plant.rotor);
+    const model::rotor::RotorModel rotor = model::rotor::build_rotor_model(board.plant.rotor);
     const double w = rotor.mass_kg * board.plant.gravity_m_s2;
     const double a = board.plant.amb[0].axial_m, c = board.plant.amb[1].axial_m;
     const double share_b = (c != a) ? w * (rotor.centre_of_mass_m - a) / (c - a) : 0.5 * w;

@@ -18,51 +18,7 @@ int core_element(const std::vector<BeamElement>& els, int i) {
   return -1;
 }
 
-// Element `i` checked, and the structural section that carries it: itself, or for a sleeve
-// the core element (given the sleeve's length). Throws std::invalid_argument naming the element.
-BeamElement checked_core(const std::vector<BeamElement>& els, size_t i) {
-  const BeamElement& e = els[i];
-  if (!(e.length_m > 0.0) || !(e.outer_diameter_m > 0.0) || e.inner_diameter_m >= e.outer_diameter_m)
-    throw std::invalid_argument("rotor: element " + std::to_string(i) + " has a non-positive size");
-  if (e.structural) return e;
-  const int c = core_element(els, static_cast<int>(i));
-  if (c < 0) throw std::invalid_argument("rotor: no structural element to carry sleeve " + std::to_string(i));
-  BeamElement core = els[static_cast<size_t>(c)];
-  core.length_m = e.length_m;
-  if (core.outer_diameter_m > e.inner_diameter_m + 1e-9)
-    throw std::invalid_argument("rotor: sleeve " + std::to_string(i) + " bore smaller than its core");
-  return core;
-}
-
 }  // namespace
-
-RotorMassProperties rotor_mass_properties(const RotorParams& p) {
-  const auto& els = p.elements;
-  if (els.empty()) throw std::invalid_argument("rotor: no elements");
-  // A uniform element's consistent mass matrix carries rho A L at its midpoint for a rigid
-  // translation and rotation, so sums over elements give what build_rotor_model's rigid-body
-  // vectors give from the assembled matrix.
-  std::vector<double> node_axial_m(els.size() + 1, 0.0);
-  double mass = 0.0, moment = 0.0;
-  for (size_t i = 0; i < els.size(); ++i) {
-    const BeamElement core = checked_core(els, i);
-    const BeamElement& e = els[i];
-    node_axial_m[i + 1] = node_axial_m[i] + e.length_m;
-    double me = core.density_kg_m3 * element_section(core).area_m2 * e.length_m;
-    if (!e.structural) me += e.density_kg_m3 * element_section(e).area_m2 * e.length_m;
-    mass += me;
-    moment += me * 0.5 * (node_axial_m[i] + node_axial_m[i + 1]);
-  }
-  for (size_t d = 0; d < p.disks.size(); ++d) {
-    const RigidDisk& disk = p.disks[d];
-    bool on_node = false;
-    for (double z : node_axial_m) on_node = on_node || std::abs(z - disk.axial_m) <= 1e-6;
-    if (!on_node) throw std::invalid_argument("rotor: disk " + std::to_string(d) + " is not on a node");
-    mass += disk.mass_kg;
-    moment += disk.mass_kg * disk.axial_m;
-  }
-  return {mass, moment / mass};
-}
 
 RotorModel build_rotor_model(const RotorParams& p) {
   const auto& els = p.elements;
@@ -77,7 +33,8 @@ RotorModel build_rotor_model(const RotorParams& p) {
 
   for (size_t i = 0; i < els.size(); ++i) {
     const BeamElement& e = els[i];
-    const BeamElement core = checked_core(els, i);
+    if (!(e.length_m > 0.0) || !(e.outer_diameter_m > 0.0) || e.inner_diameter_m >= e.outer_diameter_m)
+      throw std::invalid_argument("rotor: element " + std::to_string(i) + " has a non-positive size");
     m.node_axial_m[i + 1] = m.node_axial_m[i] + e.length_m;
     ElementMatrices em;
     double phi = 0.0;
@@ -85,6 +42,12 @@ RotorModel build_rotor_model(const RotorParams& p) {
       phi = element_section(e).phi;
       em = element_matrices(e, phi, true);
     } else {
+      const int c = core_element(els, static_cast<int>(i));
+      if (c < 0) throw std::invalid_argument("rotor: no structural element to carry sleeve " + std::to_string(i));
+      BeamElement core = els[static_cast<size_t>(c)];
+      core.length_m = e.length_m;
+      if (core.outer_diameter_m > e.inner_diameter_m + 1e-9)
+        throw std::invalid_argument("rotor: sleeve " + std::to_string(i) + " bore smaller than its core");
       phi = element_section(core).phi;
       em = element_matrices(core, phi, true);
       const ElementMatrices sleeve = element_matrices(e, phi, false);
@@ -98,7 +61,10 @@ RotorModel build_rotor_model(const RotorParams& p) {
     m.planar_polar.block<4, 4>(o, o) += em.polar;
     const ElementSection s = element_section(e);
     m.polar_inertia_kg_m2 += e.density_kg_m3 * 2.0 * s.second_moment_m4 * e.length_m;
-    if (!e.structural) m.polar_inertia_kg_m2 += core.density_kg_m3 * 2.0 * element_section(core).second_moment_m4 * e.length_m;
+    if (!e.structural) {
+      BeamElement core = els[static_cast<size_t>(core_element(els, static_cast<int>(i)))];
+      m.polar_inertia_kg_m2 += core.density_kg_m3 * 2.0 * element_section(core).second_moment_m4 * e.length_m;
+    }
   }
   m.length_m = m.node_axial_m.back();
 

@@ -40,15 +40,6 @@ struct RotorModel {
 /// (no structural element, disk not on a node, non-positive sizes).
 RotorModel build_rotor_model(const RotorParams& p);
 
-/// Mass and axial centre of mass of a rotor description, without assembling it.
-struct RotorMassProperties {
-  double mass_kg = 0.0;           ///< beams + sleeves + disks, kg
-  double centre_of_mass_m = 0.0;  ///< from the left end, m
-};
-/// Equal (to round-off) to build_rotor_model(p).mass_kg and .centre_of_mass_m, at a small
-/// part of its cost (the firmware's configure needs only these). Throws like build_rotor_model.
-RotorMassProperties rotor_mass_properties(const RotorParams& p);
-
 /// Row vector (2N) that maps planar DOFs to the lateral displacement at `axial_m` (m) using
 /// the element's Timoshenko shape functions (cubic Hermite when shear is negligible).
 /// Positions outside [0, length] are clamped to the ends.

@@ -120,37 +120,6 @@ TEST(RotorFe, MassIsSumOfElementsAndDisks) {
   EXPECT_LT((build_rotor_model(plain).planar_stiffness - m.planar_stiffness).norm(), 1e-9 * m.planar_stiffness.norm());
 }
 
-// The firmware's configure takes mass and centre of mass from rotor_mass_properties (no
-// assembly): it must agree with the assembled model's rigid-body sums on a rotor with a bore,
-// a sleeve and off-centre disks, on every board's rotor, and refuse what the assembly refuses.
-TEST(RotorFe, MassPropertiesWithoutAssemblyAgreeWithTheAssembledModel) {
-  RotorParams p = test::uniform_beam(0.6, 0.03, 12);
-  p.elements[3].inner_diameter_m = 0.01;
-  BeamElement sleeve = p.elements[5];
-  sleeve.structural = false;
-  sleeve.outer_diameter_m = 0.07;
-  sleeve.inner_diameter_m = 0.03;
-  p.elements[5] = sleeve;
-  p.disks.push_back({0.1, 0.8, 4e-4, 2.5e-4, 0.0, 0.0});
-  p.disks.push_back({0.5, 0.3, 1e-4, 6e-5, 0.0, 0.0});
-  std::vector<RotorParams> rotors{p};
-  for (const char* b : {"bath-amb-rig", "tum-mlps-rig", "unicamp-amb-rig", "unicamp-journal-rig", "arm-virt-hil"})
-    rotors.push_back(test::board_from_repo(b).plant.rotor);
-  for (const auto& r : rotors) {
-    const RotorModel m = build_rotor_model(r);
-    const RotorMassProperties mp = rotor_mass_properties(r);
-    EXPECT_NEAR(mp.mass_kg, m.mass_kg, 1e-12 * m.mass_kg);
-    EXPECT_NEAR(mp.centre_of_mass_m, m.centre_of_mass_m, 1e-12 * m.length_m);
-  }
-  RotorParams off_node = p;
-  off_node.disks[0].axial_m = 0.1234;
-  EXPECT_THROW(rotor_mass_properties(off_node), std::invalid_argument);
-  RotorParams bad = p;
-  bad.elements[2].length_m = 0.0;
-  EXPECT_THROW(rotor_mass_properties(bad), std::invalid_argument);
-  EXPECT_THROW(rotor_mass_properties(RotorParams{}), std::invalid_argument);
-}
-
 // Undamped whirl frequencies of the spring-supported spinning rotor in the reduced (modal)
 // coordinates the plant uses: [e; v]' = [[0, I], [-(W2 + S), -spin G_r]] per plane pair.
 std::vector<double> whirl_frequencies(const RotorModel& m, const RotorParams& p, const std::vector<PointSpring>& springs,
