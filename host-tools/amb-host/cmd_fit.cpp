@@ -161,6 +161,12 @@ int run(const Args& a) {
     };
     j["whirl"] = whirl_json(r.whirl);
     j["fitted_whirl"] = whirl_json(r.fitted_whirl);
+    nlohmann::json trials = nlohmann::json::array();
+    for (const auto& t : r.structure_trials)
+      trials.push_back({{"modes_per_plane", t.modes_per_plane}, {"cost", t.cost}, {"converged", t.converged}, {"bound_active", t.bound_active}});
+    j["rotor_structure"] = {{"modes_per_plane", r.rotor_modes_per_plane},
+                            {"model", r.rotor_modes_per_plane == 2 ? "rigid" : "flexible"},
+                            {"trials", trials}};
     j["evaluations"] = r.evaluations;
     j["wall_s"] = r.wall_s;
     j["converged"] = r.converged;
@@ -195,6 +201,10 @@ int run(const Args& a) {
     std::printf("aux bearing %zu: swing %.4f s, forward rub %.4f s, backward rub %.4f s (measured %.4f / %.4f / %.4f)\n", b + 1,
                 r.rubbing[b].swing_s, r.rubbing[b].forward_s, r.rubbing[b].backward_s, r.measured_rubbing[b].swing_s,
                 r.measured_rubbing[b].forward_s, r.measured_rubbing[b].backward_s);
+  std::printf("rotor model: %s, %d modes per plane (", r.rotor_modes_per_plane == 2 ? "rigid" : "flexible", r.rotor_modes_per_plane);
+  for (size_t i = 0; i < r.structure_trials.size(); ++i)
+    std::printf("%scost %.4f with %d", i ? ", " : "", r.structure_trials[i].cost, r.structure_trials[i].modes_per_plane);
+  std::printf(")\n");
   std::printf("%d evaluations, %.2f s, %s (%s)\n", r.evaluations, r.wall_s,
               r.converged ? "converged" : (r.bound_active ? "bound active" : "not converged"),
               r.stop_reason.c_str());

@@ -166,7 +166,10 @@ bool estimate_rigid_state(md::DropModel& model, md::DropState& levitated, const 
 
 }  // namespace
 
-DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board, const DropFitOptions& o) {
+namespace {
+
+// One fit with the rotor structure of o.model.modes_per_plane.
+DropFitResult fit_drop_structure(const DropMeasurement& m, const board::BoardConfig& board, const DropFitOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   if (const std::string e = m.check(); !e.empty()) throw std::invalid_argument("measurement " + m.source + ": " + e);
   if (const std::string e = o.check(); !e.empty()) throw std::invalid_argument("fit options: " + e);
@@ -494,8 +497,43 @@ DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board
     if (u.bound_active) r.stop_reason += "; bound active: " + u.name;
   if (fixed_mu_clamped) r.stop_reason += "; bound active: friction estimate " + std::to_string(fe.friction) + " outside the friction bounds";
   r.cost_history = s.cost_history;
+  r.rotor_modes_per_plane = models[0]->modes_per_plane();
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+}  // namespace
+
+DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board, const DropFitOptions& o) {
+  if (!o.choose_rotor_structure || o.model.modes_per_plane != 0) {
+    DropFitResult r = fit_drop_structure(m, board, o);
+    r.structure_trials.push_back({r.rotor_modes_per_plane, r.cost.total, r.converged, r.bound_active});
+    return r;
+  }
+  // The rotor's flexibility is an uncertain part of the model: the board's modes and the
+  // rigid-body modes alone, same unknowns, same cost on the same record; the lower cost wins.
+  const auto t0 = std::chrono::steady_clock::now();
+  DropFitResult best;
+  std::vector<DropFitResult::StructureTrial> trials;
+  int evaluations = 0;
+  for (const int modes : {0, 2}) {
+    DropFitOptions oc = o;
+    oc.model.modes_per_plane = modes;
+    if (o.progress)
+      oc.progress = [&o, modes](const std::string& line) { o.progress((modes == 0 ? "[flexible rotor] " : "[rigid rotor] ") + line); };
+    DropFitResult r = fit_drop_structure(m, board, oc);
+    trials.push_back({r.rotor_modes_per_plane, r.cost.total, r.converged, r.bound_active});
+    evaluations += r.evaluations;
+    if (trials.size() == 1 || r.cost.total < best.cost.total) best = std::move(r);
+  }
+  best.structure_trials = trials;
+  best.evaluations = evaluations;  // both fits
+  best.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (o.progress)
+    o.progress("fit: rotor structure " + std::to_string(best.rotor_modes_per_plane) + " modes per plane (cost " +
+               std::to_string(trials[0].cost) + " with " + std::to_string(trials[0].modes_per_plane) + ", " +
+               std::to_string(trials[1].cost) + " with " + std::to_string(trials[1].modes_per_plane) + ")");
+  return best;
 }
 
 }  // namespace amb::host::fit

@@ -78,6 +78,11 @@ struct DropFitOptions {
   /// samples up to the trigger (no contact there). Off: keep the model's levitated state.
   bool state_from_pre_trigger = true;
   int pre_trigger_fit_samples = 6;             ///< samples of that fit (>= 3), trigger included
+  /// The rotor's flexibility is an uncertain part of the model: fit with the board's modes
+  /// and with the rigid-body modes alone (2 per plane; same unknowns, same cost) and keep the
+  /// lower cost (DropFitResult::structure_trials lists both). Only when model.modes_per_plane
+  /// is 0 (the board's); twice the fit time.
+  bool choose_rotor_structure = true;
   model::drop::DropOptions model;              ///< step, restitution, solver (noise is switched off)
   model::drop::RubbingOptions rubbing;
   DropCostWeights weights;
@@ -124,12 +129,21 @@ struct DropFitResult {
   /// trigger from the k samples up to it (DropFitOptions::state_from_pre_trigger), 0 not estimated.
   int free_fall_samples = 0;
   double free_fall_residual_rms_m = 0.0;       ///< RMS sensor residual of that estimate, m
-  int evaluations = 0;
+  int evaluations = 0;                         ///< cost evaluations (of every rotor structure tried)
   double wall_s = 0.0;                         ///< host wall time of the fit, s
   bool converged = false;                      ///< optimiser converged AND no bound active
   std::string stop_reason;
   std::vector<double> cost_history;
   model::drop::DropTrace trace;                ///< Phase D record of the fitted simulation (contact steps kept)
+  int rotor_modes_per_plane = 0;               ///< lateral modes per plane of the fitted model (2: rigid rotor)
+  /// Every rotor structure fitted (DropFitOptions::choose_rotor_structure): modes per plane,
+  /// cost at its fit, converged, bound active. The result is the lowest cost's.
+  struct StructureTrial {
+    int modes_per_plane = 0;
+    double cost = 0.0;
+    bool converged = false, bound_active = false;
+  };
+  std::vector<StructureTrial> structure_trials;
 };
 
 /// Fit. Throws std::invalid_argument naming the problem for unusable measurement/options.
