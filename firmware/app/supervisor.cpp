@@ -70,10 +70,6 @@ void Supervisor::configure(const board::BoardConfig& board) {
         {board.plant.sensor[static_cast<size_t>(2 * b)].angle_deg,
          board.plant.sensor[static_cast<size_t>(2 * b + 1)].angle_deg},
         amb.actuator_angle_deg);
-    for (int a = 0; a < 2; ++a) {
-      // The PID acts in x/y force; its force limit is what one actuator axis can deliver.
-      pid_[static_cast<size_t>(2 * b + a)].configure(board.controller, board.rate_hz, amb.ki_n_per_a);
-    }
   }
   // The weight each AMB carries (rigid-rotor lever rule about the two actuator planes);
   // the y integrators start there so lift-off does not wait for them to wind up.
@@ -85,6 +81,14 @@ void Supervisor::configure(const board::BoardConfig& board) {
     weight_share_n_ = {w - share_b, share_b};
   }
   if (board.controller.current_limit_a <= 0.0) throw std::invalid_argument("current limit must be > 0");
+  reset();
+}
+
+void Supervisor::reset() {
+  for (int b = 0; b < 2; ++b)
+    for (int a = 0; a < 2; ++a)
+      // The PID acts in x/y force; its force limit is what one actuator axis can deliver.
+      pid_[static_cast<size_t>(2 * b + a)].configure(board_.controller, board_.rate_hz, ki_n_per_a_[static_cast<size_t>(b)]);
   state_ = State::inactive;
   phase_ = Phase::idle;
   fault_ = FaultReason::none;
@@ -99,7 +103,7 @@ void Supervisor::configure(const board::BoardConfig& board) {
   tracked_seen_update_ = 0;
   tracked_updates_seen_ = 0;
   tracked_age_steps_ = 0;
-  stale_steps_ = static_cast<uint64_t>(std::ceil(board.tracker.stale_after_s * board.rate_hz));
+  stale_steps_ = static_cast<uint64_t>(std::ceil(board_.tracker.stale_after_s * board_.rate_hz));
   status_ = {};
   status_.state = state_;
   published_.store(status_);

@@ -39,7 +39,7 @@ enum class Phase : uint8_t { idle = 0, lifting, settling, levitated, spinning_up
                              spinning_down, lowering };
 const char* to_string(Phase p);
 
-/// Fault counters (never reset except at configure).
+/// Fault counters (never reset except at configure() and reset()).
 struct FaultCounters {
   uint64_t read_failures = 0;
   uint64_t sensor_fault_samples = 0;
@@ -83,6 +83,10 @@ class Supervisor {
  public:
   /// Allocates nothing after this. Throws std::invalid_argument on inconsistent config.
   void configure(const board::BoardConfig& board);
+  /// Back to the state configure() leaves (inactive, PID states, counters, set-points, the
+  /// pending command and the tracker updates cleared), the board's parameters kept; what
+  /// configure() does after loading them. Configure time, not [RT]; needs configure() first.
+  void reset();
   /// Any thread: post a command. Returns false if a command is still pending.
   bool post(Command c);
   /// One thread (the analysis thread): publish a tracker update: speed (Hz; ignored when

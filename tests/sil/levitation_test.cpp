@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <algorithm>
 #include <cstdio>
 
@@ -87,12 +89,25 @@ TEST(Sil, LandingOnCommandReturnsToInactiveOnTheTouchdownBearings) {
   ASSERT_TRUE(rig.run_until([](const fw::Status& s) { return s.phase == fw::Phase::levitated; }, 5.0));
   sup.post(fw::Command::land);
   ASSERT_TRUE(rig.run_until([](const fw::Status& s) { return s.state == fw::State::inactive; }, 5.0));
-  rig.run_for(0.2);
-  const auto tr = rig.plant().truth();
-  for (int i = 0; i < 2; ++i) {
+  // The rotor lands from the ramp's end with some lateral motion and rattles in the clearance
+  // for a while (chaotic contact: how long depends on the last bits of the arithmetic; a TSan
+  // build at -O1 once had it mid-bounce 0.2 s after the landing). Let it settle, then take
+  // the mean over 0.1 s.
+  rig.run_for(1.0);
+  std::array<double, 2> y_mean{}, force_mean{};
+  const int n = 100;
+  for (int k = 0; k < n; ++k) {
+    rig.run_for(0.001);
+    const auto tr = rig.plant().truth();
+    for (size_t i = 0; i < 2; ++i) {
+      y_mean[i] += tr.aux_y_m[i] / n;
+      force_mean[i] += tr.contact_force_n[i] / n;
+    }
+  }
+  for (size_t i = 0; i < 2; ++i) {
     // Resting at the bottom of the clearance, carrying part of the weight.
-    EXPECT_LT(tr.aux_y_m[static_cast<size_t>(i)], -0.8 * b.plant.aux[static_cast<size_t>(i)].clearance_m);
-    EXPECT_GT(tr.contact_force_n[static_cast<size_t>(i)], 0.0);
+    EXPECT_LT(y_mean[i], -0.8 * b.plant.aux[i].clearance_m);
+    EXPECT_GT(force_mean[i], 0.0);
   }
 }
 
