@@ -49,6 +49,8 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
                 {"evaluations", s.fit_evaluations}, {"wall_s", s.fit_wall_s}, {"converged", s.fit_converged},
                 {"friction_uncertainty", s.friction_uncertainty}, {"bound_active", s.fit_bound_active},
                 {"contact_law", s.contact_law},
+                {"rotor_structure", {{"modes_per_plane", s.fit_rotor_modes_per_plane},
+                                     {"model", s.fit_rotor_modes_per_plane == 2 ? "rigid" : "flexible"}}},
                 {"whirl", {{{"direction", s.whirl_direction[0]}, {"frequency_hz", s.whirl_frequency_hz[0]}},
                            {{"direction", s.whirl_direction[1]}, {"frequency_hz", s.whirl_frequency_hz[1]}}}},
                 {"rubbing_s", {{"swing", s.rubbing_s[0]}, {"forward", s.rubbing_s[1]}, {"backward", s.rubbing_s[2]}}},
@@ -99,10 +101,11 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
       std::printf("  Phase A capture    : NO event captured\n");
     }
     if (s.fitted)
-      std::printf("  Phase C fit        : friction coefficient %.4f +- %.4f (%s contact), rubbing swing %.3f s / forward %.3f s / "
+      std::printf("  Phase C fit        : friction coefficient %.4f +- %.4f (%s contact, %s rotor), rubbing swing %.3f s / forward %.3f s / "
                   "backward %.3f s,\n"
                   "                       whirl A %s %.1f Hz, B %s %.1f Hz; cost %.4g, %d evaluations in %.1f s, %s\n",
-                  s.friction_coefficient, s.friction_uncertainty, s.contact_law.c_str(), s.rubbing_s[0], s.rubbing_s[1],
+                  s.friction_coefficient, s.friction_uncertainty, s.contact_law.c_str(),
+                  s.fit_rotor_modes_per_plane == 2 ? "rigid" : "flexible", s.rubbing_s[0], s.rubbing_s[1],
                   s.rubbing_s[2], s.whirl_direction[0].c_str(), s.whirl_frequency_hz[0], s.whirl_direction[1].c_str(),
                   s.whirl_frequency_hz[1], s.fit_cost, s.fit_evaluations, s.fit_wall_s,
                   s.fit_converged ? "converged" : (s.fit_bound_active ? "BOUND ACTIVE" : "not converged"));

@@ -191,6 +191,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       sum.fit_converged = r.converged;
       sum.friction_uncertainty = r.friction_uncertainty;
       sum.fit_bound_active = r.bound_active;
+      sum.fit_rotor_modes_per_plane = r.rotor_modes_per_plane;
       sum.contact_law = r.contact_law;
       for (size_t b = 0; b < 2; ++b) {
         sum.whirl_direction[b] = r.whirl[b].direction;

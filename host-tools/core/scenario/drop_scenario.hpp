@@ -83,6 +83,7 @@ struct DropScenarioSummary {
   bool fit_converged = false;             ///< never true with a bound active
   double friction_uncertainty = 0.0;      ///< the fit's uncertainty of the friction coefficient, 1
   bool fit_bound_active = false;          ///< a fitted value sits on its bound
+  int fit_rotor_modes_per_plane = 0;      ///< rotor structure the fit chose (2: rigid), modes per plane
   std::string contact_law;                ///< drop-model contact law used by the fit
   std::array<std::string, 2> whirl_direction{};  ///< measured whirl per aux bearing: none/bouncing/forward/backward
   std::array<double, 2> whirl_frequency_hz{};    ///< its mean whirl frequency, Hz
