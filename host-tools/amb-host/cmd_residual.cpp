@@ -3,6 +3,8 @@
 // response sweep: a directory holding Sweep_Time_Anregung.mat + Sweep_Time_Ausgang.mat
 // (the TUM MLPS export; board tum-mlps-rig unless --board says otherwise).
 // Logic: host-tools/core/residual/.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -17,6 +19,7 @@
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
 #include "host-tools/core/residual/journal_residual.hpp"
+#include "host-tools/core/residual/learned_correction.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
 #include "host-tools/core/residual/sweep_frf.hpp"
@@ -31,6 +34,7 @@ struct Args {
   std::string board;
   bool json = false;
   bool contact_law_update = false;
+  bool learned_correction = false;  // after the loop: a learned map, reported apart from the named elements
   std::string plot;  // sweep: FRF overlay SVG path
 };
 
@@ -112,6 +116,83 @@ nlohmann::json drop_errors(const hr::DropErrors& e) {
           {"contact_circles", c}};
 }
 
+// The learned correction, apart from the named elements: JSON (key "learned_correction") and text.
+nlohmann::json score_json(const hr::CorrectionScore& c) {
+  return {{"unexplained_before_db", c.before_db}, {"unexplained_after_db", c.after_db}, {"noise_floor_db", c.noise_floor_db},
+          {"absorbed_fraction", c.absorbed_fraction},
+          {"absorbed_fraction_of_excess",
+           std::isfinite(c.absorbed_fraction_of_excess) ? nlohmann::json(c.absorbed_fraction_of_excess) : nlohmann::json(nullptr)},
+          {"points", c.points}};
+}
+
+nlohmann::json correction_json(const hr::LearnedCorrectionSummary& s) {
+  nlohmann::json j = {{"done", s.done}, {"note", s.note.empty() ? "learned correction: not a physical explanation, not part of the verdict" : s.note},
+                      {"domain", s.domain}};
+  if (!s.done) {
+    j["skipped"] = s.skipped_why;
+    return j;
+  }
+  j.update({{"trained_on", s.trained_on}, {"scored_on", s.scored_on}, {"noise_floor_source", s.noise_floor_source}});
+  j.update(score_json(s.held_out));
+  j["training_part"] = score_json(s.training);
+  if (s.has_reverse) {
+    j["reverse"] = score_json(s.reverse_held_out);
+    j["reverse"]["trained_on"] = s.reverse_trained_on;
+    j["reverse"]["scored_on"] = s.reverse_scored_on;
+  }
+  nlohmann::json g = nlohmann::json::array();
+  for (const auto& x : s.groups)
+    g.push_back({{"group", x.name}, {"lambda", x.lambda}, {"effective_parameters", x.effective_parameters}, {"weights", x.weights},
+                 {"held_out", score_json(x.held_out)}});
+  j["groups"] = g;
+  j["map_size"] = {{"weights", s.weights}, {"effective_parameters", s.effective_parameters}, {"training_points", s.training_points},
+                   {"knot_spacing_octaves", s.knot_spacing_octaves}, {"gain_bands", s.gain_bands}};
+  return j;
+}
+
+void print_correction(const hr::LearnedCorrectionSummary& s) {
+  std::printf("learned correction (NOT a physical explanation; not part of the verdict):\n");
+  if (!s.done) {
+    std::printf("  skipped: %s\n", s.skipped_why.c_str());
+    return;
+  }
+  const auto line = [](const char* what, const hr::CorrectionScore& c) {
+    std::printf("  %s: unexplained %.3g dB -> %.3g dB (noise floor %.3g dB), absorbed %.1f %%", what, c.before_db, c.after_db,
+                c.noise_floor_db, 100.0 * c.absorbed_fraction);
+    if (std::isfinite(c.absorbed_fraction_of_excess)) std::printf(" (%.1f %% of the excess over the floor)", 100.0 * c.absorbed_fraction_of_excess);
+    std::printf(", %d points\n", c.points);
+  };
+  std::printf("  %s\n  trained on %s, scored on %s\n", s.domain.c_str(), s.trained_on.c_str(), s.scored_on.c_str());
+  line("held out", s.held_out);
+  if (s.has_reverse) line("reverse (parts swapped)", s.reverse_held_out);
+  line("training part (optimistic)", s.training);
+  for (const auto& g : s.groups)
+    std::printf("  %-16s %.3g -> %.3g dB, lambda %.3g, %.1f effective of %d weights\n", g.name.c_str(), g.held_out.before_db,
+                g.held_out.after_db, g.lambda, g.effective_parameters, g.weights);
+  std::printf("  map: %d weights, %.1f effective parameters, trained on %d points\n", s.weights, s.effective_parameters,
+              s.training_points);
+}
+
+// The levitated part of a drop event, extracted as run_drop_residual() does (pre-trigger
+// history, window = min(2 s, history - 50 ms)), for the learned correction.
+hr::LearnedCorrectionSummary drop_levitated_correction(const amb::host::LoadedEvent& rec, const amb::board::BoardConfig& b,
+                                                       const hr::DropResidualOutcome& o) {
+  hr::LearnedCorrectionSummary s;
+  if (!o.levitated_analysed) {
+    s.skipped_why = "drop event: the levitated part was not analysed (" + o.levitated_note + ")";
+    return s;
+  }
+  const auto trig = static_cast<size_t>(rec.trigger_index);
+  amb::host::LoadedEvent pre = hr::slice_event(rec, 0, trig);
+  pre.trigger_index = 0;
+  hr::SteadyOptions so;
+  so.window_s = std::min(so.window_s, static_cast<double>(trig) / rec.sample_rate_hz - 0.05);
+  const auto d = hr::extract_steady(pre, b, so);
+  s = hr::learned_correction_steady(d, o.levitated.after, {}, so);
+  s.domain = "levitated part: " + s.domain;
+  return s;
+}
+
 int run_drop(const Args& a, const amb::host::LoadedEvent& rec, const amb::board::BoardConfig& b) {
   std::fprintf(stderr, "drop event: levitated part through the steady loop, drop part through the drop model fit\n");
   hr::DropResidualOptions dro;
@@ -163,9 +244,11 @@ int run_drop(const Args& a, const amb::host::LoadedEvent& rec, const amb::board:
     seg["drop"] = {{"before", drop_errors(o.drop_before)}, {"after", drop_errors(o.drop_after)}, {"contact_law", o.contact_law},
                    {"runout", ro}, {"contact_compliance", co}};
     j["segments"] = seg;
+    if (a.learned_correction) j["learned_correction"] = correction_json(drop_levitated_correction(rec, b, o));
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     print_text(o.verdict, o.before, o.after, rank, o.effects_added, notes);
+    if (a.learned_correction) print_correction(drop_levitated_correction(rec, b, o));
   }
   return 0;
 }
@@ -178,11 +261,15 @@ int run_steady(const Args& a) {
   if (hr::is_drop_event(rec, b)) return run_drop(a, rec, b);
   if (hr::is_journal_event(rec, b)) {  // journal-bearing record (seed 002): journal_bearing_wear
     const auto o = hr::run_journal_residual(rec, b);
+    if (a.learned_correction) std::fprintf(stderr, "--learned-correction: not available for journal-bearing records (skipped)\n");
     std::printf("%s\n", a.json ? hr::journal_residual_json(o).c_str() : hr::journal_residual_text(o).c_str());
     return 0;
   }
   const auto d = hr::extract_steady(rec, b);
   const auto o = hr::run_residual_loop(d, b);
+  // After the loop has decided: the learned correction reads its final model and changes nothing.
+  hr::LearnedCorrectionSummary lc;
+  if (a.learned_correction) lc = hr::learned_correction_steady(d, o.after);
   if (a.json) {
     nlohmann::json j;
     j["effects_added"] = added(o.effects_added);
@@ -204,9 +291,11 @@ int run_steady(const Args& a) {
     j["unexplained"] = unexplained(o.unexplained);
     j["channel_rms_residual"] = o.structure_after.channel_rms_residual;
     j["orbit_residual_max_m"] = o.structure_after.orbit_residual_max_m;
+    if (a.learned_correction) j["learned_correction"] = correction_json(lc);
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     print_text(o.verdict, o.before.error, o.after.error, o.ranking, o.effects_added, o.structure.notes);
+    if (a.learned_correction) print_correction(lc);
   }
   return 0;
 }
@@ -237,9 +326,11 @@ int run_sweep(const Args& a) {
     j["bic_before"] = o.before.bic;
     j["bic_after"] = o.after.bic;
     j["model_updating"] = hr::sweep_update_json(o);
+    if (a.learned_correction) j["learned_correction"] = correction_json(hr::learned_correction_sweep(o));
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     print_text(o.verdict, o.before.error, o.after.error, o.ranking, o.effects_added, o.notes);
+    if (a.learned_correction) print_correction(hr::learned_correction_sweep(o));
   }
   return 0;
 }
@@ -253,6 +344,10 @@ const amb::host::Registration reg{
       sub.add_flag("--json", a->json, "print the figures as JSON");
       sub.add_flag("--contact-law-update", a->contact_law_update,
                    "drop events: fit the drop model with each contact law (rigid, hertz, linear) and keep the best");
+      sub.add_flag("--learned-correction", a->learned_correction,
+                   "after the named elements: train a regularised map (ridge) from the final model's spectra to the "
+                   "measured ones on one part of the record, score it on the other, and report how much of the "
+                   "unexplained error it absorbs (not a physical explanation; the verdict is unchanged)");
       sub.add_option("--plot", a->plot, "sweep only: write the measured vs modelled FRF overlay (SVG) to this file");
       run = [a]() {
         try {
