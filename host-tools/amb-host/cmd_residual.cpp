@@ -187,8 +187,13 @@ hr::LearnedCorrectionSummary drop_levitated_correction(const amb::host::LoadedEv
   pre.trigger_index = 0;
   hr::SteadyOptions so;
   so.window_s = std::min(so.window_s, static_cast<double>(trig) / rec.sample_rate_hz - 0.05);
-  const auto d = hr::extract_steady(pre, b, so);
-  s = hr::learned_correction_steady(d, o.levitated.after, {}, so);
+  try {
+    const auto d = hr::extract_steady(pre, b, so);
+    s = hr::learned_correction_steady(d, o.levitated.after, {}, so);
+  } catch (const std::exception& e) {  // the loop read this part already; a stated skip, never the command's failure
+    s.skipped_why = std::string("levitated part: ") + e.what();
+    return s;
+  }
   s.domain = "levitated part: " + s.domain;
   return s;
 }

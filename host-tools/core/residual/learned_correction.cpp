@@ -229,7 +229,7 @@ void set_noise_floor(CorrectionScore& c, double floor_ms_ln, double db_per_ln) {
   c.absorbed_fraction_of_excess = mb > 1.1 * floor_ms_ln ? (mb - ma) / (mb - floor_ms_ln) : std::numeric_limits<double>::quiet_NaN();
 }
 
-void check_part(const CorrectionPart& p, const char* which) {
+void check_part(const CorrectionPart& p, const char* which, int groups) {
   for (const auto& s : p.spectra) {
     const size_t n = s.f_hz.size();
     if (s.measured_ln.size() != n || s.model_ln.size() != n || (!s.noise_var_ln.empty() && s.noise_var_ln.size() != n))
@@ -238,7 +238,8 @@ void check_part(const CorrectionPart& p, const char* which) {
       if (!(s.f_hz[k] > 0.0) || !std::isfinite(s.measured_ln[k]) || !std::isfinite(s.model_ln[k]))
         throw std::invalid_argument(std::string("learned correction: ") + which + " spectrum " + s.channel +
                                     ": non-positive frequency or non-finite level");
-    if (s.group < 0) throw std::invalid_argument("learned correction: negative group");
+    if (s.group < 0 || s.group >= groups)
+      throw std::invalid_argument("learned correction: " + std::string(which) + " spectrum " + s.channel + ": group out of range");
   }
 }
 
@@ -327,8 +328,8 @@ LearnedCorrectionSummary learned_correction(const CorrectionPart& train, const C
                                             const std::vector<std::string>& group_names, const LearnedCorrectionOptions& o) {
   std::string why;
   if (!o.valid(&why)) throw std::invalid_argument("learned correction options: " + why);
-  check_part(train, "training");
-  check_part(test, "scored");
+  check_part(train, "training", static_cast<int>(group_names.size()));
+  check_part(test, "scored", static_cast<int>(group_names.size()));
   LearnedCorrectionSummary s;
   s.trained_on = train.name;
   s.scored_on = test.name;
