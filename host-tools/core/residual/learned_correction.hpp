@@ -16,7 +16,8 @@
 //        +-local_halfwidth_octaves (the model's own peaks: a gain on them says the model's
 //        resonances are too sharp or too shallow)
 // Nothing is per bin, so the map cannot memorise a spectrum bin by bin. Ridge regression,
-// solved exactly (Eigen LDLT on the normal equations, columns scaled to unit mean square);
+// solved exactly (Eigen LDLT on the normal equations, columns scaled to unit mean square,
+// rows weighted by the inverse of each point's nominal estimator variance `noise_var_ln`);
 // the ridge penalty is chosen from a fixed list by generalised cross-validation on the
 // training part only. Deterministic: no random start, no iteration, no seed needed.
 //
