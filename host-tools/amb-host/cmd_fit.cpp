@@ -135,6 +135,7 @@ int run(const Args& a) {
                                 {"sliding_time_s", fe.sliding_time_s},
                                 {"measured_spin_down_rad_s2", fe.measured_spin_down_rad_s2},
                                 {"force_spin_down_rad_s2", fe.force_spin_down_rad_s2},
+                                {"force_spin_down_scatter_rad_s2", fe.force_spin_down_scatter_rad_s2},
                                 {"note", fe.note},
                                 {"windows", windows}};
     }

@@ -28,17 +28,22 @@ const amb::board::BoardConfig& board() {
 
 void print(const char* what, double truth, const hf::FrictionEstimate& e) {
   std::printf("%s: truth %.3f, estimate %.4f +- %.4f (%+.2f %%; se %.4f, smoothing %+.4f), %d of %d windows, "
-              "spin-down %.2f measured / %.2f from forces rad/s^2 over %.3f s\n",
+              "spin-down %.2f measured / %.2f +- %.2f from forces rad/s^2 over %.3f s\n",
               what, truth, e.friction, e.uncertainty, 100.0 * (e.friction / truth - 1.0), e.standard_error, e.smoothing_change,
-              e.windows_used, e.windows_total, e.measured_spin_down_rad_s2, e.force_spin_down_rad_s2, e.sliding_time_s);
+              e.windows_used, e.windows_total, e.measured_spin_down_rad_s2, e.force_spin_down_rad_s2,
+              e.force_spin_down_scatter_rad_s2, e.sliding_time_s);
 }
 
 }  // namespace
 
 // Plant drops, 0.3 s: bouncing at low and high friction and speed, and a heavy ring with a
 // large unbalance (whirling): within 3 % of the plant's friction. The spin-down the estimated
-// tangential forces imply over the sliding windows agrees with the speed channel within 10 %
-// (a check of the force estimate, independent of the speed-based ratio).
+// tangential forces imply over the sliding windows agrees with the speed channel (a check of
+// the force estimate, independent of the speed-based ratio) within 2 standard errors of the
+// difference's window-to-window scatter, and within 10 % on the bouncing drops. The whirling
+// drop's tangential forces scatter by about their own mean per 5 ms window (a contact-angle
+// error of a few mrad against a larger N), so its 10 % is not a test of the code: with 47
+// windows the standard error of their sum is ~6 %.
 TEST(FrictionEstimate, PlantDrops) {
   auto whirling = board().plant;
   for (auto& a : whirling.aux) a.ring_inertia_kg_m2 = 2e-3;
@@ -57,7 +62,11 @@ TEST(FrictionEstimate, PlantDrops) {
     print(c.name, c.mu, e);
     ASSERT_TRUE(e.valid) << c.name << ": " << e.note;
     EXPECT_NEAR(e.friction, c.mu, 0.03 * c.mu) << c.name;
-    EXPECT_NEAR(e.force_spin_down_rad_s2, e.measured_spin_down_rad_s2, 0.1 * e.measured_spin_down_rad_s2) << c.name;
+    EXPECT_GT(e.force_spin_down_scatter_rad_s2, 0.0) << c.name;
+    EXPECT_NEAR(e.force_spin_down_rad_s2, e.measured_spin_down_rad_s2, 2.0 * e.force_spin_down_scatter_rad_s2) << c.name;
+    if (c.p == &board().plant) {
+      EXPECT_NEAR(e.force_spin_down_rad_s2, e.measured_spin_down_rad_s2, 0.1 * e.measured_spin_down_rad_s2) << c.name;
+    }
   }
 }
 
@@ -95,7 +104,8 @@ TEST(FrictionEstimate, FrictionlessPlantDropReadsNearZero) {
   }
 }
 
-// The two drops of ../shared/data/synthetic: README friction 0.12 and 0.30.
+// The two drops of ../shared/data/synthetic: README friction 0.12 and 0.30, within 3 % and
+// inside one reported uncertainty (the "uncertainty covering the truth").
 TEST(FrictionEstimate, SyntheticDropsWithinThreePercent) {
   const std::pair<int, double> cases[] = {{1, 0.12}, {2, 0.30}};
   for (const auto& [k, truth] : cases) {
@@ -106,7 +116,7 @@ TEST(FrictionEstimate, SyntheticDropsWithinThreePercent) {
     print(("synthetic " + std::to_string(k)).c_str(), truth, e);
     ASSERT_TRUE(e.valid);
     EXPECT_NEAR(e.friction, truth, 0.03 * truth) << "example " << k;
-    EXPECT_LE(std::abs(e.friction - truth), 2.0 * e.uncertainty) << "example " << k << ": uncertainty does not cover the truth";
+    EXPECT_LE(std::abs(e.friction - truth), e.uncertainty) << "example " << k << ": uncertainty does not cover the truth";
     EXPECT_NEAR(e.force_spin_down_rad_s2, e.measured_spin_down_rad_s2, 0.1 * e.measured_spin_down_rad_s2) << "example " << k;
   }
 }
@@ -154,3 +164,4 @@ TEST(FrictionEstimate, DropModelHertzAndRigid) {
       EXPECT_NEAR(e.friction, mu, 0.03 * mu) << (rigid ? "rigid " : "hertz ") << mu;
     }
 }
+

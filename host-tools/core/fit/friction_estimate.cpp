@@ -162,7 +162,18 @@ struct Pass {
   Cluster cluster;
   std::vector<FrictionWindow> windows;
   std::vector<ContactSample> samples;
+  /// dOmega/dt per sample through the derivative fit of the forces (matched_speed_filter and a
+  /// speed channel), rad/s^2; empty otherwise.
+  std::vector<double> speed_rate_rad_s2;
   size_t per_window = 0;
+
+  /// Speed drop over samples [s, s + n) of the pass: matched or raw, rad/s.
+  double speed_drop(const DropMeasurement& m, size_t first, size_t s, size_t n) const {
+    if (speed_rate_rad_s2.empty()) return m.speed_rad_s[first + s] - m.speed_rad_s[first + s + n];
+    double d = 0.0;
+    for (size_t i = s; i < s + n; ++i) d -= speed_rate_rad_s2[i];
+    return d / m.sample_rate_hz;
+  }
 };
 
 Pass run_pass(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o, size_t first,
@@ -173,33 +184,43 @@ Pass run_pass(const DropMeasurement& m, const model::PlantParams& rig, const Fri
   p.per_window = std::max<size_t>(1, static_cast<size_t>(std::lround(o.window_s * m.sample_rate_hz)));
   std::vector<FrictionWindow> all;
   const bool spin = o.friction_from_speed && !m.speed_rad_s.empty();
+  if (!m.speed_rad_s.empty() && o.matched_speed_filter) {
+    const Derivative der(h, dt);
+    p.speed_rate_rad_s2.assign(p.samples.size(), 0.0);
+    for (size_t i = 0; i < p.samples.size(); ++i)
+      for (int t = -h; t <= h; ++t)
+        p.speed_rate_rad_s2[i] += der.d1[static_cast<size_t>(t + h)] * m.speed_rad_s[first + i + static_cast<size_t>(t + h) - static_cast<size_t>(h)];
+  }
   const double spin_sign = m.speed_at_trigger_hz >= 0.0 ? 1.0 : -1.0;
-  for (size_t s = 0; s + p.per_window <= p.samples.size(); s += p.per_window)
-    for (int b = 0; b < (o.per_bearing ? 2 : 1); ++b) {
-      FrictionWindow w;
-      w.bearing = o.per_bearing ? b : -1;
-      w.start_s = static_cast<double>(first + s - static_cast<size_t>(m.trigger_index)) * dt;
-      for (int k = 0; k < 2; ++k) {
-        if (o.per_bearing && k != b) continue;
-        const size_t kk = static_cast<size_t>(k);
-        const double c = rig.aux[kk].clearance_m;
-        for (size_t i = s; i < s + p.per_window; ++i) {
-          const auto& cs = p.samples[i];
-          if (cs.radius_m[kk] < o.contact_radius_fraction * c) continue;
-          w.normal_impulse_n_s += cs.normal_n[kk] * dt;
-          w.friction_impulse_n_s += cs.friction_n[kk] * dt;
-        }
+  // One window of n samples from sample s at bearing b (-1: both).
+  const auto make = [&](size_t s, size_t n, int b) {
+    FrictionWindow w;
+    w.bearing = b;
+    w.start_s = static_cast<double>(first + s - static_cast<size_t>(m.trigger_index)) * dt;
+    w.length_s = static_cast<double>(n) * dt;
+    for (int k = 0; k < 2; ++k) {
+      if (b >= 0 && k != b) continue;
+      const size_t kk = static_cast<size_t>(k);
+      const double c = rig.aux[kk].clearance_m;
+      for (size_t i = s; i < s + n; ++i) {
+        const auto& cs = p.samples[i];
+        if (cs.radius_m[kk] < o.contact_radius_fraction * c) continue;
+        w.normal_impulse_n_s += cs.normal_n[kk] * dt;
+        w.friction_impulse_n_s += cs.friction_n[kk] * dt;
       }
-      if (spin && !o.per_bearing) {
-        // The friction impulse from the speed channel: Ip (Omega_start - Omega_end) / r.
-        const double r_collar = 0.5 * (rig.aux[0].collar_radius_m + rig.aux[1].collar_radius_m);
-        w.force_friction_impulse_n_s = w.friction_impulse_n_s;
-        w.friction_impulse_n_s =
-            spin_sign * (m.speed_rad_s[first + s] - m.speed_rad_s[first + s + p.per_window]) * rotor.polar_inertia_kg_m2 / r_collar;
-      }
-      if (w.normal_impulse_n_s > 0.0) w.ratio = w.friction_impulse_n_s / w.normal_impulse_n_s;
-      all.push_back(w);
     }
+    if (spin && b < 0) {
+      // The friction impulse from the speed channel: Ip (Omega_start - Omega_end) / r, the
+      // speed drop taken through the same derivative fit as the forces (matched_speed_filter).
+      const double r_collar = 0.5 * (rig.aux[0].collar_radius_m + rig.aux[1].collar_radius_m);
+      w.force_friction_impulse_n_s = w.friction_impulse_n_s;
+      w.friction_impulse_n_s = spin_sign * p.speed_drop(m, first, s, n) * rotor.polar_inertia_kg_m2 / r_collar;
+    }
+    if (w.normal_impulse_n_s > 0.0) w.ratio = w.friction_impulse_n_s / w.normal_impulse_n_s;
+    return w;
+  };
+  for (size_t s = 0; s + p.per_window <= p.samples.size(); s += p.per_window)
+    for (int b = 0; b < (o.per_bearing ? 2 : 1); ++b) all.push_back(make(s, p.per_window, o.per_bearing ? b : -1));
   double biggest = 0.0;
   for (const auto& w : all) biggest = std::max(biggest, w.normal_impulse_n_s);
   for (const auto& w : all)
@@ -257,26 +278,39 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
 
   // Spin-down over the time windows in which a bearing slid: speed channel vs the torque of
   // the estimated friction forces (both bearings, all contact samples of those windows).
-  const size_t nw = p.samples.size() / p.per_window;
-  std::vector<bool> slid(nw, false);
-  for (const auto& w : r.windows)
-    if (w.sliding) slid[static_cast<size_t>(std::lround(w.start_s / dt - (static_cast<double>(first) - m.trigger_index)) / static_cast<long>(p.per_window))] = true;
+  const double sign = m.speed_at_trigger_hz >= 0.0 ? 1.0 : -1.0;
   double drop = 0.0, torque_impulse = 0.0, time = 0.0;
-  for (size_t k = 0; k < nw; ++k) {
-    if (!slid[k]) continue;
-    const size_t s = k * p.per_window;
-    time += static_cast<double>(p.per_window) * dt;
-    if (!m.speed_rad_s.empty()) drop += m.speed_rad_s[first + s] - m.speed_rad_s[first + s + p.per_window];
-    for (size_t i = s; i < s + p.per_window; ++i)
+  std::vector<double> diff;  // per window: force torque impulse - Ip x speed drop, N m s
+  std::vector<bool> seen(p.samples.size(), false);  // per_bearing: a time span once
+  for (const auto& w : r.windows) {
+    if (!w.sliding) continue;
+    const size_t s = static_cast<size_t>(std::lround(w.start_s / dt)) + static_cast<size_t>(m.trigger_index) - first;
+    const size_t n = static_cast<size_t>(std::lround(w.length_s / dt));
+    if (seen[s]) continue;
+    seen[s] = true;
+    time += static_cast<double>(n) * dt;
+    const double d = m.speed_rad_s.empty() ? 0.0 : sign * p.speed_drop(m, first, s, n);
+    double tau = 0.0;
+    for (size_t i = s; i < s + n; ++i)
       for (size_t b = 0; b < 2; ++b)
         if (p.samples[i].radius_m[b] >= o.contact_radius_fraction * rig.aux[b].clearance_m)
-          torque_impulse += rig.aux[b].collar_radius_m * p.samples[i].friction_n[b] * dt;
+          tau += rig.aux[b].collar_radius_m * p.samples[i].friction_n[b] * dt;
+    drop += d;
+    torque_impulse += tau;
+    diff.push_back(tau - rotor.polar_inertia_kg_m2 * d);
   }
   r.sliding_time_s = time;
   if (!m.speed_rad_s.empty() && time > 0.0) {
-    const double sign = m.speed_at_trigger_hz >= 0.0 ? 1.0 : -1.0;
-    r.measured_spin_down_rad_s2 = sign * drop / time;
+    r.measured_spin_down_rad_s2 = drop / time;
     r.force_spin_down_rad_s2 = torque_impulse / rotor.polar_inertia_kg_m2 / time;
+    if (diff.size() >= 2) {
+      double mean = 0.0, var = 0.0;
+      for (const double d : diff) mean += d;
+      mean /= static_cast<double>(diff.size());
+      for (const double d : diff) var += (d - mean) * (d - mean);
+      var /= static_cast<double>(diff.size() - 1);
+      r.force_spin_down_scatter_rad_s2 = std::sqrt(var * static_cast<double>(diff.size())) / rotor.polar_inertia_kg_m2 / time;
+    }
   }
   return r;
 }
