@@ -66,21 +66,52 @@ TEST(ReplayBitExact, FullHistoryWindowIsReproducedFromTheFirstSample) {
   EXPECT_GE(r.commands_posted, 2u) << "levitate and run are reconstructed from the lifecycle";
   // The whole replayed capture is the recorded one, byte for byte (seq, speed estimate included).
   ASSERT_EQ(r.replayed.size(), ev.samples.size());
-  // The tachometer channel (AMBE v3 tach_hz) is an input the firmware copies: the replay feeds
-  // the recorded speed estimate in the tachometer's place (replay_input.cpp), so that field
-  // holds what was fed; every other byte is the firmware's.
+  // The tachometer channel (AMBE v3 tach_hz) is fed as recorded, the recorded speed estimate
+  // as the tracker's update (replay_input.hpp): every byte is the firmware's.
   size_t differing = 0;
   for (size_t i = 0; i < ev.samples.size(); ++i) {
-    amb::fw::LoopSample replayed = r.replayed[i];
-    ASSERT_EQ(std::memcmp(&replayed.tach_hz, &ev.samples[i].speed_hz, sizeof(float)), 0) << i;
-    replayed.tach_hz = ev.samples[i].tach_hz;
-    if (std::memcmp(&replayed, &ev.samples[i], sizeof(amb::fw::LoopSample)) != 0) ++differing;
+    ASSERT_EQ(std::memcmp(&r.replayed[i].tach_hz, &ev.samples[i].tach_hz, sizeof(float)), 0) << i;
+    if (std::memcmp(&r.replayed[i], &ev.samples[i], sizeof(amb::fw::LoopSample)) != 0) ++differing;
   }
   EXPECT_EQ(differing, 0u);
   EXPECT_TRUE(r.trigger.replayed_frozen);
   EXPECT_TRUE(r.trigger.reproduced);
   EXPECT_TRUE(r.diagnosis.recorded_available);
   EXPECT_TRUE(r.diagnosis.bit_exact) << r.diagnosis.first_difference;
+}
+
+// A board whose speed estimate is the tracker's (asynchronous, so not re-run in lockstep):
+// the replay feeds the recorded tachometer as the tachometer (here none: -1) and the recorded estimate, with
+// its confidence and lost flag, as the tracker's update (replay_input.hpp). The replayed
+// capture is the recorded one byte for byte, the estimate's stretches of loss and staleness
+// included.
+TEST(ReplayBitExact, TrackerSpeedSourceIsReproducedWithTheTachometerAsRecorded) {
+  amb::test::CaptureRunOptions o;
+  o.tracker_speed_source = true;
+  const auto run = amb::test::run_sil_capture(o);
+  const amb::fw::EventRecord ev = decode(run.event_full_history);
+  ASSERT_EQ(ev.samples.front().seq, 0u);
+  // The recording is the tracker's (the simulated rig has no tachometer): off the speed
+  // command at speed, lost for a while.
+  size_t off_command = 0, lost = 0;
+  for (const auto& smp : ev.samples) {
+    if (smp.speed_command_hz > 1.0 && smp.speed_hz == smp.speed_hz && smp.speed_hz != smp.speed_command_hz) ++off_command;
+    if ((smp.speed_quality & amb::fw::k_speed_lost_bit) != 0) ++lost;
+  }
+  ASSERT_GT(off_command, 1000u);
+  ASSERT_GT(lost, 1000u);
+  auto board = board_for_event(ev);
+  board.tracker.enabled = true;
+  board.tracker.speed_source = amb::fw::SpeedSource::tracker;
+  const ReplayResult r = replay_event(ev, board);
+  print("tracker speed source", r);
+  EXPECT_TRUE(r.comparison.bit_exact);
+  ASSERT_EQ(r.replayed.size(), ev.samples.size());
+  size_t differing = 0;
+  for (size_t i = 0; i < ev.samples.size(); ++i)
+    if (std::memcmp(&r.replayed[i], &ev.samples[i], sizeof(amb::fw::LoopSample)) != 0) ++differing;
+  EXPECT_EQ(differing, 0u);
+  EXPECT_TRUE(r.trigger.reproduced);
 }
 
 TEST(ReplayBitExact, BoardWindowIsReproducedFromTheFirstSampleWithoutControllerState) {

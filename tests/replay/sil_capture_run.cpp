@@ -58,6 +58,10 @@ CaptureRunResult run_sil_capture(const CaptureRunOptions& o) {
   CaptureRunResult res;
   board::BoardConfig board = board::load_board("bath-amb-rig");
   board.capture.post_trigger_s = o.post_trigger_s;
+  if (o.tracker_speed_source) {
+    board.tracker.enabled = true;
+    board.tracker.speed_source = fw::SpeedSource::tracker;
+  }
   board::BoardConfig board_full = board;
   board_full.capture.pre_trigger_s = o.full_pre_trigger_s;
   res.board = board;
@@ -73,22 +77,36 @@ CaptureRunResult run_sil_capture(const CaptureRunOptions& o) {
   FanOut sink(cap_default, cap_full);
   fw::LoopRunner loop(sim.clock(), afe, sim.discrete(), sup, &sink);
   const double dt = sup.period_s();
+  uint64_t periods = 0;
+  // One loop period; with tracker_speed_source the tracker stand-in publishes first.
+  auto step = [&]() {
+    const double t = static_cast<double>(periods) * dt;
+    if (o.tracker_speed_source && periods % 50 == 0 && !(t >= 2.0 && t < 2.8)) {
+      const bool lost = t >= 1.0 && t < 1.3;
+      sup.publish_tracked_speed(sim.plant().outputs().spin_speed_hz * 1.001, lost ? 0.3 : 0.87, lost);
+    }
+    loop.run_periods(1);
+    ++periods;
+  };
   auto run_until = [&](auto&& done, double timeout_s) {
     for (double t = 0.0; t < timeout_s; t += dt) {
-      loop.run_periods(1);
+      step();
       if (done(sup.status())) return true;
     }
     return false;
   };
+  auto run_for = [&](double s) {
+    for (uint64_t k = static_cast<uint64_t>(s / dt); k > 0; --k) step();
+  };
 
-  loop.run_periods(static_cast<uint64_t>(0.05 / dt));  // resting on the touchdown bearings
+  run_for(0.05);  // resting on the touchdown bearings
   sup.post(fw::Command::levitate);
   if (!run_until([](const fw::Status& s) { return s.phase == fw::Phase::levitated; }, 5.0))
     throw std::runtime_error("SIL: did not levitate");
   sup.post(fw::Command::run);
   if (!run_until([](const fw::Status& s) { return s.phase == fw::Phase::at_speed; }, 10.0))
     throw std::runtime_error("SIL: did not reach speed");
-  loop.run_periods(static_cast<uint64_t>(o.hold_s / dt));
+  run_for(o.hold_s);
   res.cut_time_s = static_cast<double>(sim.time_ns()) * 1e-9;
   model::PlantFaults cut;
   cut.current_factor = {0.0, 0.0, 0.0, 0.0};

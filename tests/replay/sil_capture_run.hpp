@@ -19,6 +19,11 @@ struct CaptureRunOptions {
   double hold_s = 0.3;              ///< time at speed before the cut, s
   double post_trigger_s = 0.6;      ///< post-trigger window of both captures, s
   double full_pre_trigger_s = 8.0;  ///< pre-trigger window of the "full history" capture (reaches back to configure), s
+  /// The board takes its speed from the tracker (tracker.speed_source "tracker") and a stand-in
+  /// for the asynchronous tracker thread publishes every 50 loop periods: the rotor.s true
+  /// speed + 0.1 %, confidence 0.87, lost (confidence 0.3) from 1.0 to 1.3 s after
+  /// configure, nothing from 2.0 to 2.8 s (stale). Off: the board's tachometer source.
+  bool tracker_speed_source = false;
 };
 
 struct CaptureRunResult {

@@ -112,6 +112,8 @@ ReplayResult replay_event(const fw::EventRecord& ev, const board::BoardConfig& b
     const fw::Command cmd = i == 0 ? command_for_transition(st.state, st.phase, ev.samples[0])
                                    : command_for_transition(ev.samples[i - 1], ev.samples[i]);
     if (cmd != fw::Command::none && sup.post(cmd)) ++r.commands_posted;
+    const TrackedUpdate tu = tracked_update(ev.samples[i]);
+    sup.publish_tracked_speed(tu.speed_hz, tu.confidence, tu.lost);
     loop.run_periods(1);
     if (o.progress && (i % every == 0 || i + 1 == n)) o.progress(static_cast<double>(i + 1) / static_cast<double>(n));
   }
