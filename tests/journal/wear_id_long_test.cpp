@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "firmware/board/board.hpp"
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/wearid/journal_sil_record.hpp"
@@ -23,6 +25,7 @@
 #include "host-tools/core/wearid/rig_response.hpp"
 #include "model/journal/journal_rig.hpp"
 #include "model/journal/reynolds_fvm.hpp"
+#include "model/rotor/rotor_model.hpp"
 #include "host-tools/core/wearid/wear_identification.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -90,10 +93,10 @@ TEST(JournalWearId, SeedTable2WearsFromSilAtBothEccentricities) {
   }
 }
 
-// Seed 002 measures each wear at both static eccentricities. At e = 0.7 alone wears 1 and 3
-// are not identifiable (docs/journal-bearing.md: a second wear gives the same film force and
-// coefficients within 0.3 %); the e = 0.7 record fitted together with the e = 0.1 record of
-// the same bearing is within the targets for every wear.
+// Seed 002 measures each wear at both static eccentricities. At e = 0.7 alone wear 3 (and,
+// with the probes 60 mm inboard, wear 1) is not identifiable (docs/journal-bearing.md: a
+// second wear fits the record better than the truth); the e = 0.7 record fitted together with
+// the e = 0.1 record of the same bearing is within the targets for every wear.
 TEST(JournalWearId, BothEccentricitiesTogetherWithinTargets) {
   const board::BoardConfig b = board::load_board("unicamp-journal-rig");
   int seed = 41;
@@ -113,7 +116,70 @@ TEST(JournalWearId, BothEccentricitiesTogetherWithinTargets) {
   }
 }
 
-// Not met (37.25 Hz): kept as the seed states it, in the long label.
+// Seed 002's first critical speed, "around 31 Hz" (section 3, Fig. 6: unbalance response at
+// the journal, 10-50 Hz, read off the figure). The ~31 Hz mode is the rotor's first bending
+// mode with the AMBs close to its nodes, so the peak tells where the AMB loop measures the
+// rotor: with the probes 60 mm inboard of the AMBs (the board before issue 17's third round)
+// it was at 37.0 Hz; with the probes at the AMB planes, as in the seed's model (eq. 19 feeds
+// back the displacement at nodes 7 and 19), at 32.25 Hz. Two checks:
+//  1. the board's closed loop (discrete PID on the linearised force law, RigResponse) and the
+//     seed's own linear AMB model (section 2.4: K_AMB1 0.848e6 N/m, C_AMB1 4000 N s/m at
+//     node 7, K_AMB2 1.272e6 N/m, C_AMB2 6000 N s/m at node 19) on the same FE rotor and film
+//     peak within 1 Hz of each other (the board's loop is the seed's rig, not a retuned one);
+//  2. the peak lies within 31 +- 2 Hz: the seed's value is read off a 10-50 Hz plot and called
+//     "around"; the seed's model on this rotor gives 32.5 Hz. Probes 20 mm inboard (34.0 Hz) or
+//     30 mm outboard (28.75 Hz) already fail it.
+namespace {
+// Peak of |(x, y)| at the journal, 10-50 Hz in 0.25 Hz steps, of the seed's linear model:
+// full FE rotor, springs and dampers at the AMB planes, the film at the journal (K ~ speed).
+double seed_spring_model_peak_hz(const board::BoardConfig& b, const mj::DynamicCoefficients& d, double w0) {
+  using cd = std::complex<double>;
+  const auto fe = model::rotor::build_rotor_model(b.plant.rotor);
+  const int n_nodes = fe.node_count, n = 4 * n_nodes;
+  auto node = [&](double z) {
+    const int k = model::rotor::node_index(fe, z, 1e-4);
+    EXPECT_GE(k, 0) << "no node at " << z;
+    return k;
+  };
+  const int nj = node(b.journal.axial_m);
+  const double k_amb[2] = {0.848e6, 1.272e6}, c_amb[2] = {4000.0, 6000.0};  // seed 002 section 2.4
+  double peak = 0.0, f_peak = 0.0;
+  for (double f = 10.0; f <= 50.0; f += 0.25) {
+    const double w = 2.0 * M_PI * f, sc = w / w0;
+    Eigen::MatrixXd k = fe.K, c = fe.C + w * fe.G;
+    for (int a = 0; a < 2; ++a) {
+      const int na = node(b.plant.amb[static_cast<size_t>(a)].axial_m);
+      for (int plane = 0; plane < 2; ++plane) {
+        k(plane * 2 * n_nodes + 2 * na, plane * 2 * n_nodes + 2 * na) += k_amb[a];
+        c(plane * 2 * n_nodes + 2 * na, plane * 2 * n_nodes + 2 * na) += c_amb[a];
+      }
+    }
+    for (int r = 0; r < 2; ++r)
+      for (int q = 0; q < 2; ++q) {
+        k(r * 2 * n_nodes + 2 * nj, q * 2 * n_nodes + 2 * nj) += sc * d.stiffness_n_per_m(r, q);
+        c(r * 2 * n_nodes + 2 * nj, q * 2 * n_nodes + 2 * nj) += d.damping_n_s_per_m(r, q);
+      }
+    const Eigen::MatrixXcd a = k.cast<cd>() - w * w * fe.M.cast<cd>() + cd(0.0, w) * c.cast<cd>();
+    // Unbalance as the plant applies it: x amplitude j W^2 u e^{-j phase}, y = -j x (forward).
+    Eigen::VectorXcd force = Eigen::VectorXcd::Zero(n);
+    for (const auto& disk : b.plant.rotor.disks) {
+      if (disk.unbalance_kg_m == 0.0) continue;
+      const int nd = node(disk.axial_m);
+      const cd fx = cd(0.0, 1.0) * w * w * disk.unbalance_kg_m * std::exp(cd(0.0, -disk.unbalance_phase_deg * k_deg));
+      force(2 * nd) += fx;
+      force(2 * n_nodes + 2 * nd) += cd(0.0, -1.0) * fx;
+    }
+    const Eigen::VectorXcd q = a.partialPivLu().solve(force);
+    const double amp = std::hypot(std::abs(q(2 * nj)), std::abs(q(2 * n_nodes + 2 * nj)));
+    if (amp > peak) {
+      peak = amp;
+      f_peak = f;
+    }
+  }
+  return f_peak;
+}
+}  // namespace
+
 TEST(JournalRigLong, FirstCriticalSpeedNearTheSeeds31Hz) {
   // Unbalance response at the journal, 10-50 Hz, film coefficients at each speed from the
   // placed position (K ~ speed, C constant: the homogeneity of journal_rig.hpp).
@@ -123,7 +189,7 @@ TEST(JournalRigLong, FirstCriticalSpeedNearTheSeeds31Hz) {
   mj::ReynoldsSolver s(b.journal.geometry, {}, b.journal.grid);
   const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, mj::static_journal_state(b.journal), w0);
   wi::RigResponse r(b, 34.0, {d.fx0_n, d.fy0_n});
-  double peak = 0.0, f_peak = 0.0;
+  double peak = 0.0, f_peak = 0.0, at_50 = 0.0;
   for (double f = 10.0; f <= 50.0; f += 0.25) {
     const double sc = 2.0 * M_PI * f / w0;
     const auto xy = r.journal_xy_at(f, sc * d.stiffness_n_per_m, d.damping_n_s_per_m);
@@ -132,9 +198,14 @@ TEST(JournalRigLong, FirstCriticalSpeedNearTheSeeds31Hz) {
       peak = a;
       f_peak = f;
     }
+    at_50 = a;
   }
-  std::printf("[ RESULT ] unbalance response at the journal: peak %.1f um at %.2f Hz (seed 002: first critical ~31 Hz)\n",
-              peak * 1e6, f_peak);
-  EXPECT_NEAR(f_peak, 31.0, 3.0);
+  const double f_seed_model = seed_spring_model_peak_hz(b, d, w0);
+  std::printf("[ RESULT ] unbalance response at the journal: peak %.1f um at %.2f Hz (%.1f um at 50 Hz); seed 002's "
+              "linear AMB model on this rotor: %.2f Hz (seed 002: first critical ~31 Hz)\n",
+              peak * 1e6, f_peak, at_50 * 1e6, f_seed_model);
+  EXPECT_GT(f_peak, 10.0);  // a resonance inside the band, not the rising edge
+  EXPECT_LT(f_peak, 50.0);
+  EXPECT_NEAR(f_peak, f_seed_model, 1.0);
+  EXPECT_NEAR(f_peak, 31.0, 2.0);
 }
-
