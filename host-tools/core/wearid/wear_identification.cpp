@@ -46,7 +46,13 @@ class Evaluator {
   mj::WearParams wear_of(const std::vector<double>& u) const {
     mj::WearParams w;
     w.model = o_.model;
-    w.depth_m = 1e-6 * (o_.depth_um[0] + u[0] * (o_.depth_um[1] - o_.depth_um[0]));
+    // Depth on a logarithmic scale: the targets are relative (5 % of d0), and the film's
+    // response to a step in depth falls with the depth (a 10 um step is most of a 15 um wear,
+    // a tenth of a 100 um one), so equal steps in log d0 give the DOE grid and the local
+    // optimiser the same relative resolution over the whole range. On a linear 9-point grid
+    // (5, 23, 41, ... um) the basin of seed 002's wear 3 (15 um) fell between two points and
+    // the polishes ended in another valley (docs/journal-bearing.md, issue 17 third round).
+    w.depth_m = 1e-6 * o_.depth_um[0] * std::pow(o_.depth_um[1] / o_.depth_um[0], u[0]);
     w.position_rad = k_deg * (o_.position_deg[0] + u[1] * (o_.position_deg[1] - o_.position_deg[0]));
     if (n_ == 3) w.span_rad = k_deg * (o_.span_deg[0] + u[2] * (o_.span_deg[1] - o_.span_deg[0]));
     return w;
@@ -329,8 +335,10 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
 
   // Uncertainty: noise of each real residual component = noise_m / sqrt(2) (complex noise
   // split evenly), Jacobian by central differences in physical units (um, deg).
-  const double range[3] = {o.depth_um[1] - o.depth_um[0], o.position_deg[1] - o.position_deg[0],
-                           o.span_deg[1] - o.span_deg[0]};
+  const auto physical = [&](int i, const std::vector<double>& u) {
+    const mj::WearParams p = e.wear_of(u);
+    return i == 0 ? p.depth_m * 1e6 : (i == 1 ? p.position_rad : p.span_rad) / k_deg;
+  };
   r.used_amb_planes = e.planes();
   Eigen::MatrixXd jac(e.residual_count(), n);
   bool ok = true;
@@ -341,7 +349,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
     xm[static_cast<size_t>(i)] = std::max(0.0, x[static_cast<size_t>(i)] - h);
     try {
       const auto rp = e.residual(xp), rm = e.residual(xm);
-      const double du = (xp[static_cast<size_t>(i)] - xm[static_cast<size_t>(i)]) * range[i];
+      const double du = physical(i, xp) - physical(i, xm);
       for (int k = 0; k < e.residual_count(); ++k) jac(k, i) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * e.sigma(k));
     } catch (const std::invalid_argument&) {
       ok = false;

@@ -2,7 +2,8 @@
 // Model-based identification of journal-bearing wear from one steady speed (seed 002
 // section 2.5, eq. 24-25): the model's +1x/-1x full-spectrum components at the journal
 // probes are fitted to the measured ones by varying the wear parameters within bounds:
-// a design of experiments (full grid over the bounds, bounds included) picks the starting
+// a design of experiments (full grid over the bounds, bounds included; the depth on a log
+// scale, as the targets are relative) picks the starting
 // points (the grid's local minima first, then other non-adjacent points), then NLopt's
 // BOBYQA (bounded, derivative-free local optimiser) polishes each, restarted from its end
 // point while that still gains; the best polish wins. Cost: eq. 24 normalised by the measured spectrum,
