@@ -8,7 +8,6 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
-#include <fftw3.h>
 
 namespace amb::host::residual {
 
@@ -30,7 +29,6 @@ bool LearnedCorrectionOptions::valid(std::string* why) const {
 
 namespace {
 
-constexpr double k_two_pi = 2.0 * M_PI;
 
 std::string fmt(const char* f, double a, double b = 0.0) {
   char buf[256];
@@ -243,82 +241,6 @@ void check_part(const CorrectionPart& p, const char* which, int groups) {
   }
 }
 
-// Steady record: remove mean and speed orders (least squares), Welch PSD on d's bands.
-struct HalfPsd {
-  std::vector<std::array<double, k_channels>> psd;  // per band
-  std::vector<double> f_hz, averages;
-};
-
-HalfPsd half_psd(const SteadyData& d, size_t begin, size_t len, const SteadyOptions& o) {
-  const int ncol = 1 + 2 * (d.spin_hz > 0 ? k_orders : 0);
-  Eigen::MatrixXd basis(static_cast<Eigen::Index>(len), ncol);
-  for (size_t i = 0; i < len; ++i) {
-    const double t = static_cast<double>(i) / d.fs_hz;
-    basis(static_cast<Eigen::Index>(i), 0) = 1.0;
-    for (int h = 1; 2 * h < ncol; ++h) {
-      basis(static_cast<Eigen::Index>(i), 2 * h - 1) = std::cos(k_two_pi * h * d.spin_hz * t);
-      basis(static_cast<Eigen::Index>(i), 2 * h) = std::sin(k_two_pi * h * d.spin_hz * t);
-    }
-  }
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(basis.transpose() * basis);
-  std::array<Eigen::VectorXd, k_channels> rest;
-  for (int c = 0; c < k_channels; ++c) {
-    const Eigen::Map<const Eigen::VectorXd> y(d.window[static_cast<size_t>(c)].data() + begin, static_cast<Eigen::Index>(len));
-    rest[static_cast<size_t>(c)] = y - basis * ldlt.solve(basis.transpose() * y);
-  }
-  const int seg = static_cast<int>(o.segment_s * d.fs_hz);
-  const int hop = seg / 2;
-  const int nseg = static_cast<int>((len - static_cast<size_t>(seg)) / static_cast<size_t>(hop)) + 1;
-  std::vector<double> win(static_cast<size_t>(seg));
-  double wsum2 = 0.0;
-  for (int i = 0; i < seg; ++i) {
-    win[static_cast<size_t>(i)] = 0.5 - 0.5 * std::cos(k_two_pi * i / seg);
-    wsum2 += win[static_cast<size_t>(i)] * win[static_cast<size_t>(i)];
-  }
-  const int nb = seg / 2 + 1;
-  std::vector<double> in(static_cast<size_t>(seg));
-  std::vector<fftw_complex> out(static_cast<size_t>(nb));
-  fftw_plan plan = fftw_plan_dft_r2c_1d(seg, in.data(), out.data(), FFTW_ESTIMATE);
-  std::array<std::vector<double>, k_channels> psd;
-  for (int c = 0; c < k_channels; ++c) {
-    psd[static_cast<size_t>(c)].assign(static_cast<size_t>(nb), 0.0);
-    for (int s = 0; s < nseg; ++s) {
-      for (int i = 0; i < seg; ++i) in[static_cast<size_t>(i)] = rest[static_cast<size_t>(c)](s * hop + i) * win[static_cast<size_t>(i)];
-      fftw_execute(plan);
-      for (int k = 0; k < nb; ++k)
-        psd[static_cast<size_t>(c)][static_cast<size_t>(k)] +=
-            2.0 * (out[static_cast<size_t>(k)][0] * out[static_cast<size_t>(k)][0] + out[static_cast<size_t>(k)][1] * out[static_cast<size_t>(k)][1]) /
-            (d.fs_hz * wsum2 * nseg);
-    }
-  }
-  fftw_destroy_plan(plan);
-  // The same bands as extract_steady(): same edges, same exclusions at the speed orders.
-  HalfPsd h;
-  const double df = d.fs_hz / seg;
-  const double f_max = std::min(o.f_max_hz, 0.4 * d.fs_hz);
-  const double ratio = std::pow(2.0, 1.0 / o.bands_per_octave);
-  for (double f = o.f_min_hz; f <= f_max; f *= ratio) {
-    const double lo = f / std::sqrt(ratio), hi = f * std::sqrt(ratio);
-    std::array<double, k_channels> p{};
-    int count = 0;
-    double fsum = 0.0;
-    for (int k = std::max(1, static_cast<int>(std::ceil(lo / df))); k * df < hi && k < nb; ++k) {
-      bool near_line = false;
-      for (int hh = 1; hh <= 8 && d.spin_hz > 0; ++hh) near_line = near_line || std::abs(k * df - hh * d.spin_hz) < 2.5 * df;
-      if (near_line) continue;
-      for (int c = 0; c < k_channels; ++c) p[static_cast<size_t>(c)] += psd[static_cast<size_t>(c)][static_cast<size_t>(k)];
-      fsum += k * df;
-      ++count;
-    }
-    if (count == 0) continue;
-    for (auto& v : p) v /= count;
-    h.psd.push_back(p);
-    h.f_hz.push_back(fsum / count);
-    h.averages.push_back(0.6 * count * nseg);
-  }
-  return h;
-}
-
 const char* k_steady_channel[k_channels] = {"sensor A1", "sensor A2", "sensor B1", "sensor B2",
                                             "current A1", "current A2", "current B1", "current B2"};
 
@@ -387,8 +309,8 @@ CorrectionPart steady_half_part(const SteadyData& d, const SteadyEvaluation& mod
   if (len < 3 * seg || d.window[0].size() < 2 * len)
     throw std::runtime_error(fmt("a half of the steady window (%.2f s) is shorter than 3 Welch segments of %.2f s (5 with 50 %% overlap)",
                                  static_cast<double>(len) / d.fs_hz, so.segment_s));
-  const HalfPsd h = half_psd(d, half == 0 ? 0 : len, len, so);
-  if (h.f_hz.size() != d.bands.size() || model.psd_pred.size() != d.bands.size())
+  const std::vector<Band> h = remainder_bands(d, half == 0 ? 0 : len, len, so);
+  if (h.size() != d.bands.size() || model.psd_pred.size() != d.bands.size())
     throw std::runtime_error("the half's bands differ from the record's (steady options differ from the loop's)");
   CorrectionPart p;
   p.name = fmt(half == 0 ? "first half of the steady window (%.2f s)" : "second half of the steady window (%.2f s)",
@@ -398,11 +320,11 @@ CorrectionPart steady_half_part(const SteadyData& d, const SteadyEvaluation& mod
     CorrectionSpectrum s;
     s.group = c / 2;
     s.channel = k_steady_channel[c];
-    for (size_t i = 0; i < h.f_hz.size(); ++i) {
-      const double pm = h.psd[i][static_cast<size_t>(c)];
+    for (size_t i = 0; i < h.size(); ++i) {
+      const double pm = h[i].psd[static_cast<size_t>(c)];
       const double pp = model.psd_pred[i][static_cast<size_t>(c)];
       if (!(pm > 0.0) || !(pp > 0.0) || !std::isfinite(pp)) continue;
-      const double k = h.averages[i];
+      const double k = h[i].averages;
       s.f_hz.push_back(d.bands[i].f_hz);
       s.measured_ln.push_back(std::log(pm));
       // The model as a K-average log estimate sees it: ln P + psi(K) - ln K.
@@ -413,6 +335,24 @@ CorrectionPart steady_half_part(const SteadyData& d, const SteadyEvaluation& mod
   }
   return p;
 }
+
+namespace {
+
+// Trained on a, scored on b; and the reverse fold (trained on b, scored on a) as a check.
+LearnedCorrectionSummary both_ways(const CorrectionPart& a, const CorrectionPart& b, const std::vector<std::string>& groups,
+                                   const LearnedCorrectionOptions& o) {
+  LearnedCorrectionSummary fwd = learned_correction(a, b, groups, o);
+  const LearnedCorrectionSummary rev = learned_correction(b, a, groups, o);
+  if (rev.done) {
+    fwd.has_reverse = true;
+    fwd.reverse_trained_on = rev.trained_on;
+    fwd.reverse_scored_on = rev.scored_on;
+    fwd.reverse_held_out = rev.held_out;
+  }
+  return fwd;
+}
+
+}  // namespace
 
 LearnedCorrectionSummary learned_correction_steady(const SteadyData& d, const SteadyEvaluation& model,
                                                    const LearnedCorrectionOptions& o, const SteadyOptions& so) {
@@ -434,15 +374,8 @@ LearnedCorrectionSummary learned_correction_steady(const SteadyData& d, const St
     return s;
   }
   const std::vector<std::string> groups = {"sensors A", "sensors B", "currents AMB A", "currents AMB B"};
-  LearnedCorrectionSummary fwd = learned_correction(first, second, groups, o);
-  const LearnedCorrectionSummary rev = learned_correction(second, first, groups, o);
+  LearnedCorrectionSummary fwd = both_ways(first, second, groups, o);
   fwd.domain = s.domain;
-  if (rev.done) {
-    fwd.has_reverse = true;
-    fwd.reverse_trained_on = rev.trained_on;
-    fwd.reverse_scored_on = rev.scored_on;
-    fwd.reverse_held_out = rev.held_out;
-  }
   // The noise floor from the data, not from the estimator's nominal variance: the two halves
   // estimate the same spectrum (a steady record), so half the mean square of their log
   // difference is one half's estimation variance (the nominal 1/averages overstates it here).
@@ -509,15 +442,8 @@ LearnedCorrectionSummary learned_correction_sweep(const SweepOutcome& so, const 
     return s;
   }
   const std::vector<std::string> groups = {"accelerometers"};
-  LearnedCorrectionSummary fwd = learned_correction(odd, even, groups, o);
-  const LearnedCorrectionSummary rev = learned_correction(even, odd, groups, o);
+  LearnedCorrectionSummary fwd = both_ways(odd, even, groups, o);
   fwd.domain = s.domain;
-  if (rev.done) {
-    fwd.has_reverse = true;
-    fwd.reverse_trained_on = rev.trained_on;
-    fwd.reverse_scored_on = rev.scored_on;
-    fwd.reverse_held_out = rev.held_out;
-  }
   return fwd;
 }
 

@@ -13,6 +13,23 @@ namespace {
 
 constexpr double k_two_pi = 2.0 * M_PI;
 
+// Least-squares basis over len samples at fs_hz: the mean and the speed orders 1..k_orders at
+// spin_hz (cos, sin); the mean alone when spin_hz <= 0.
+Eigen::MatrixXd order_basis(double spin_hz, double fs_hz, size_t len) {
+  const int ncol = 1 + 2 * (spin_hz > 0 ? k_orders : 0);
+  Eigen::MatrixXd basis(static_cast<Eigen::Index>(len), ncol);
+  for (size_t i = 0; i < len; ++i) {
+    const double t = static_cast<double>(i) / fs_hz;
+    basis(static_cast<Eigen::Index>(i), 0) = 1.0;
+    for (int h = 1; 2 * h < ncol; ++h) {
+      basis(static_cast<Eigen::Index>(i), 2 * h - 1) = std::cos(k_two_pi * h * spin_hz * t);
+      basis(static_cast<Eigen::Index>(i), 2 * h) = std::sin(k_two_pi * h * spin_hz * t);
+    }
+  }
+  return basis;
+}
+
+
 // Power of the displacement channels at f (sum of |DFT|^2).
 double line_power(const std::array<std::vector<double>, k_channels>& w, double fs, double f) {
   double p = 0.0;
@@ -127,34 +144,35 @@ SteadyData extract_steady(const LoadedEvent& r, const board::BoardConfig& b, con
   }
 
   // Least squares: mean + orders, per channel.
-  const int ncol = 1 + 2 * (d.spin_hz > 0 ? k_orders : 0);
-  Eigen::MatrixXd basis(static_cast<Eigen::Index>(d.window_len), ncol);
-  for (size_t i = 0; i < d.window_len; ++i) {
-    const double t = static_cast<double>(i) / d.fs_hz;
-    basis(static_cast<Eigen::Index>(i), 0) = 1.0;
-    for (int h = 1; 2 * h < ncol; ++h) {
-      basis(static_cast<Eigen::Index>(i), 2 * h - 1) = std::cos(k_two_pi * h * d.spin_hz * t);
-      basis(static_cast<Eigen::Index>(i), 2 * h) = std::sin(k_two_pi * h * d.spin_hz * t);
-    }
-  }
-  const Eigen::MatrixXd gram = basis.transpose() * basis;
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(gram);
-  std::array<std::vector<double>, k_channels> rest;
+  const Eigen::MatrixXd basis = order_basis(d.spin_hz, d.fs_hz, d.window_len);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(basis.transpose() * basis);
   for (int c = 0; c < k_channels; ++c) {
     const Eigen::Map<const Eigen::VectorXd> y(d.window[static_cast<size_t>(c)].data(), static_cast<Eigen::Index>(d.window_len));
     const Eigen::VectorXd coef = ldlt.solve(basis.transpose() * y);
     d.mean[static_cast<size_t>(c)] = coef(0);
     d.rms[static_cast<size_t>(c)] = std::sqrt(y.squaredNorm() / static_cast<double>(d.window_len));
-    for (int h = 1; 2 * h < ncol; ++h)
+    for (int h = 1; 2 * h < basis.cols(); ++h)
       d.order[static_cast<size_t>(c)][static_cast<size_t>(h - 1)] = std::complex<double>(coef(2 * h - 1), -coef(2 * h));
-    const Eigen::VectorXd res = y - basis * coef;
-    rest[static_cast<size_t>(c)].assign(res.data(), res.data() + res.size());
+  }
+  d.bands = remainder_bands(d, 0, d.window_len, o);
+  return d;
+}
+
+std::vector<Band> remainder_bands(const SteadyData& d, size_t begin, size_t len, const SteadyOptions& o) {
+  if (begin + len > d.window_len) throw std::runtime_error("remainder_bands: samples beyond the steady window");
+  const Eigen::MatrixXd basis = order_basis(d.spin_hz, d.fs_hz, len);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(basis.transpose() * basis);
+  std::array<Eigen::VectorXd, k_channels> rest;
+  for (int c = 0; c < k_channels; ++c) {
+    const Eigen::Map<const Eigen::VectorXd> y(d.window[static_cast<size_t>(c)].data() + begin, static_cast<Eigen::Index>(len));
+    rest[static_cast<size_t>(c)] = y - basis * ldlt.solve(basis.transpose() * y);
   }
 
   // Welch PSD of the remainder (Hann, 50 % overlap).
   const int seg = static_cast<int>(o.segment_s * d.fs_hz);
+  if (seg < 2 || len < static_cast<size_t>(seg)) throw std::runtime_error("remainder_bands: fewer samples than one Welch segment");
   const int hop = seg / 2;
-  const int nseg = static_cast<int>((d.window_len - static_cast<size_t>(seg)) / static_cast<size_t>(hop)) + 1;
+  const int nseg = static_cast<int>((len - static_cast<size_t>(seg)) / static_cast<size_t>(hop)) + 1;
   std::vector<double> win(static_cast<size_t>(seg));
   double wsum2 = 0.0;
   for (int i = 0; i < seg; ++i) {
@@ -169,8 +187,7 @@ SteadyData extract_steady(const LoadedEvent& r, const board::BoardConfig& b, con
   for (int c = 0; c < k_channels; ++c) {
     psd[static_cast<size_t>(c)].assign(static_cast<size_t>(nb), 0.0);
     for (int s = 0; s < nseg; ++s) {
-      for (int i = 0; i < seg; ++i)
-        in[static_cast<size_t>(i)] = rest[static_cast<size_t>(c)][static_cast<size_t>(s * hop + i)] * win[static_cast<size_t>(i)];
+      for (int i = 0; i < seg; ++i) in[static_cast<size_t>(i)] = rest[static_cast<size_t>(c)](s * hop + i) * win[static_cast<size_t>(i)];
       fftw_execute(plan);
       for (int k = 0; k < nb; ++k)
         psd[static_cast<size_t>(c)][static_cast<size_t>(k)] +=
@@ -179,6 +196,9 @@ SteadyData extract_steady(const LoadedEvent& r, const board::BoardConfig& b, con
     }
   }
   fftw_destroy_plan(plan);
+
+  // Average per band; bins within 2.5 bins of the first 8 speed orders left out.
+  std::vector<Band> bands;
   const double df = d.fs_hz / seg;
   const double f_max = std::min(o.f_max_hz, 0.4 * d.fs_hz);
   const double ratio = std::pow(2.0, 1.0 / o.bands_per_octave);
@@ -199,9 +219,9 @@ SteadyData extract_steady(const LoadedEvent& r, const board::BoardConfig& b, con
     for (auto& p : band.psd) p /= count;
     band.f_hz = fsum / count;
     band.averages = 0.6 * count * nseg;
-    d.bands.push_back(band);
+    bands.push_back(band);
   }
-  return d;
+  return bands;
 }
 
 }  // namespace amb::host::residual

@@ -67,6 +67,14 @@ ChannelMap match_channels(const LoadedEvent& r);
 /// steady window.
 SteadyData extract_steady(const LoadedEvent& r, const board::BoardConfig& b, const SteadyOptions& o = {});
 
+/// The remainder spectrum of samples [begin, begin + len) of d.window: mean and speed orders
+/// 1..k_orders at d.spin_hz removed by least squares, Welch PSD (Hann, o.segment_s, 50 %
+/// overlap), averaged over the 1/o.bands_per_octave bands from o.f_min_hz to
+/// min(o.f_max_hz, 0.4 fs), bins within 2.5 bins of the first 8 speed orders left out (the
+/// bands of extract_steady, which calls it on the whole window). Throws std::runtime_error
+/// for samples beyond the window or fewer than one segment.
+std::vector<Band> remainder_bands(const SteadyData& d, size_t begin, size_t len, const SteadyOptions& o);
+
 /// Samples [begin, end) of an event (trigger index shifted; 0 if outside).
 LoadedEvent slice_event(const LoadedEvent& r, size_t begin, size_t end);
 
