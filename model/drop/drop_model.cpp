@@ -130,7 +130,7 @@ DropModel::DropModel(const PlantParams& plant, const PidParams& pid, double cont
       if (!(p_.aux[b].contact_damping_n_s_per_m >= 0.0)) fail("aux bearing " + std::to_string(b) + ": contact_damping_n_s_per_m must be >= 0");
     }
     for (size_t b = 0; b < 2; ++b) {
-      law_k_[b] = p_.aux[b].contact_stiffness_n_per_m * std::pow(o_.hertz_reference_penetration_m, 1.0 - law_exp_);
+      law_k_[b] = contact_law_coefficient(p_.aux[b].contact_stiffness_n_per_m, law_exp_, o_.hertz_reference_penetration_m);
     }
   }
   reset(true, 0.0);
@@ -156,7 +156,7 @@ void DropModel::set_contact_stiffness(double n_per_m) {
   if (!(n_per_m > 0.0)) fail("contact stiffness must be > 0");
   for (size_t b = 0; b < 2; ++b) {
     p_.aux[b].contact_stiffness_n_per_m = n_per_m;
-    law_k_[b] = n_per_m * std::pow(o_.hertz_reference_penetration_m, 1.0 - law_exp_);
+    law_k_[b] = contact_law_coefficient(n_per_m, law_exp_, o_.hertz_reference_penetration_m);
   }
 }
 

@@ -151,12 +151,12 @@ class DropModel final : public Plant {
   void set_restitution(double e);                               ///< Newton e_n, 1
   void set_aux_centre_offset(int bearing, double x_m, double y_m); ///< bearing centre, m
   // Compliant laws (both bearings; no effect under the rigid law):
-  void set_contact_stiffness(double n_per_m);   ///< contact_stiffness_n_per_m (Hertz: secant at d_ref), N/m
+  void set_contact_stiffness(double n_per_m);   ///< contact_stiffness_n_per_m (dF/dd at d_ref), N/m
   void set_contact_damping(double n_s_per_m);   ///< linear contact damping c, N s/m
   void set_slip_regularisation(double m_s);     ///< 0: exact Coulomb, else tanh(v / eps), m/s
   void set_ring_drag(double n_m);               ///< ring drag torque, both bearings, N m
   /// Exponent e of f(d) = K d^e (1.5 Hertz, 1 linear; fitted shapes in between), K keeps the
-  /// secant stiffness at d_ref. Compliant laws only, e in [1, 2].
+  /// contact stiffness df/dd at d_ref. Compliant laws only, e in [1, 2].
   void set_contact_exponent(double e);
   double contact_exponent() const { return law_exp_; }
   /// The law in use (the board's or DropOptions::contact_law).

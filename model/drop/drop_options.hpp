@@ -1,6 +1,7 @@
 #pragma once
 // Options of the non-smooth drop model (drop_model.hpp). Defaults are the stated model
 // choices of docs/drop-model.md.
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -9,6 +10,19 @@ namespace amb::model::drop {
 /// Contact law used by the drop model: the board's choice (AuxBearingParams::contact_law,
 /// board key `[[rig.aux_bearing]] contact_law`) or an override.
 enum class ContactLawChoice : int { board = 0, rigid = 1, hertz = 2, linear = 3 };
+
+/// Coefficient K of the spring law f(d) = K d^e whose contact stiffness df/dd at the reference
+/// penetration d_ref is `stiffness_n_per_m`: K = k / (e d_ref^(e - 1)) (e = 1: K = k; Hertz
+/// e = 1.5: K = k / (1.5 sqrt(d_ref))). The contact stiffness of a non-linear contact is its
+/// tangent (linearised) stiffness, the one that sets the contact's natural frequency; it is
+/// 1/e of the secant F/d at the same penetration, which an earlier version used.
+inline double contact_law_coefficient(double stiffness_n_per_m, double exponent, double d_ref_m) {
+  return stiffness_n_per_m / (exponent * std::pow(d_ref_m, exponent - 1.0));
+}
+/// The inverse: the contact stiffness df/dd at d_ref of f(d) = K d^e, N/m.
+inline double contact_law_stiffness(double coefficient, double exponent, double d_ref_m) {
+  return coefficient * exponent * std::pow(d_ref_m, exponent - 1.0);
+}
 
 struct DropOptions {
   /// Moreau-Jean time step h, s. Order-1 method (velocity jumps): the step-halving test in
@@ -57,8 +71,9 @@ struct DropOptions {
   /// The sub-step test in tests/drop (CompliantContact.ContactSubStepConverges) holds the
   /// default to the same error as cutting every step, 1.
   double quiet_contact_share = 0.1;
-  /// Hertz law F = K d^1.5: K = contact_stiffness_n_per_m * d_ref^-0.5, i.e. the secant
-  /// stiffness F/d at d_ref equals the board's contact_stiffness_n_per_m. d_ref, m.
+  /// Hertz law F = K d^1.5: K = contact_stiffness_n_per_m / (1.5 d_ref^0.5), i.e. the contact
+  /// stiffness dF/dd (tangent) at d_ref equals the board's contact_stiffness_n_per_m
+  /// (contact_law_coefficient below). d_ref, m.
   double hertz_reference_penetration_m = 1.0e-5;
   /// Hunt-Crossley damping: F = f(d) (1 + alpha d') + c d', alpha in s/m (0: off, only the
   /// board's linear contact_damping_n_s_per_m c). Never pulling.

@@ -118,6 +118,39 @@ TEST(CompliantContact, BackwardWhirlLikeThePenaltyPlant) {
   EXPECT_NEAR(b.spin_hz.back(), a.spin_hz.back(), 0.03 * a.spin_hz.front());
 }
 
+// The board's contact_stiffness_n_per_m is the contact stiffness dF/dd at the reference
+// penetration (10 um): K = k / (1.5 sqrt(d_ref)) for the Hertz law, K = k for the linear one.
+// Checked on the helper and on the model: the rigid rotor resting on both rings (spin 0,
+// amplifiers off, the bounce damped out) sinks in by (W / 2 / K)^(2/3) at each bearing, where
+// the secant definition (K 1.5 x larger) would give 24 % less.
+TEST(CompliantContact, HertzCoefficientFromTheTangentStiffness) {
+  namespace md = amb::model::drop;
+  const double k = 1e8, dref = 1e-5, kh = md::contact_law_coefficient(k, 1.5, dref);
+  const double dd = 1e-9;
+  EXPECT_NEAR((kh * std::pow(dref + dd, 1.5) - kh * std::pow(dref - dd, 1.5)) / (2.0 * dd), k, 1e-6 * k);
+  EXPECT_DOUBLE_EQ(md::contact_law_coefficient(k, 1.0, dref), k);
+  EXPECT_NEAR(md::contact_law_stiffness(kh, 1.5, dref), k, 1e-9 * k);
+
+  auto p = amb::test::bath_board().plant;
+  for (auto& d : p.rotor.disks) d.unbalance_kg_m = 0.0;
+  md::DropOptions o;
+  o.modes_per_plane = 2;
+  o.sensor_noise = false;
+  auto model = amb::test::make_drop_model(p, o);
+  ASSERT_TRUE(model->compliant());
+  model->reset(false, 0.0);
+  amb::model::PlantInputs in;
+  in.amplifiers_enabled = false;
+  for (int i = 0; i < 3000; ++i) model->step(1e-4, in);
+  const auto t = model->truth();
+  const double w_share = 0.5 * model->rotor_mass_kg() * p.gravity_m_s2;
+  const double expected = std::pow(w_share / md::contact_law_coefficient(p.aux[0].contact_stiffness_n_per_m, 1.5, dref), 2.0 / 3.0);
+  for (int b = 0; b < 2; ++b) {
+    const double pen = std::hypot(t.aux_x_m[static_cast<size_t>(b)], t.aux_y_m[static_cast<size_t>(b)]) - p.aux[static_cast<size_t>(b)].clearance_m;
+    EXPECT_NEAR(pen, expected, 0.03 * expected) << "bearing " << b;
+  }
+}
+
 TEST(CompliantContact, BoardSelectsTheLawAndRefusesUnknownOnes) {
   std::ifstream f(std::string(amb::test::source_dir()) + "/boards/bath-amb-rig.toml");
   ASSERT_TRUE(f.good());

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "model/amb/amb_force.hpp"
+#include "model/drop/drop_options.hpp"
 #include "model/drop/sensor_orbit.hpp"
 #include "model/rotor/rotor_model.hpp"
 
@@ -25,6 +26,12 @@ std::array<std::array<double, 2>, 2> aux_weights(const model::PlantParams& rig) 
     a[k] = {1.0 - s, s};
   }
   return a;
+}
+
+// K of the board's Hertz law F = K d^1.5 from its contact stiffness (dF/dd at the drop
+// model's reference penetration), as model/drop does.
+double hertz_coefficient(double contact_stiffness_n_per_m) {
+  return model::drop::contact_law_coefficient(contact_stiffness_n_per_m, 1.5, model::drop::DropOptions{}.hertz_reference_penetration_m);
 }
 
 cd aux_point(const model::drop::SensorOrbit& view, const std::array<double, 4>& r, int k) {
@@ -335,7 +342,7 @@ std::array<double, 2> unbalance_contact_signature_m(const model::PlantParams& ri
     const double kc = ab.contact_stiffness_n_per_m;
     double compliance = kc > 0.0 ? 1.0 / kc : 0.0;
     if (ab.contact_law == model::AuxContactLaw::hertz && kc > 0.0) {
-      const double d = std::pow(share / (kc / std::sqrt(1e-5)), 2.0 / 3.0);
+      const double d = std::pow(share / hertz_coefficient(kc), 2.0 / 3.0);
       compliance = 2.0 / 3.0 * d / share;
     }
     out[p] += compliance * fsum;
@@ -437,11 +444,11 @@ ContactCompliance estimate_contact_compliance(const Readings& sensor_m, const mo
       all = false;
       continue;
     }
-    // The board's contact law: Hertz K d^1.5 (K from the secant stiffness at 10 um) or linear.
+    // The board's contact law: Hertz K d^1.5 (K from the contact stiffness dF/dd at 10 um) or linear.
     const auto& ab = rig.aux[k];
     const double kc = ab.contact_stiffness_n_per_m;
     auto law = [&](double fn) {
-      if (ab.contact_law == model::AuxContactLaw::hertz) return std::pow(fn / (kc / std::sqrt(1e-5)), 2.0 / 3.0);
+      if (ab.contact_law == model::AuxContactLaw::hertz) return std::pow(fn / hertz_coefficient(kc), 2.0 / 3.0);
       return fn / kc;
     };
     // deflection - law(F) = d0 + C F

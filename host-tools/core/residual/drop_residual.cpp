@@ -711,9 +711,10 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
         auto& ab = b2.plant.aux[k];
         const double fm = std::max(cc.mean_force_n[k], 1.0), kc = ab.contact_stiffness_n_per_m;
         if (ab.contact_law == model::AuxContactLaw::hertz) {
-          const double kh = kc / std::sqrt(1e-5);
+          const double dref = fo.model.hertz_reference_penetration_m;
+          const double kh = model::drop::contact_law_coefficient(kc, 1.5, dref);
           const double d = std::pow(fm / kh, 2.0 / 3.0) + fm / ks;
-          ab.contact_stiffness_n_per_m = fm / std::pow(d, 1.5) * std::sqrt(1e-5);
+          ab.contact_stiffness_n_per_m = model::drop::contact_law_stiffness(fm / std::pow(d, 1.5), 1.5, dref);
         } else {
           ab.contact_stiffness_n_per_m = kc * ks / (kc + ks);
         }
