@@ -31,6 +31,7 @@ struct Args {
   bool fit_restitution = false;
   bool fit_offset = false;
   bool fit_law_shape = false;
+  bool lock_in_cost = false;
   bool friction_from_fit = false;
   std::string wear_in, wear_out;
 };
@@ -64,6 +65,7 @@ int run(const Args& a) {
   o.fit_centre_offset = a.fit_offset;
   o.fit_slip_regularisation = a.fit_law_shape;
   o.fit_contact_exponent = a.fit_law_shape;
+  o.weights.lock_in_features = a.lock_in_cost;
   o.friction_from_contact_forces = !a.friction_from_fit;
   o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (const std::string e = o.check(); !e.empty()) return bad_input(e);
@@ -162,6 +164,19 @@ int run(const Args& a) {
     };
     j["whirl"] = whirl_json(r.whirl);
     j["fitted_whirl"] = whirl_json(r.fitted_whirl);
+    const auto lock_in_json = [](const hf::LockInFeatures& f) {
+      return nlohmann::json{{"valid", f.valid},
+                            {"own", f.own},
+                            {"start_s", f.start_s},
+                            {"speed_level_rad_s", f.speed_level_rad_s},
+                            {"spin_down_rad_s2", f.spin_down_rad_s2},
+                            {"whirling", {f.whirling[0], f.whirling[1]}},
+                            {"centripetal_m_s2", {f.centripetal_m_s2[0], f.centripetal_m_s2[1]}},
+                            {"penetration_m", {f.penetration_m[0], f.penetration_m[1]}}};
+    };
+    j["cost_lock_in"] = r.cost.lock_in;
+    j["lock_in"] = lock_in_json(r.lock_in);
+    j["fitted_lock_in"] = lock_in_json(r.fitted_lock_in);
     nlohmann::json trials = nlohmann::json::array();
     for (const auto& t : r.structure_trials)
       trials.push_back({{"modes_per_plane", t.modes_per_plane}, {"cost", t.cost}, {"converged", t.converged}, {"bound_active", t.bound_active}});
@@ -224,6 +239,8 @@ const amb::host::Registration reg{
       sub.add_flag("--fit-offset", args->fit_offset, "also fit an offset of the aux-bearing centres");
       sub.add_flag("--fit-law-shape", args->fit_law_shape,
                    "compliant laws: also fit the friction regularisation velocity and the spring exponent");
+      sub.add_flag("--lock-in-cost", args->lock_in_cost,
+                   "backward-whirl records: compare the whirl after lock-in (speed level, spin-down, force-penetration) instead of lock-in-dependent terms");
       sub.add_flag("--friction-from-fit", args->friction_from_fit,
                    "fit the friction with the model instead of reading it from the contact forces (friction_estimate.hpp)");
       sub.add_option("--wear-in", args->wear_in, "previous wear record (AMBW) to update");

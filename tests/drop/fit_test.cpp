@@ -102,6 +102,67 @@ TEST(MeasuredEvent, RefusesBadInputNamingIt) {
   }
 }
 
+// Backward whirl (docs/drop-model.md, "Backward whirl lock-in"): two records of the same
+// sustained whirl that lock in at different times. The lock-in features (speed level and
+// spin-down after lock-in, force-penetration relation) agree; the whole-window speed term
+// (used for bouncing records) does not.
+TEST(DropCost, LockInFeaturesDoNotDependOnWhenTheWhirlStarts) {
+  const double period = 1e-4, c = 2e-4, d = 5e-6, psi = 2.0 * M_PI * 90.0, level = 230.0, rate = 16.5;
+  const size_t n = 4000;
+  auto record = [&](double t_lock) {
+    hf::DropFeatures f;
+    f.period_s = period;
+    std::array<md::RubbingResult, 2> rr;
+    std::array<std::vector<double>, 2> x, y;
+    for (size_t i = 0; i < n; ++i) {
+      const double t = static_cast<double>(i) * period;
+      const bool locked = t >= t_lock;
+      const double r = locked ? c + d : 0.0, a = -psi * (t - t_lock);  // backward: against a + spin
+      for (size_t k = 0; k < 2; ++k) {
+        x[k].push_back(r * std::cos(a));
+        y[k].push_back(r * std::sin(a));
+      }
+      const double t_end = static_cast<double>(n - 1) * period;
+      f.speed_rad_s.push_back(locked ? level + rate * (t_end - t) : level + rate * (t_end - t_lock) + 200.0 * (t_lock - t));
+      f.plane_xy_m.push_back({0.0, 0.0, 0.0, 0.0});
+    }
+    for (size_t k = 0; k < 2; ++k) {
+      rr[k] = md::classify_rubbing(x[k], y[k], period, c, 1.0, 0, md::RubbingOptions{});
+      f.rubbing[k] = rr[k].durations;
+      f.whirl[k] = hf::whirl_summary(rr[k], period, 1.0);
+    }
+    f.lock_in = hf::lock_in_features(rr, x, y, {c, c}, f.speed_rad_s, period, 0.04, 0.05);
+    f.contact_exponent = 1.5;
+    return f;
+  };
+  const hf::DropFeatures early = record(0.04), late = record(0.08);
+  for (const auto* f : {&early, &late}) {
+    EXPECT_EQ(f->whirl[0].direction, "backward");
+    ASSERT_TRUE(f->lock_in.valid);
+    EXPECT_TRUE(f->lock_in.own);
+    EXPECT_NEAR(f->lock_in.speed_level_rad_s, level, 1e-6);
+    EXPECT_NEAR(f->lock_in.spin_down_rad_s2, rate, 1e-6);
+    EXPECT_NEAR(f->lock_in.penetration_m[0], d, 1e-9);
+    EXPECT_NEAR(f->lock_in.centripetal_m_s2[1], (c + d) * psi * psi, 1e-3 * (c + d) * psi * psi);
+  }
+  EXPECT_NEAR(late.lock_in.start_s - early.lock_in.start_s, 0.04, 2.5e-3);
+  const double spin0 = 2.0 * M_PI * 45.0;
+  hf::DropCostWeights w;
+  w.lock_in_features = true;  // opt-in (amb-host fit --lock-in-cost)
+  const hf::CostBreakdown lock = hf::drop_cost(early, late, c, spin0, w);
+  EXPECT_TRUE(lock.lock_in);
+  EXPECT_LT(lock.speed + lock.spin_down + lock.whirl, 1e-3);
+  w.lock_in_features = false;
+  const hf::CostBreakdown whole = hf::drop_cost(early, late, c, spin0, w);
+  EXPECT_FALSE(whole.lock_in);
+  EXPECT_GT(whole.speed, 1.0);
+  // Stiffer contact (same whirl rate, half the penetration): the force relation sees it.
+  hf::DropFeatures stiff = late;
+  for (auto& p : stiff.lock_in.penetration_m) p *= 0.5;
+  w.lock_in_features = true;
+  EXPECT_NEAR(hf::drop_cost(early, stiff, c, spin0, w).whirl, 2.0 * w.whirl_force * 1.5 * std::log(2.0), 1e-3);
+}
+
 TEST(DropFit, RecoversFrictionCoefficient) {
   for (double mu : {0.05, 0.1, 0.2, 0.3, 0.4}) {
     md::RubbingDurations truth;

@@ -19,6 +19,17 @@
 //    speed per s), share of the window in contact, mean whirl rate of the contact angle while
 //    in contact (signed, / the spin speed) and bounce rate (contact onsets per s, / 100 per s).
 //    They compare statistics of the motion, not where the rotor is at a given instant.
+//  * Backward whirl (the measurement's dominant state at an aux bearing is a backward rub):
+//    when the rotor locks into rolling whirl is a chaotic event, and the whirl frequency, the
+//    pointwise speed and the spin-down over the whole window all follow from it
+//    (docs/drop-model.md, "Backward whirl lock-in"). Then the speed, spin-down and whirl terms
+//    compare features of the sustained whirl AFTER each record's own lock-in instead
+//    (LockInFeatures): the speed level (the LS line of the speed after lock-in at the window
+//    end; set by the angular momentum through the lock-in), the drag-limited spin-down after
+//    lock-in (LS slope) and, per bearing, the force-penetration relation of the whirl
+//    (centripetal acceleration r psi'^2 against the penetration d = r - c: K / m_eff =
+//    r psi'^2 / d^e with the contact law's exponent e), compared as |ln| of the ratio.
+//    Bouncing records keep the terms above unchanged.
 // Both the measurement and the simulation pass through the same sensor view (sensor_orbit.hpp).
 #include <array>
 #include <string>
@@ -41,6 +52,34 @@ struct DropCostWeights {
   double contact_share = 1.0;   ///< weight of the contact-share difference (0..1), 1
   double whirl = 1.0;           ///< weight of the whirl-rate difference (/ spin speed), 1
   double bounce = 0.2;          ///< weight of the bounce-rate difference (/ 100 per s), 1
+  /// Backward-whirl records: compare the sustained whirl after lock-in (LockInFeatures) in
+  /// place of the pointwise speed, the whole-window spin-down and the mean whirl rate. Off by
+  /// default (`amb-host fit --lock-in-cost`): it identifies the ring drag and example 2's
+  /// contact stiffness, but moves the residual loop's aux-offset estimate on the generated
+  /// offset record beyond its test bound (docs/drop-model.md).
+  bool lock_in_features = false;
+  double lock_in_speed = 3.0;   ///< weight of the speed level after lock-in (/ 1 % of the trigger speed), 1
+  double lock_in_spin_down = 3.0; ///< weight of the spin-down after lock-in (/ 1 % of the trigger speed per s), 1
+  double whirl_force = 3.0;     ///< weight of |ln| of the force-penetration ratio, per bearing, 1
+  /// Weight of the mean whirl-rate difference (/ spin speed, as `whirl`) kept for backward-whirl
+  /// records: the whirl frequency itself follows the lock-in, so well below `whirl`, 1
+  double lock_in_whirl_rate = 0.0;
+  double lock_in_margin_s = 0.04; ///< the sustained whirl starts this long after the backward state's onset, s
+  double lock_in_min_s = 0.05;  ///< shortest sustained whirl compared, s
+};
+
+/// The sustained backward whirl of one record (from the orbit and the speed only).
+struct LockInFeatures {
+  bool valid = false;            ///< a backward whirl lasting at least lock_in_min_s after lock-in
+  double start_s = -1.0;         ///< start of the compared part (latest bearing's onset + margin), s
+  double speed_level_rad_s = 0.0;///< LS line of the speed after start_s, at the window end, rad/s
+  double spin_down_rad_s2 = 0.0; ///< -(its slope), rad/s^2
+  /// Per bearing: mean centripetal acceleration r psi'^2 (m/s^2) and mean penetration r - c
+  /// (m) over the contact samples after start_s, r about the whirl's own centre (least-squares
+  /// circle through those samples) (0: no sustained backward whirl there).
+  std::array<double, 2> centripetal_m_s2{}, penetration_m{};
+  std::array<bool, 2> whirling{};///< this bearing whirls backward in the compared part
+  bool own = false;              ///< start_s from this record's own lock-in (else the override)
 };
 
 /// Whirl of one aux bearing over a window (from the orbit only; rubbing_states.hpp).
@@ -63,7 +102,16 @@ struct DropFeatures {
   std::vector<double> speed_rad_s;                         ///< empty when not measured
   std::array<WhirlSummary, 2> whirl{};                     ///< per aux bearing
   double spin_down_rad_s2 = 0.0;                           ///< -(LS slope of the speed), rad/s^2 (0: not measured)
+  LockInFeatures lock_in;                                  ///< sustained backward whirl (valid = false: none)
+  double contact_exponent = 1.0;                           ///< the simulated contact law's exponent (force relation), 1
 };
+
+/// The sustained backward whirl of a window: from the latest bearing's longest backward run.
+/// `x`, `y` per bearing relative to its centre (m); speed may be empty.
+LockInFeatures lock_in_features(const std::array<model::drop::RubbingResult, 2>& r, const std::array<std::vector<double>, 2>& x,
+                                const std::array<std::vector<double>, 2>& y, const std::array<double, 2>& clearance_m,
+                                const std::vector<double>& speed_rad_s, double period_s, double margin_s, double min_s,
+                                double start_override_s = -1.0);
 
 /// Whirl summary of one bearing's rubbing classification (`spin_sign` +1 or -1).
 WhirlSummary whirl_summary(const model::drop::RubbingResult& r, double period_s, double spin_sign);
@@ -72,10 +120,12 @@ WhirlSummary whirl_summary(const model::drop::RubbingResult& r, double period_s,
 /// the aux-bearing centres and clearances come from `rig` (offsets as given there).
 DropFeatures drop_features(const model::PlantParams& rig, const model::drop::SensorOrbit& view,
                            const std::vector<std::array<double, 4>>& sensor_m, const std::vector<double>& speed_rad_s,
-                           double period_s, double spin_sign, const model::drop::RubbingOptions& rubbing);
+                           double period_s, double spin_sign, const model::drop::RubbingOptions& rubbing,
+                           double lock_in_margin_s = 0.04, double lock_in_min_s = 0.05, double lock_in_start_override_s = -1.0);
 
 struct CostBreakdown {
   double rubbing = 0.0, orbit = 0.0, speed = 0.0, spin_down = 0.0, contact = 0.0, whirl = 0.0, bounce = 0.0, total = 0.0;
+  bool lock_in = false;  ///< speed, spin_down and whirl compare the sustained backward whirl (LockInFeatures)
 };
 
 /// Cost of `sim` against `meas` (same window length; the shorter one sets it).

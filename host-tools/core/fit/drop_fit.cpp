@@ -270,7 +270,10 @@ DropFitResult fit_drop_structure(const DropMeasurement& m, const board::BoardCon
   std::vector<double> meas_w;
   if (!m.speed_rad_s.empty())
     meas_w.assign(m.speed_rad_s.begin() + static_cast<long>(first), m.speed_rad_s.begin() + static_cast<long>(first + n));
-  const DropFeatures meas = drop_features(rig, view, meas_s, meas_w, period, spin_sign, o.rubbing);
+  const double lim = o.weights.lock_in_margin_s, lmin = o.weights.lock_in_min_s;
+  const DropFeatures meas = drop_features(rig, view, meas_s, meas_w, period, spin_sign, o.rubbing, lim, lmin);
+  // A simulation without a sustained backward whirl of its own is compared over the record's.
+  const double lock_in_start = meas.lock_in.valid ? meas.lock_in.start_s : -1.0;
 
   const bool compliant = models[0]->compliant();
   const bool fit_k = compliant && o.fit_contact_stiffness, fit_c = compliant && o.fit_contact_damping;
@@ -355,22 +358,24 @@ DropFitResult fit_drop_structure(const DropMeasurement& m, const board::BoardCon
     model.restore(levitated);
     return md::record_drop(model, sc, keep_contacts);
   };
-  auto features_of = [&](const md::DropTrace& tr, const model::PlantParams& rig_used) {
+  auto features_of = [&](const md::DropTrace& tr, const model::PlantParams& rig_used, double exponent) {
     std::vector<std::array<double, 4>> s;
     std::vector<double> w;
     for (const auto& smp : tr.samples) {
       s.push_back(smp.sensor_m);
       if (!meas_w.empty()) w.push_back(smp.spin_rad_s);
     }
-    return drop_features(rig_used, view, s, w, period, spin_sign, o.rubbing);
+    DropFeatures f = drop_features(rig_used, view, s, w, period, spin_sign, o.rubbing, lim, lmin, lock_in_start);
+    f.contact_exponent = exponent;
+    return f;
   };
   const CostFunction cost = [&](const std::vector<double>& x, int worker) {
     const Params p = unpack(x);
     model::PlantParams rig_used;
     const md::DropTrace tr = simulate(*models[static_cast<size_t>(worker)], p, false, rig_used);
     // A fitted bearing centre moves the measured contact angles too.
-    const DropFeatures meas_p = o.fit_centre_offset ? drop_features(rig_used, view, meas_s, meas_w, period, spin_sign, o.rubbing) : meas;
-    return drop_cost(meas_p, features_of(tr, rig_used), rig.aux[0].clearance_m, spin0, o.weights).total;
+    const DropFeatures meas_p = o.fit_centre_offset ? drop_features(rig_used, view, meas_s, meas_w, period, spin_sign, o.rubbing, lim, lmin) : meas;
+    return drop_cost(meas_p, features_of(tr, rig_used, compliant ? p.exponent : 1.0), rig.aux[0].clearance_m, spin0, o.weights).total;
   };
   ProgressFunction progress;
   if (o.progress)
@@ -471,8 +476,8 @@ DropFitResult fit_drop_structure(const DropMeasurement& m, const board::BoardCon
   r.centre_offset_m = {best.dx, best.dy};
   model::PlantParams rig_used;
   r.trace = simulate(*models[0], best, true, rig_used);
-  const DropFeatures fitted = features_of(r.trace, rig_used);
-  const DropFeatures meas_p = o.fit_centre_offset ? drop_features(rig_used, view, meas_s, meas_w, period, spin_sign, o.rubbing) : meas;
+  const DropFeatures fitted = features_of(r.trace, rig_used, compliant ? best.exponent : 1.0);
+  const DropFeatures meas_p = o.fit_centre_offset ? drop_features(rig_used, view, meas_s, meas_w, period, spin_sign, o.rubbing, lim, lmin) : meas;
   r.rubbing = fitted.rubbing;
   r.measured_rubbing = meas_p.rubbing;
   r.cost = drop_cost(meas_p, fitted, rig.aux[0].clearance_m, spin0, o.weights);
@@ -492,6 +497,8 @@ DropFitResult fit_drop_structure(const DropMeasurement& m, const board::BoardCon
   r.fitted_whirl = fitted.whirl;
   r.spin_down_rad_s2 = meas_p.spin_down_rad_s2;
   r.fitted_spin_down_rad_s2 = fitted.spin_down_rad_s2;
+  r.lock_in = meas_p.lock_in;
+  r.fitted_lock_in = fitted.lock_in;
   r.stop_reason = s.stop_reason + (o.polish ? "; NLopt polish: " + std::to_string(polish_evals) + " evaluations" : "");
   for (const auto& u : r.unknowns)
     if (u.bound_active) r.stop_reason += "; bound active: " + u.name;

@@ -116,6 +116,9 @@ struct DropFitResult {
   std::array<WhirlSummary, 2> fitted_whirl{};  ///< the fitted simulation's
   double spin_down_rad_s2 = 0.0;               ///< measured spin-down rate (LS slope), rad/s^2
   double fitted_spin_down_rad_s2 = 0.0;        ///< the fitted simulation's, rad/s^2
+  /// Sustained backward whirl after lock-in, measured and fitted (valid = false: none; the
+  /// cost compares them when cost.lock_in).
+  LockInFeatures lock_in, fitted_lock_in;
   int polish_evaluations = 0;                  ///< evaluations of the NLopt polish
   double restitution = 0.0;                    ///< used or fitted, 1
   std::array<double, 2> centre_offset_m{};     ///< fitted common offset (x, y) added to the rig's, m
