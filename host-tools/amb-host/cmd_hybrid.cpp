@@ -88,6 +88,8 @@ struct TrainArgs {
   double sim_s = 4.0;
   double speed_uncertainty = 0.005;
   bool no_calibration = false;
+  bool transport_env = false;
+  bool transport_log_psd = false;
   bool json = false;
 };
 
@@ -99,6 +101,8 @@ int run_train(const TrainArgs& a) {
   o.sim_duration_s = a.sim_s;
   o.speed_uncertainty = a.speed_uncertainty;
   o.calibrate_kinematics = !a.no_calibration;
+  o.transport_env = a.transport_env;
+  o.transport_log_psd = a.transport_log_psd;
   std::string why;
   if (!o.valid(&why)) return bad_input("train", why);
   std::vector<hy::Record> recs;
@@ -205,6 +209,11 @@ int run_predict(const PredictArgs& a) {
     j["pearson"] = {{"hybrid", pair_json(s.log_psd_hybrid, s.env_hybrid)},
                     {"physics", pair_json(s.log_psd_physics, s.env_physics)},
                     {"data_only", pair_json(s.log_psd_data_only, s.env_data_only)}};
+    // Ablations: the map on the 8-DOF physics alone, and the transported training spectrum
+    // alone (null when the model has no reference case of this state).
+    j["ablations"] = {{"hybrid_sim", pair_json(s.log_psd_hybrid_sim, s.env_hybrid_sim)},
+                      {"transport", p.log_psd_transport.empty() ? nlohmann::json(nullptr)
+                                                                 : pair_json(s.log_psd_transport, s.env_transport)}};
     j["hybrid_above_baselines"] = above;
   } else {
     j["pearson"] = nullptr;
@@ -266,6 +275,10 @@ const amb::host::Registration reg{
       t->add_option("--sim-s", ta->sim_s, "simulated duration per case, s");
       t->add_option("--speed-uncertainty", ta->speed_uncertainty, "relative uncertainty of a nominal speed");
       t->add_flag("--no-calibration", ta->no_calibration, "keep the catalogue kinematics of the drive-end bearing");
+      t->add_flag("--transport-env", ta->transport_env,
+                  "envelope map: also take the kinematically transported training spectrum of the state as an input (docs/hybrid.md)");
+      t->add_flag("--transport-log-psd", ta->transport_log_psd,
+                  "log-spectrum map: also take the kinematically transported training spectrum as an input");
       t->add_flag("--json", ta->json, "print the training summary as JSON");
       CLI::App* p = sub.add_subcommand("predict", "predict the spectra of a state at an operating point (and score them)");
       p->add_option("--model", pa->model, "model file written by 'hybrid train'")->required();
