@@ -31,6 +31,16 @@ class SupervisorTest : public ::testing::Test {
     }
   }
   // Perfect position tracking: the rotor is wherever the set-point says (from the status).
+  /// Levitate, settle at the centre, then read an orbit beyond lifecycle.max_orbit_fault_m for
+  /// one step (the orbit_limit fault path).
+  void levitate_then_exceed_orbit_limit() {
+    sup.post(Command::levitate);
+    steps(1);
+    set_xy(0.0, 0.0);
+    steps(static_cast<int>((board.lifecycle.liftoff_ramp_s + board.lifecycle.settle_s) * board.rate_hz) + 10);
+    set_xy(0.0, -1.2 * board.lifecycle.max_orbit_fault_m);
+    steps(1);
+  }
   void steps(int n, bool follow = true, bool ok = true) {
     for (int i = 0; i < n; ++i) {
       in.t_ns += 100000;
@@ -100,12 +110,7 @@ TEST_F(SupervisorTest, SpinUpLandAndSwitchOff) {
 }
 
 TEST_F(SupervisorTest, OrbitBeyondLimitEntersSafeState) {
-  sup.post(Command::levitate);
-  steps(1);
-  set_xy(0.0, 0.0);
-  steps(static_cast<int>((board.lifecycle.liftoff_ramp_s + board.lifecycle.settle_s) * board.rate_hz) + 10);
-  set_xy(0.0, -1.2 * board.lifecycle.max_orbit_fault_m);
-  steps(1);
+  levitate_then_exceed_orbit_limit();
   EXPECT_EQ(sup.state(), State::fault);
   EXPECT_EQ(sup.status().fault, FaultReason::orbit_limit);
   EXPECT_FALSE(out.amplifiers_enabled);
@@ -183,12 +188,7 @@ TEST_F(SupervisorTest, LiftOffStartsWithTheWeightPreloaded) {
 // command, reset() and then the same inputs give the same outputs, step by step, as a freshly
 // configured supervisor (PID states, counters, set-points, pending command all cleared).
 TEST_F(SupervisorTest, ResetBehavesLikeAFreshConfigure) {
-  sup.post(Command::levitate);
-  steps(1);
-  set_xy(0.0, 0.0);
-  steps(static_cast<int>((board.lifecycle.liftoff_ramp_s + board.lifecycle.settle_s) * board.rate_hz) + 10);
-  set_xy(0.0, -1.2 * board.lifecycle.max_orbit_fault_m);
-  steps(1);
+  levitate_then_exceed_orbit_limit();
   ASSERT_EQ(sup.state(), State::fault);
   sup.post(Command::run);  // left pending
   sup.reset();

@@ -12,6 +12,7 @@
 
 #include "tests/fleet/fleet_fixture.hpp"
 #include "tests/support/read_text.hpp"
+#include "tests/support/run_json_cli.hpp"
 
 namespace tf = amb::test::fleet;
 namespace fs = std::filesystem;
@@ -20,15 +21,7 @@ namespace {
 
 /// Run amb-host fleet with `args`; stdout parsed as JSON into `out`. Returns the exit code.
 int fleet(const fs::path& dir, const std::string& args, nlohmann::json& out, std::string& err) {
-  const fs::path o = dir / "stdout", e = dir / "stderr";
-  const std::string cmd = std::string(AMB_HOST_EXE) + " fleet --store '" + (dir / "cli.sqlite").string() + "' " + args + " > '" +
-                          o.string() + "' 2> '" + e.string() + "'";
-  const int rc = std::system(cmd.c_str());
-  err = amb::test::read_text(e);
-  const std::string text = amb::test::read_text(o);
-  out = nlohmann::json::parse(text, nullptr, false);
-  EXPECT_FALSE(out.is_discarded()) << "stdout is not JSON: " << text;
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  return amb::test::run_json_cli(std::string(AMB_HOST_EXE) + " fleet --store '" + (dir / "cli.sqlite").string() + "' " + args, dir, out, err);
 }
 
 }  // namespace

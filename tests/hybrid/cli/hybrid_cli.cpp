@@ -4,15 +4,14 @@
 // is not the 8-DOF-only map, without them it is); the ablations are printed.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <cstdlib>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "tests/support/read_text.hpp"
+#include "tests/support/run_json_cli.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace fs = std::filesystem;
@@ -21,14 +20,7 @@ namespace {
 
 /// Run amb-host with `args`; stdout parsed as JSON into `out`. Returns the exit code.
 int amb_host(const fs::path& dir, const std::string& args, nlohmann::json& out, std::string& err) {
-  const fs::path o = dir / "stdout", e = dir / "stderr";
-  const std::string cmd = std::string(AMB_HOST_EXE) + " " + args + " > '" + o.string() + "' 2> '" + e.string() + "'";
-  const int rc = std::system(cmd.c_str());
-  err = amb::test::read_text(e);
-  const std::string text = amb::test::read_text(o);
-  out = nlohmann::json::parse(text, nullptr, false);
-  EXPECT_FALSE(out.is_discarded()) << "stdout is not JSON: " << text;
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  return amb::test::run_json_cli(std::string(AMB_HOST_EXE) + " " + args, dir, out, err);
 }
 
 std::string records() {
