@@ -125,7 +125,8 @@ int run(const Args& a) {
       nlohmann::json windows = nlohmann::json::array();
       for (const auto& w : fe.windows)
         windows.push_back({{"bearing", w.bearing}, {"start_s", w.start_s}, {"normal_impulse_n_s", w.normal_impulse_n_s},
-                           {"friction_impulse_n_s", w.friction_impulse_n_s}, {"ratio", w.ratio}, {"sliding", w.sliding}});
+                           {"friction_impulse_n_s", w.friction_impulse_n_s}, {"ratio", w.ratio}, {"sliding", w.sliding},
+                           {"next_to_rolling", w.next_to_rolling}});
       j["friction_estimate"] = {{"valid", fe.valid},
                                 {"friction", fe.friction},
                                 {"uncertainty", fe.uncertainty},
@@ -138,6 +139,9 @@ int run(const Args& a) {
                                 {"measured_spin_down_rad_s2", fe.measured_spin_down_rad_s2},
                                 {"force_spin_down_rad_s2", fe.force_spin_down_rad_s2},
                                 {"force_spin_down_scatter_rad_s2", fe.force_spin_down_scatter_rad_s2},
+                                {"synchronous_removed", fe.synchronous_removed},
+                                {"synchronous_force_n", fe.synchronous_force_n},
+                                {"synchronous_moment_n_m", fe.synchronous_moment_n_m},
                                 {"note", fe.note},
                                 {"windows", windows}};
     }

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <complex>
 #include <stdexcept>
+
+#include <Eigen/Dense>
 
 #include "model/drop/sensor_orbit.hpp"
 #include "model/rotor/rotor_model.hpp"
@@ -47,8 +50,35 @@ struct Derivative {
   }
 };
 
+// dOmega/dt per sample of [first, first + n) as the second derivative of the spin angle
+// (trapezoid integral of the speed) through the very kernel that gives the contact forces from
+// the orbit: an impact's speed drop is then spread over time exactly as its force (the
+// first-derivative kernel of the speed spreads it with another shape, which a window edge
+// cuts differently). Needs h samples of speed on either side.
+std::vector<double> spin_rate_rad_s2(const DropMeasurement& m, size_t first, size_t n, int h) {
+  const double dt = 1.0 / m.sample_rate_hz;
+  const Derivative der(h, dt);
+  const size_t lo = first - static_cast<size_t>(h);
+  std::vector<double> angle(n + 2 * static_cast<size_t>(h), 0.0);
+  for (size_t j = 1; j < angle.size(); ++j)
+    angle[j] = angle[j - 1] + 0.5 * (m.speed_rad_s[lo + j - 1] + m.speed_rad_s[lo + j]) * dt;
+  std::vector<double> rate(n, 0.0);
+  for (size_t i = 0; i < n; ++i)
+    for (int t = -h; t <= h; ++t) rate[i] += der.d2[static_cast<size_t>(t + h)] * angle[i + static_cast<size_t>(t + h)];
+  return rate;
+}
+
+// Synchronous (1x) part of the resultant force and moment on the rotor that no contact exerts
+// (the rotor's unbalance: m e Omega^2 rotating with the spin angle).
+struct Synchronous {
+  bool fitted = false;
+  int samples = 0;                       // samples it was fitted on (free flight and contact)
+  std::complex<double> force{}, moment{};  // per (rad/s)^2: F = Omega^2 force e^{i theta}, N s^2, N m s^2
+};
+
 std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model::PlantParams& rig, size_t first, size_t last,
-                                          int h, const model::rotor::RotorModel& rotor) {
+                                          int h, const model::rotor::RotorModel& rotor, const FrictionEstimateOptions& o,
+                                          Synchronous* sync_out) {
   const model::drop::SensorOrbit view(rig);
   const double dt = 1.0 / m.sample_rate_hz;
   const double zs0 = rig.sensor[0].axial_m, zs1 = rig.sensor[2].axial_m;
@@ -66,9 +96,16 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
   const Derivative der(h, dt);
   const double omega0 = 2.0 * M_PI * m.speed_at_trigger_hz;
   const double spin_sign = omega0 >= 0.0 ? 1.0 : -1.0;
-  std::vector<ContactSample> out;
-  out.reserve(last - first);
-  for (size_t i = first; i < last; ++i) {
+  const size_t n = last - first;
+  // Resultant force (x, y) and moment about the centre of mass from the contacts, the spin
+  // speed and angle, and the aux-plane orbit per sample.
+  std::vector<std::complex<double>> force(n), moment(n);
+  std::vector<double> omega(n), theta(n);
+  std::vector<std::array<std::array<double, 2>, 2>> at_aux(n);
+  std::vector<ContactSample> out(n);
+  double angle = 0.0;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t i = first + k;
     std::array<double, 4> v{}, a{};
     for (int t = -h; t <= h; ++t) {
       const auto& qq = q[i + static_cast<size_t>(t + h) - static_cast<size_t>(h)];
@@ -77,28 +114,100 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
         a[c] += der.d2[static_cast<size_t>(t + h)] * qq[c];
       }
     }
-    const double omega = m.speed_rad_s.empty() ? omega0 : m.speed_rad_s[i];
-    // Resultant force and moment about the centre of mass from the contacts.
-    const double fx = mass * a[0], fy = mass * (a[1] + g);
-    const double mx = it * a[2] + omega * ip * v[3], my = it * a[3] - omega * ip * v[2];
+    omega[k] = m.speed_rad_s.empty() ? omega0 : m.speed_rad_s[i];
+    if (k > 0) angle += 0.5 * (omega[k - 1] + omega[k]) * dt;
+    theta[k] = angle;
+    force[k] = {mass * a[0], mass * (a[1] + g)};
+    moment[k] = {it * a[2] + omega[k] * ip * v[3], it * a[3] - omega[k] * ip * v[2]};
+    for (size_t b = 0; b < 2; ++b) {
+      const auto& ax = rig.aux[b];
+      const double zb = ax.axial_m - zg;
+      at_aux[k][b] = {q[i][0] + zb * q[i][2] - ax.centre_offset_x_m, q[i][1] + zb * q[i][3] - ax.centre_offset_y_m};
+      out[k].radius_m[b] = std::hypot(at_aux[k][b][0], at_aux[k][b][1]);
+    }
+  }
+  if (o.remove_synchronous && !m.speed_rad_s.empty() && omega0 != 0.0) {
+    // The rotor's unbalance accelerates its geometric centre, which the sensors see, by a
+    // force U Omega^2 e^{i theta} and a moment V Omega^2 e^{i theta} that no contact exerts
+    // (complex x + i y; theta the spin angle). Where it goes into the tangential forces, the
+    // friction torque they imply, sum r T, disagrees with the one the speed channel measures,
+    // -Ip dOmega/dt; where no bearing is near contact, the force itself is U Omega^2 e^{i theta}.
+    // Least squares over both kinds of sample (force rows times the collar radius, N m) for
+    // the four real unknowns (U, V).
+    const std::vector<double> rate = spin_rate_rad_s2(m, first, n, h);
+    std::vector<std::array<bool, 2>> near(n, {false, false});
+    for (size_t k = 0; k < n; ++k)
+      for (size_t b = 0; b < 2; ++b)
+        if (out[k].radius_m[b] >= o.contact_radius_fraction * rig.aux[b].clearance_m)
+          for (size_t j = k >= static_cast<size_t>(h) ? k - static_cast<size_t>(h) : 0; j <= std::min(n - 1, k + static_cast<size_t>(h)); ++j)
+            near[j][b] = true;
+    const double span = lb - la;
+    const std::array<double, 2> alpha{lb / span, -la / span}, beta{-1.0 / span, 1.0 / span};
+    const double r_mean = 0.5 * (rig.aux[0].collar_radius_m + rig.aux[1].collar_radius_m);
+    Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d atb = Eigen::Vector4d::Zero();
+    Synchronous sy;
+    const auto add = [&](const Eigen::Vector4d& row, double rhs) {
+      ata += row * row.transpose();
+      atb += row * rhs;
+    };
+    for (size_t k = 0; k < n; ++k) {
+      const std::complex<double> e = omega[k] * omega[k] * std::polar(1.0, theta[k]);
+      if (!near[k][0] && !near[k][1]) {
+        // Free flight: F = U e, M = V e (x and y rows of each).
+        add({r_mean * e.real(), -r_mean * e.imag(), 0.0, 0.0}, r_mean * force[k].real());
+        add({r_mean * e.imag(), r_mean * e.real(), 0.0, 0.0}, r_mean * force[k].imag());
+        add({0.0, 0.0, e.real(), -e.imag()}, moment[k].real());
+        add({0.0, 0.0, e.imag(), e.real()}, moment[k].imag());
+        ++sy.samples;
+        continue;
+      }
+      // Contact: sum over the bearings near contact of r_b T_b (from the forces) against the
+      // speed channel's friction torque.
+      const std::complex<double> fb = (moment[k] - la * force[k]) / span;
+      const std::array<std::complex<double>, 2> f{force[k] - fb, fb};
+      double torque = 0.0;
+      Eigen::Vector4d row = Eigen::Vector4d::Zero();
+      for (size_t b = 0; b < 2; ++b) {
+        if (!near[k][b] || !(out[k].radius_m[b] > 0.0)) continue;
+        const std::complex<double> u(at_aux[k][b][0] / out[k].radius_m[b], at_aux[k][b][1] / out[k].radius_m[b]);
+        const std::complex<double> w = -spin_sign * rig.aux[b].collar_radius_m * std::conj(std::complex<double>(0.0, 1.0) * u);
+        torque += (w * f[b]).real();
+        const std::complex<double> wa = w * e * alpha[b], wb = w * e * beta[b];
+        row += Eigen::Vector4d(wa.real(), -wa.imag(), wb.real(), -wb.imag());
+      }
+      add(row, torque + spin_sign * ip * rate[k]);
+      ++sy.samples;
+    }
+    const double rev_s = 2.0 * M_PI / std::abs(omega0);
+    const Eigen::LDLT<Eigen::Matrix4d> ldlt(ata);
+    if (static_cast<double>(n) * dt >= o.synchronous_min_revolutions * rev_s && ldlt.info() == Eigen::Success && ldlt.isPositive() &&
+        ata.diagonal().minCoeff() > 0.0) {
+      const Eigen::Vector4d x = ldlt.solve(atb);
+      sy.force = {x(0), x(1)};
+      sy.moment = {x(2), x(3)};
+      sy.fitted = true;
+      for (size_t k = 0; k < n; ++k) {
+        const std::complex<double> e = omega[k] * omega[k] * std::polar(1.0, theta[k]);
+        force[k] -= sy.force * e;
+        moment[k] -= sy.moment * e;
+      }
+    }
+    if (sync_out) *sync_out = sy;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    const double fx = force[k].real(), fy = force[k].imag(), mx = moment[k].real(), my = moment[k].imag();
     // F_A + F_B = F, la F_A + lb F_B = M.
     const double fbx = (mx - la * fx) / (lb - la), fby = (my - la * fy) / (lb - la);
     const std::array<std::array<double, 2>, 2> f{{{fx - fbx, fy - fby}, {fbx, fby}}};
-    ContactSample s;
-    for (int b = 0; b < 2; ++b) {
-      const auto& ax = rig.aux[static_cast<size_t>(b)];
-      const double zb = ax.axial_m - zg;
-      const double px = q[i][0] + zb * q[i][2] - ax.centre_offset_x_m, py = q[i][1] + zb * q[i][3] - ax.centre_offset_y_m;
-      const double r = std::sqrt(px * px + py * py);
-      s.radius_m[static_cast<size_t>(b)] = r;
+    for (size_t b = 0; b < 2; ++b) {
+      const double r = out[k].radius_m[b];
       if (r <= 0.0) continue;
-      const double ux = px / r, uy = py / r;
-      const auto& fb = f[static_cast<size_t>(b)];
-      s.normal_n[static_cast<size_t>(b)] = -(fb[0] * ux + fb[1] * uy);
+      const double ux = at_aux[k][b][0] / r, uy = at_aux[k][b][1] / r;
+      out[k].normal_n[b] = -(f[b][0] * ux + f[b][1] * uy);
       // Counter-clockwise tangent (the +z spin's surface direction); friction opposes it.
-      s.friction_n[static_cast<size_t>(b)] = -spin_sign * (-uy * fb[0] + ux * fb[1]);
+      out[k].friction_n[b] = -spin_sign * (-uy * f[b][0] + ux * f[b][1]);
     }
-    out.push_back(s);
   }
   return out;
 }
@@ -108,37 +217,69 @@ struct Cluster {
   int used = 0;
 };
 
+// Window i lies next to a heavier rolling window: a neighbour in time (same bearing) whose
+// ratio is below the sliding band [f mu, mu / f] and whose normal impulse is larger. At the
+// lock-in into a rolling whirl the derivative fit smears that window's normal impulse, which
+// carries no friction, across the edge: window i's ratio is biased low.
+bool next_to_heavier_rolling(const std::vector<FrictionWindow>& w, size_t i, double mu, double f) {
+  for (const auto& x : w)
+    if (x.bearing == w[i].bearing && std::abs(std::abs(x.start_s - w[i].start_s) - w[i].length_s) < 0.25 * w[i].length_s &&
+        x.ratio < f * mu && x.normal_impulse_n_s > w[i].normal_impulse_n_s)
+      return true;
+  return false;
+}
+
 // The sliding cluster of the window ratios: of the bands [f c, c / f] around each window's
 // ratio c, the one holding the largest friction impulse (sliding windows carry the spin-down;
 // a rolling whirl has large normal but tiny friction impulses, a stray window of a grazing
-// touch small ones of both); then the impulse-weighted ratio of the band, re-centred until it
-// stays.
-Cluster upper_cluster(std::vector<FrictionWindow>& w, double sliding_fraction) {
+// touch small ones of both). A window at the lock-in into a rolling whirl (it slid, then
+// rolled) has a ratio in between and often the largest friction impulse of all: with
+// drop_next_to_rolling a band's windows next to a heavier rolling one do not count, as long
+// as min_windows others remain in the band. Then the impulse-weighted ratio of the band,
+// re-centred until it stays, those windows left out under the same condition.
+Cluster upper_cluster(std::vector<FrictionWindow>& w, double sliding_fraction, bool drop_next_to_rolling, int min_windows) {
   Cluster c;
+  const auto in_band = [&](const FrictionWindow& x, double m) { return x.ratio >= sliding_fraction * m && x.ratio <= m / sliding_fraction; };
   double mu = 0.0, best = 0.0;
   for (const auto& cand : w) {
     if (!(cand.ratio > 0.0)) continue;
-    double st = 0.0;
-    for (const auto& x : w)
-      if (x.ratio >= sliding_fraction * cand.ratio && x.ratio <= cand.ratio / sliding_fraction) st += x.friction_impulse_n_s;
+    double all = 0.0, interior = 0.0;
+    int n_interior = 0;
+    for (size_t i = 0; i < w.size(); ++i) {
+      if (!in_band(w[i], cand.ratio)) continue;
+      all += w[i].friction_impulse_n_s;
+      if (drop_next_to_rolling && next_to_heavier_rolling(w, i, cand.ratio, sliding_fraction)) continue;
+      interior += w[i].friction_impulse_n_s;
+      ++n_interior;
+    }
+    const double st = drop_next_to_rolling && n_interior >= min_windows ? interior : all;
     if (st > best) {
       best = st;
       mu = cand.ratio;
     }
   }
   if (!(mu > 0.0)) return c;
-  for (int it = 0; it < 20; ++it) {
-    double sn = 0.0, st = 0.0;
-    for (auto& x : w) {
-      x.sliding = x.ratio >= sliding_fraction * mu && x.ratio <= mu / sliding_fraction;
-      if (x.sliding) { sn += x.normal_impulse_n_s; st += x.friction_impulse_n_s; }
+  const auto recentre = [&](double start, bool drop_edges) {
+    double m = start;
+    for (int it = 0; it < 20; ++it) {
+      double sn = 0.0, st = 0.0;
+      for (size_t i = 0; i < w.size(); ++i) {
+        w[i].next_to_rolling = drop_edges && in_band(w[i], m) && next_to_heavier_rolling(w, i, m, sliding_fraction);
+        w[i].sliding = in_band(w[i], m) && !w[i].next_to_rolling;
+        if (w[i].sliding) { sn += w[i].normal_impulse_n_s; st += w[i].friction_impulse_n_s; }
+      }
+      if (sn <= 0.0) break;
+      const double next = st / sn;
+      const bool same = std::abs(next - m) < 1e-12;
+      m = next;
+      if (same) break;
     }
-    if (sn <= 0.0) break;
-    const double next = st / sn;
-    const bool same = std::abs(next - mu) < 1e-12;
-    mu = next;
-    if (same) break;
-  }
+    return m;
+  };
+  const double start = mu;
+  mu = recentre(start, drop_next_to_rolling);
+  const int used = static_cast<int>(std::count_if(w.begin(), w.end(), [](const FrictionWindow& x) { return x.sliding; }));
+  if (drop_next_to_rolling && used < min_windows) mu = recentre(start, false);
   double sn = 0.0, sn2 = 0.0, var = 0.0;
   int k = 0;
   for (const auto& x : w)
@@ -162,6 +303,7 @@ struct Pass {
   Cluster cluster;
   std::vector<FrictionWindow> windows;
   std::vector<ContactSample> samples;
+  Synchronous synchronous;
   /// dOmega/dt per sample through the derivative fit of the forces (matched_speed_filter and a
   /// speed channel), rad/s^2; empty otherwise.
   std::vector<double> speed_rate_rad_s2;
@@ -179,18 +321,12 @@ struct Pass {
 Pass run_pass(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o, size_t first,
               size_t last, int h, const model::rotor::RotorModel& rotor) {
   Pass p;
-  p.samples = contact_forces(m, rig, first, last, h, rotor);
+  p.samples = contact_forces(m, rig, first, last, h, rotor, o, &p.synchronous);
   const double dt = 1.0 / m.sample_rate_hz;
   p.per_window = std::max<size_t>(1, static_cast<size_t>(std::lround(o.window_s * m.sample_rate_hz)));
   std::vector<FrictionWindow> all;
   const bool spin = o.friction_from_speed && !m.speed_rad_s.empty();
-  if (!m.speed_rad_s.empty() && o.matched_speed_filter) {
-    const Derivative der(h, dt);
-    p.speed_rate_rad_s2.assign(p.samples.size(), 0.0);
-    for (size_t i = 0; i < p.samples.size(); ++i)
-      for (int t = -h; t <= h; ++t)
-        p.speed_rate_rad_s2[i] += der.d1[static_cast<size_t>(t + h)] * m.speed_rad_s[first + i + static_cast<size_t>(t + h) - static_cast<size_t>(h)];
-  }
+  if (!m.speed_rad_s.empty() && o.matched_speed_filter) p.speed_rate_rad_s2 = spin_rate_rad_s2(m, first, p.samples.size(), h);
   const double spin_sign = m.speed_at_trigger_hz >= 0.0 ? 1.0 : -1.0;
   // One window of n samples from sample s at bearing b (-1: both).
   const auto make = [&](size_t s, size_t n, int b) {
@@ -225,7 +361,7 @@ Pass run_pass(const DropMeasurement& m, const model::PlantParams& rig, const Fri
   for (const auto& w : all) biggest = std::max(biggest, w.normal_impulse_n_s);
   for (const auto& w : all)
     if (w.normal_impulse_n_s > o.min_impulse_fraction * biggest && w.normal_impulse_n_s > 0.0) p.windows.push_back(w);
-  p.cluster = upper_cluster(p.windows, o.sliding_fraction);
+  p.cluster = upper_cluster(p.windows, o.sliding_fraction, o.drop_next_to_rolling, o.min_sliding_windows);
   return p;
 }
 
@@ -256,6 +392,13 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
     p = run_pass(m, rig, ow, first, last, h, rotor);
   }
   r.window_s = ow.window_s;
+  r.synchronous_removed = p.synchronous.fitted;
+  r.synchronous_fit_samples = p.synchronous.samples;
+  if (p.synchronous.fitted) {
+    const double w0 = 2.0 * M_PI * m.speed_at_trigger_hz;
+    r.synchronous_force_n = std::abs(p.synchronous.force) * w0 * w0;
+    r.synchronous_moment_n_m = std::abs(p.synchronous.moment) * w0 * w0;
+  }
   r.windows = p.windows;
   r.windows_total = static_cast<int>(p.windows.size());
   r.windows_used = p.cluster.used;

@@ -77,6 +77,22 @@ struct FrictionEstimateOptions {
   /// independent simulator's drops (../shared/data/synthetic) this moved the estimates
   /// from +1.1 % / +0.9 % to -0.1 % / -0.1 % and cut the window scatter by 3 x.
   bool matched_speed_filter = true;
+  /// Leave out a sliding window whose neighbour in time is a rolling window (ratio below the
+  /// sliding band) with a larger normal impulse, when at least min_sliding_windows others
+  /// remain: at the lock-in into a rolling whirl the derivative fit smears the rolling
+  /// contact's normal impulse, which carries no friction, across the window edge.
+  bool drop_next_to_rolling = true;
+  /// Remove the synchronous (1x) force and moment from the momentum balance: a rotor's
+  /// unbalance accelerates its geometric centre (what the sensors see) by e Omega^2 without any
+  /// contact force; left in, it adds a rotating force of m e Omega^2 to every window (with an
+  /// unbalance of 1e-4 kg m per disk at 45 Hz, 21 N against 60 N of a bouncing window's mean
+  /// normal force). Fitted as F = Omega^2 U e^{i theta}, M = Omega^2 V e^{i theta} (complex
+  /// x + i y, theta the spin angle integrated from the speed channel) by least squares over
+  /// the samples near contact, where the friction torque the tangential forces imply must equal
+  /// the speed channel's, and the free-flight samples, where the whole force is the unbalance's.
+  /// Needs a speed channel and a record of at least synchronous_min_revolutions revolutions.
+  bool remove_synchronous = true;
+  double synchronous_min_revolutions = 2.0;  ///< 1
   std::string check() const;  ///< empty when usable
 };
 
@@ -90,6 +106,9 @@ struct FrictionWindow {
   double ratio = 0.0;              ///< friction / normal impulse, 1
   double force_friction_impulse_n_s = 0.0; ///< from the tangential forces when the friction impulse is from the speed, N s
   bool sliding = false;            ///< in the upper cluster the estimate uses
+  /// Left out: in the sliding band but next to a heavier rolling window
+  /// (FrictionEstimateOptions::drop_next_to_rolling).
+  bool next_to_rolling = false;
 };
 
 struct FrictionEstimate {
@@ -112,6 +131,12 @@ struct FrictionEstimate {
   /// scatter (the tangential force of one window is small next to N and scatters with the
   /// contact angle's error), rad/s^2; 0 with fewer than two windows or no speed channel.
   double force_spin_down_scatter_rad_s2 = 0.0;
+  /// The synchronous force removed (remove_synchronous): fitted or not, on how many samples,
+  /// its force and moment amplitudes at the trigger speed, N and N m.
+  bool synchronous_removed = false;
+  int synchronous_fit_samples = 0;
+  double synchronous_force_n = 0.0;
+  double synchronous_moment_n_m = 0.0;
   std::vector<FrictionWindow> windows;
   std::string note;
 };
