@@ -22,6 +22,7 @@ struct Args {
   double speed_hz = 34.0;
   double record_s = 2.0;
   unsigned long long seed = 1;
+  double full_film_s = 0.0;
   bool json = false;
 };
 
@@ -77,6 +78,11 @@ int run(const Args& a) {
   o.speed_hz = a.speed_hz;
   o.record_s = a.record_s;
   o.noise_seed = a.seed;
+  if (!(a.full_film_s >= 0.0)) {
+    std::fprintf(stderr, "amb-host journal-sil: error: --full-film must be >= 0 s\n");
+    return 1;
+  }
+  o.full_film_s = a.full_film_s;
   amb::host::wearid::JournalSilSummary s;
   try {
     s = amb::host::wearid::record_journal_sil(o, a.out);
@@ -116,6 +122,9 @@ const amb::host::Registration reg{
       sub.add_option("--speed", args->speed_hz, "steady speed, Hz (default 34)");
       sub.add_option("--record", args->record_s, "recorded time, s (default 2)");
       sub.add_option("--seed", args->seed, "sensor-noise seed");
+      sub.add_option("--full-film", args->full_film_s,
+                     "full (nonlinear) Reynolds film in the plant from this long before the end of the settle, s "
+                     "(default 0: linear film element only)");
       sub.add_flag("--json", args->json, "print the figures as JSON");
       run_fn = [args] { return run(*args); };
     }};

@@ -27,6 +27,9 @@ struct Args {
   int doe = 9;
   int starts = 8;
   bool amb_planes = false;
+  bool full_film = false;
+  bool second_harmonic = false;
+  double model_error_1x = 0.0;
   int threads = 2;
   double window_s = 2.0;
   bool json = false;
@@ -52,6 +55,9 @@ int run(const Args& a) {
   o.threads = a.threads;
   o.window_s = a.window_s;
   o.use_amb_planes = a.amb_planes;
+  o.second_harmonic = a.second_harmonic;
+  o.full_film = a.full_film || a.second_harmonic;
+  o.model_error_1x = a.model_error_1x;
   if (const std::string why = o.check(); !why.empty()) {
     std::fprintf(stderr, "amb-host wear-id: error: %s\n", why.c_str());
     return 1;
@@ -98,10 +104,18 @@ int run(const Args& a) {
         {"speed_hz", r.measured.speed_hz},
         {"static_eccentricity", r.measured.eccentricity},
         {"used_amb_planes", r.used_amb_planes},
+        {"used_full_film", r.used_full_film},
+        {"used_2x", r.used_second_harmonic},
+        {"model_error_1x", o.model_error_1x},
         {"spectrum",
          {{"measured", {{"forward", component(r.measured.spectrum.forward_m)}, {"backward", component(r.measured.spectrum.backward_m)}}},
           {"fitted", {{"forward", component(r.fitted.forward_m)}, {"backward", component(r.fitted.backward_m)}}},
-          {"noise_um", r.measured.noise_m * 1e6}}}};
+          {"noise_um", r.measured.noise_m * 1e6},
+          {"measured_2x", {{"forward", component(r.measured.second_harmonic.forward_m)},
+                           {"backward", component(r.measured.second_harmonic.backward_m)}}},
+          {"noise_2x_um", r.measured.noise_2x_m * 1e6}}}};
+    if (r.used_full_film)
+      j["spectrum"]["fitted_2x"] = {{"forward", component(r.fitted_2x.forward_m)}, {"backward", component(r.fitted_2x.backward_m)}};
     // Non-finite uncertainties (Jacobian failed) become null.
     for (const char* k : {"d0_um_uncertainty", "gamma_deg_uncertainty", "beta_deg_uncertainty"})
       if (!std::isfinite(j[k].get<double>())) j[k] = nullptr;
@@ -118,6 +132,15 @@ int run(const Args& a) {
     std::printf("-1x: measured %.3f um @ %.1f deg, model %.3f um @ %.1f deg\n", std::abs(r.measured.spectrum.backward_m) * 1e6,
                 std::arg(r.measured.spectrum.backward_m) * 180 / M_PI, std::abs(r.fitted.backward_m) * 1e6,
                 std::arg(r.fitted.backward_m) * 180 / M_PI);
+    if (r.used_full_film) {
+      std::printf("+2x: measured %.3f um @ %.1f deg, model %.3f um @ %.1f deg%s\n",
+                  std::abs(r.measured.second_harmonic.forward_m) * 1e6, std::arg(r.measured.second_harmonic.forward_m) * 180 / M_PI,
+                  std::abs(r.fitted_2x.forward_m) * 1e6, std::arg(r.fitted_2x.forward_m) * 180 / M_PI,
+                  r.used_second_harmonic ? "" : " (not fitted)");
+      std::printf("-2x: measured %.3f um @ %.1f deg, model %.3f um @ %.1f deg\n",
+                  std::abs(r.measured.second_harmonic.backward_m) * 1e6, std::arg(r.measured.second_harmonic.backward_m) * 180 / M_PI,
+                  std::abs(r.fitted_2x.backward_m) * 1e6, std::arg(r.fitted_2x.backward_m) * 180 / M_PI);
+    }
   }
   return 0;
 }
@@ -138,6 +161,13 @@ const amb::host::Registration reg{
                      "further records of the same bearing (e.g. the other static eccentricity) fitted together");
       sub.add_flag("--amb-planes", args->amb_planes,
                    "also fit the +1x/-1x at the AMB sensor planes (default: journal probes only, as the seed)");
+      sub.add_flag("--full-film", args->full_film,
+                   "forward model with the full (nonlinear) Reynolds film by harmonic balance instead of its "
+                   "linearisation (default: linear, as the seed)");
+      sub.add_flag("--2x", args->second_harmonic,
+                   "also fit the +2x/-2x at the journal probes (the film's second-order response; implies --full-film)");
+      sub.add_option("--model-error", args->model_error_1x,
+                     "relative model-error floor of the 1x residuals, e.g. 0.0025 (default 0: the seed's equal weights)");
       sub.add_flag("--json", args->json, "print the figures as JSON");
       run_fn = [args] { return run(*args); };
     }};

@@ -154,8 +154,43 @@ void RotorAmbPlant::set_journal(const journal::LinearJournal& j) {
   amp_h_ = -1.0;
 }
 
+void RotorAmbPlant::set_journal_film(std::shared_ptr<journal::ReynoldsSolver> solver) {
+  film_ = std::move(solver);
+  film_extra_n_ = {};
+  film_prev_v_m_s_ = {};
+  film_prev_dt_s_ = 0.0;
+}
+
 void RotorAmbPlant::step(double dt_s, const PlantInputs& in) {
   if (!(dt_s > 0.0)) return;
+  film_extra_n_ = {};
+  if (film_ && journal_.enabled && spin_rad_s_ > 0.0) {
+    // Journal state at the middle of this step (see set_journal_film), from the bore centre.
+    const double vx = b_journal_.dot(vx_), vy = b_journal_.dot(vy_);
+    double ax = 0.0, ay = 0.0;
+    if (film_prev_dt_s_ > 0.0) {
+      ax = (vx - film_prev_v_m_s_[0]) / film_prev_dt_s_;
+      ay = (vy - film_prev_v_m_s_[1]) / film_prev_dt_s_;
+    }
+    film_prev_v_m_s_ = {vx, vy};
+    film_prev_dt_s_ = dt_s;
+    const double hh = 0.5 * dt_s;
+    const double x = b_journal_.dot(ex_) - journal_.bore_x_m + vx * hh + 0.5 * ax * hh * hh;
+    const double y = b_journal_.dot(ey_) - journal_.bore_y_m + vy * hh + 0.5 * ay * hh * hh;
+    const double vmx = vx + ax * hh, vmy = vy + ay * hh;
+    try {
+      const journal::FilmForces f = film_->solve({x, y, vmx, vmy}, spin_rad_s_);
+      const auto& k = journal_.coeff.stiffness_n_per_m;
+      const auto& c = journal_.coeff.damping_n_s_per_m;
+      const double sc = spin_rad_s_ / journal_.ref_spin_rad_s;
+      const double dx = x - journal_.lin_x_m, dy = y - journal_.lin_y_m;
+      const double lx = sc * (journal_.coeff.fx0_n - k(0, 0) * dx - k(0, 1) * dy) - c(0, 0) * vmx - c(0, 1) * vmy;
+      const double ly = sc * (journal_.coeff.fy0_n - k(1, 0) * dx - k(1, 1) * dy) - c(1, 0) * vmx - c(1, 1) * vmy;
+      film_extra_n_ = {f.fx_n - lx, f.fy_n - ly};
+    } catch (const std::invalid_argument&) {
+      ++counters_.film_refused_steps;
+    }
+  }
   const int n = std::max(1, static_cast<int>(std::ceil(dt_s / h_nominal_s_ - 1e-9)));
   const double h = dt_s / n;
   if (h != amp_h_) {
@@ -264,8 +299,10 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
     const auto& k = journal_.coeff.stiffness_n_per_m;
     const auto& c = journal_.coeff.damping_n_s_per_m;
     const double sc = spin_rad_s_ / journal_.ref_spin_rad_s;
-    const double fjx = sc * (journal_.coeff.fx0_n - k(0, 0) * dx - k(0, 1) * dy) - c(0, 0) * vjx - c(0, 1) * vjy;
-    const double fjy = sc * (journal_.coeff.fy0_n - k(1, 0) * dx - k(1, 1) * dy) - c(1, 0) * vjx - c(1, 1) * vjy;
+    const double fjx = sc * (journal_.coeff.fx0_n - k(0, 0) * dx - k(0, 1) * dy) - c(0, 0) * vjx - c(0, 1) * vjy +
+                       film_extra_n_[0];
+    const double fjy = sc * (journal_.coeff.fy0_n - k(1, 0) * dx - k(1, 1) * dy) - c(1, 0) * vjx - c(1, 1) * vjy +
+                       film_extra_n_[1];
     journal_force_n_ = {fjx, fjy};
     fx += fjx * b_journal_;
     fy += fjy * b_journal_;

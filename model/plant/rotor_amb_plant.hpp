@@ -25,6 +25,7 @@
 //
 // Real time: step() does not allocate (fixed-capacity Eigen storage), lock or throw.
 #include <cstdint>
+#include <memory>
 
 #include <Eigen/Core>
 
@@ -55,6 +56,7 @@ class RotorAmbPlant final : public Plant {
     std::uint64_t substeps = 0;
     std::uint64_t contact_substeps = 0;         ///< sub-steps with any contact
     std::uint64_t current_limited_steps = 0;    ///< steps where a demand hit coil_current_limit_a
+    std::uint64_t film_refused_steps = 0;       ///< steps whose full-film solve was refused (set_journal_film)
   };
 
   /// Builds the FE model and its reduction (allocates; configure time). Throws
@@ -85,6 +87,18 @@ class RotorAmbPlant final : public Plant {
   /// an element with enabled = false removes it.
   void set_journal(const journal::LinearJournal& j);
   const journal::LinearJournal& journal() const { return journal_; }
+  /// Full (nonlinear) Reynolds film on top of the linear element (opt-in; nullptr: linear
+  /// element only, the default). Each step() solves the Reynolds problem once, at the
+  /// journal state predicted for the middle of the step (position, velocity and the last
+  /// step's acceleration) and the current spin, and adds the difference between that film
+  /// force and the linear element's force at the same state, held over the step's sub-steps.
+  /// The linear element keeps the sub-steps stable; the held difference carries the film's
+  /// second- and higher-order terms (harmonics of the orbit, a shift of the mean force). The
+  /// solver must describe the same bore (geometry, wear) as the element and is owned by the
+  /// plant from here on. A state the solver refuses (film <= 0) adds no difference and is
+  /// counted in film_refused_steps.
+  void set_journal_film(std::shared_ptr<journal::ReynoldsSolver> solver);
+  bool journal_film_nonlinear() const { return film_ != nullptr; }
   /// Journal probes now (with noise, updated each step): displacement from the bore centre
   /// along each probe direction, m. Zero without a journal bearing.
   std::array<double, 2> journal_probe_m() const { return journal_probe_m_; }
@@ -143,6 +157,10 @@ class RotorAmbPlant final : public Plant {
   Vec b_journal_;
   std::array<std::array<double, 2>, 2> journal_probe_dir_{};
   std::array<double, 2> journal_probe_m_{}, journal_force_n_{};
+  std::shared_ptr<journal::ReynoldsSolver> film_;
+  std::array<double, 2> film_extra_n_{};        // full film minus linear element, held over a step, N
+  std::array<double, 2> film_prev_v_m_s_{};     // journal velocity at the previous step, m/s
+  double film_prev_dt_s_ = 0.0;
 };
 
 }  // namespace amb::model

@@ -11,7 +11,9 @@
 //    (Table 12-4 in the 9th/10th ed.): Sommerfeld number S and attitude angle phi vs eccentricity.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <complex>
 #include <stdexcept>
 
 #include "model/journal/reynolds_fvm.hpp"
@@ -196,4 +198,62 @@ TEST(Reynolds, RefusesBadInput) {
   EXPECT_THROW(s.solve({0.0, -1.01 * k_c, 0.0, 0.0}, k_omega), std::invalid_argument);
   EXPECT_THROW(s.solve({0.0, -0.5 * k_c, 0.0, 0.0}, 0.0), std::invalid_argument);
   EXPECT_THROW(s.solve({NAN, 0.0, 0.0, 0.0}, k_omega), std::invalid_argument);
+}
+
+TEST(Reynolds, FilmHarmonicsOfACircularOrbitAboutThePlainBoreCentre) {
+  // Exact property: a journal whirling synchronously on a circle about the centre of a plain
+  // bore sees a steady film in the frame turning with it, so the force has the same magnitude
+  // at every angle and turns with the journal: with F_a the force at phi = 0 (journal at
+  // (a, 0), velocity (0, Omega a)), F1 = (Fx_a + j Fy_a, Fy_a - j Fx_a), no mean, no 2x.
+  // Catches a wrong velocity along the orbit, harmonic sign or normalisation.
+  ReynoldsOptions o;
+  ReynoldsSolver s(bearing(0.56), {}, o);
+  using cplx = std::complex<double>;
+  const double a = 0.5 * k_c;
+  const FilmForces fa = s.solve({a, 0.0, 0.0, k_omega * a}, k_omega);
+  const FilmHarmonics h = film_harmonics(s, {}, {cplx(a, 0.0), cplx(0.0, -a)}, {cplx(0.0), cplx(0.0)}, k_omega, 32);
+  const double f = std::hypot(fa.fx_n, fa.fy_n);
+  ASSERT_GT(f, 1.0);
+  EXPECT_LT(std::abs(h.first_n[0] - cplx(fa.fx_n, fa.fy_n)), 0.01 * f);
+  EXPECT_LT(std::abs(h.first_n[1] - cplx(fa.fy_n, -fa.fx_n)), 0.01 * f);
+  EXPECT_LT(std::abs(h.second_n[0]) + std::abs(h.second_n[1]), 0.01 * f);
+  EXPECT_LT(std::hypot(h.fx_mean_n, h.fy_mean_n), 0.01 * f);
+  EXPECT_NEAR(h.min_film_m, k_c - a, 0.02 * k_c);
+}
+
+TEST(Reynolds, FilmHarmonicsOfSmallOrbitsFollowTheCoefficientsAndGrowAsTheSquare) {
+  // About a loaded position (e = 0.6): a small 1x orbit gives F1 = -(K + j Omega C) Q1 and a
+  // small 2x orbit F2 = -(K + 2 j Omega C) Q2 (the 2x orbit's velocity is 2 Omega), to first
+  // order; the 2x force of a 1x orbit (the film's second-order response) grows as the
+  // square of the orbit: x 4 for twice the orbit.
+  ReynoldsOptions o;
+  ReynoldsSolver s(bearing(0.56), {}, o);
+  using cplx = std::complex<double>;
+  const JournalState mean{0.0, -0.6 * k_c, 0.0, 0.0};
+  const DynamicCoefficients d = perturbation_coefficients(s, mean, k_omega);
+  const cplx j(0.0, 1.0);
+  const std::array<cplx, 2> q{cplx(0.01 * k_c, 0.004 * k_c), cplx(-0.003 * k_c, -0.008 * k_c)};
+  const std::array<cplx, 2> zero{cplx(0.0), cplx(0.0)};
+  auto expected = [&](double harmonic) {
+    std::array<cplx, 2> f{};
+    for (int r = 0; r < 2; ++r)
+      for (int c = 0; c < 2; ++c)
+        f[static_cast<size_t>(r)] -= (d.stiffness_n_per_m(r, c) + j * harmonic * k_omega * d.damping_n_s_per_m(r, c)) *
+                                     q[static_cast<size_t>(c)];
+    return f;
+  };
+  const double scale = d.stiffness_n_per_m.norm() * std::abs(q[0]);
+  const FilmHarmonics h1 = film_harmonics(s, mean, q, zero, k_omega, 32);
+  const auto e1 = expected(1.0);
+  for (size_t i = 0; i < 2; ++i) EXPECT_LT(std::abs(h1.first_n[i] - e1[i]), 0.03 * scale) << i;
+  const FilmHarmonics h2 = film_harmonics(s, mean, zero, q, k_omega, 32);
+  const auto e2 = expected(2.0);
+  for (size_t i = 0; i < 2; ++i) EXPECT_LT(std::abs(h2.second_n[i] - e2[i]), 0.03 * scale) << i;
+  const std::array<cplx, 2> q2x{2.0 * q[0], 2.0 * q[1]};
+  const FilmHarmonics big = film_harmonics(s, mean, q2x, zero, k_omega, 32);
+  const double small_2x = std::hypot(std::abs(h1.second_n[0]), std::abs(h1.second_n[1]));
+  const double big_2x = std::hypot(std::abs(big.second_n[0]), std::abs(big.second_n[1]));
+  ASSERT_GT(small_2x, 1e-4 * scale);
+  EXPECT_NEAR(big_2x / small_2x, 4.0, 0.6);
+  EXPECT_THROW(film_harmonics(s, mean, q, zero, k_omega, 4), std::invalid_argument);
 }

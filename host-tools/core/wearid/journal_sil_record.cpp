@@ -1,6 +1,7 @@
 #include "host-tools/core/wearid/journal_sil_record.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -38,7 +39,14 @@ JournalSilSummary record_journal_sil(const JournalSilOptions& o, const std::stri
     s.message = "did not reach speed";
     return s;
   }
-  rig.run_for(o.settle_s);
+  if (o.full_film_s > 0.0) {
+    const double lin_s = std::max(0.0, o.settle_s - o.full_film_s);
+    rig.run_for(lin_s);
+    plant->set_journal_film(std::make_shared<model::journal::ReynoldsSolver>(b.journal.geometry, b.journal.wear, b.journal.grid));
+    rig.run_for(o.settle_s - lin_s);
+  } else {
+    rig.run_for(o.settle_s);
+  }
   if (o.relinearise_s > 0.0) {
     // The journal's mean position over the last whole revolutions: the AMBs' integral
     // action (KP/KI = 10 s) leaves it a little off the placement point (e = 0.6996 for 0.7

@@ -23,6 +23,12 @@ struct JournalSilOptions {
   double relinearise_s = 2.0;                 ///< after the settle: re-linearise the film about the journal's actual mean position and settle this long, s (0: keep the placement point's coefficients)
   double record_s = 2.0;                      ///< recorded time, s
   std::uint64_t noise_seed = 1;
+  /// Full Reynolds film in the plant (RotorAmbPlant::set_journal_film) from this long before
+  /// the end of the settle on (s; 0: the linear element only, the default). The linear
+  /// element is exact to first order only: at e = 0.7 the unbalance orbit (~17 um forward,
+  /// ~7 um backward against a ~52 um minimum film) makes the real film add 2x components of
+  /// ~0.3-0.7 um and move the 1x by ~10 %. One Reynolds solve per loop period (~0.1 ms).
+  double full_film_s = 0.0;
 };
 
 struct JournalSilSummary {

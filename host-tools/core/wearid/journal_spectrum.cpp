@@ -92,6 +92,10 @@ JournalMeasurement measure_journal(const LoadedEvent& ev, const board::BoardConf
   cplx yp = dft(probe[1]->values, ev.t_s, first, n, m.speed_hz) * std::conj(ref);
   const cplx j(0.0, 1.0);
   m.spectrum = {0.5 * (xp + j * yp), 0.5 * std::conj(xp - j * yp)};
+  // Second harmonic, referred to twice the spin angle (ref^2 = e^{-j 2 W t0}).
+  const cplx x2 = dft(probe[0]->values, ev.t_s, first, n, 2.0 * m.speed_hz) * std::conj(ref * ref);
+  const cplx y2 = dft(probe[1]->values, ev.t_s, first, n, 2.0 * m.speed_hz) * std::conj(ref * ref);
+  m.second_harmonic = {0.5 * (x2 + j * y2), 0.5 * std::conj(x2 - j * y2)};
 
   // The AMB sensor planes, when the event has all four sensor channels (matched to the rig).
   const LoadedChannel* sens[4] = {nullptr, nullptr, nullptr, nullptr};
@@ -117,6 +121,16 @@ JournalMeasurement measure_journal(const LoadedEvent& ev, const board::BoardConf
       ++cnt;
     }
   m.noise_m = std::sqrt(ss / cnt);
+  ss = 0.0;
+  cnt = 0;
+  for (int b = 3; b <= 10; ++b)
+    for (int sgn : {-1, 1}) {
+      const double f = 2.0 * m.speed_hz + sgn * b / m.window_s;
+      const cplx a = dft(probe[0]->values, ev.t_s, first, n, f), c = dft(probe[1]->values, ev.t_s, first, n, f);
+      ss += std::norm(0.5 * (a + j * c));
+      ++cnt;
+    }
+  m.noise_2x_m = std::sqrt(ss / cnt);
 
   // Static position: probe means along their directions (solve the 2 x 2 projection).
   double mean[2] = {0.0, 0.0};

@@ -24,6 +24,10 @@ struct JournalMeasurement {
   bool has_amb_planes = false;           ///< the event also has the four AMB sensor channels
   std::array<FullSpectrum, 2> amb_planes{}; ///< +1x / -1x at the AMB sensor planes [A1, A2], [B1, B2], m
   double noise_m = 0.0;                  ///< rms of the full-spectrum noise per component, m (from off-bins)
+  /// +2x / -2x at the journal probes, m, referred to twice the spin angle:
+  /// x' + j y' = ... + Z+2 e^{j 2 theta} + Z-2 e^{-j 2 theta} (the film's second-order response).
+  FullSpectrum second_harmonic;
+  double noise_2x_m = 0.0;               ///< rms of the full-spectrum noise per component around 2x, m (from off-bins)
   model::journal::JournalState journal;  ///< static journal centre from the bore centre (velocities 0), m
   double eccentricity = 0.0;             ///< |static position| / C
   double window_s = 0.0;                 ///< analysed (whole revolutions at the end of the record), s

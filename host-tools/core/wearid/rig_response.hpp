@@ -36,6 +36,16 @@ struct FullSpectrum {
   cplx backward_m;  ///< -1x component, m
 };
 
+/// Steady response at the journal probes with the full (nonlinear) film: +-1x and +-2x.
+struct FullFilmSpectrum {
+  FullSpectrum first;            ///< +1x / -1x, m (referred to the spin angle)
+  FullSpectrum second;           ///< +2x / -2x, m (referred to twice the spin angle)
+  std::array<cplx, 2> journal_first_m{}, journal_second_m{};  ///< (x, y) at the journal plane, m
+  std::array<double, 2> mean_force_n{};  ///< film force averaged over the orbit, N
+  int iterations = 0;            ///< harmonic-balance iterations used
+  bool converged = false;        ///< last update below the tolerance
+};
+
 class RigResponse {
  public:
   /// `board` must have a [journal_bearing]; `static_force_n` is the film force at the static
@@ -59,11 +69,37 @@ class RigResponse {
   double speed_hz() const { return speed_hz_; }
   /// Modal response (x modes then y modes) at a speed.
   Eigen::VectorXcd modal_response(double speed_hz, const Eigen::Matrix2d& k_n_per_m, const Eigen::Matrix2d& c_n_s_per_m) const;
+  /// The journal probes' +-1x and +-2x with the full Reynolds film (`solver`, the bore and its
+  /// wear) about the journal's mean position `mean` (m, velocities 0), by harmonic balance:
+  /// the film is split into its linearisation `lin` at `mean` (K, C for this response's speed)
+  /// and the remainder; the orbit X1 (1x) and X2 (2x) at the journal plane solve
+  ///   X1 = X1_linear + H(W) R1(X1, X2),   X2 = H(2 W) R2(X1, X2),
+  /// with H the journal receptance (journal_receptance) and R_k the remainder's k-th harmonic
+  /// along the orbit (model::journal::film_harmonics, `samples` solves per iteration).
+  /// Anderson-accelerated fixed-point iteration from X1_linear (or from `start`'s orbit, e.g.
+  /// the previous wear's) until the update is below `tolerance` times |X1_linear| or
+  /// `max_iterations`. Higher harmonics are neglected. Throws std::invalid_argument when the
+  /// orbit touches the bore.
+  FullFilmSpectrum journal_probes_full_film(model::journal::ReynoldsSolver& solver, const model::journal::JournalState& mean,
+                                            const model::journal::DynamicCoefficients& lin, int samples = 32,
+                                            int max_iterations = 40, double tolerance = 1e-5,
+                                            const FullFilmSpectrum* start = nullptr) const;
+  /// Receptance at the journal plane: complex displacement amplitudes (x, y), m, per unit
+  /// complex force amplitude (x, y), N, applied at the journal plane at `excitation_hz`
+  /// (any frequency, e.g. a harmonic of the spin), with the rotor spinning at `spin_hz`
+  /// (gyroscopics) and the film's linear coefficients K (N/m), C (N s/m) for that spin.
+  /// Column c is the response to a unit force along axis c.
+  Eigen::Matrix2cd journal_receptance(double spin_hz, double excitation_hz, const Eigen::Matrix2d& k_n_per_m,
+                                      const Eigen::Matrix2d& c_n_s_per_m) const;
   /// Re-linearise the AMBs for another static film force (N, x y): the static AMB forces and
   /// positions are linear in it (precomputed at construction), so this is cheap.
   void set_static_film_force(std::array<double, 2> force_n);
 
  private:
+  // Dynamic stiffness of the closed loop in modal coordinates (x modes then y modes) at an
+  // excitation frequency, spinning at spin_hz.
+  Eigen::MatrixXcd dynamic_matrix(double spin_hz, double excitation_hz, const Eigen::Matrix2d& k_n_per_m,
+                                  const Eigen::Matrix2d& c_n_s_per_m) const;
   board::BoardConfig b_;
   double speed_hz_ = 0.0;
   model::rotor::RotorModel fe_;

@@ -26,6 +26,10 @@ class Evaluator {
     n_ = o.model == mj::WearModel::two_parameter ? 2 : 3;
     planes_ = o.use_amb_planes;
     for (const auto& m : ms) planes_ = planes_ && m.has_amb_planes;
+    full_ = o.full_film;
+    second_ = o.full_film && o.second_harmonic;
+    last_.resize(ms.size());
+    second_z_.resize(ms.size());
     for (const auto& m : ms) {
       rigs_.emplace_back(b, m.speed_hz, std::array<double, 2>{0.0, 0.0});
       double s2 = std::norm(m.spectrum.forward_m) + std::norm(m.spectrum.backward_m);
@@ -33,10 +37,32 @@ class Evaluator {
         for (const auto& p : m.amb_planes) s2 += std::norm(p.forward_m) + std::norm(p.backward_m);
       scales_.push_back(std::sqrt(s2));
       // Noise of each real residual (complex noise per component split evenly), normalised.
+      // With a model-error floor on the 1x, those residuals are down-weighted by
+      // noise / sqrt(noise^2 + floor^2) (all in units of the record's spectrum norm).
       const double sg = std::max(m.noise_m / std::sqrt(2.0), 1e-15) / scales_.back();
-      for (int k = 0; k < (planes_ ? 12 : 4); ++k) sigma_.push_back(sg);
+      const double floor = o.model_error_1x / std::sqrt(2.0);
+      const double w1 = sg / std::sqrt(sg * sg + floor * floor);
+      for (int k = 0; k < 4; ++k) {
+        sigma_.push_back(sg);
+        weight_.push_back(w1);
+      }
+      if (second_) {
+        const double sg2 = std::max(m.noise_2x_m / std::sqrt(2.0), 1e-15) / scales_.back();
+        for (int k = 0; k < 4; ++k) {
+          sigma_.push_back(sg2);
+          weight_.push_back(1.0);
+        }
+      }
+      for (int k = 0; k < (planes_ ? 8 : 0); ++k) {
+        sigma_.push_back(sg);
+        weight_.push_back(w1);
+      }
     }
   }
+  bool full_film() const { return full_; }
+  bool second_harmonic() const { return second_; }
+  /// +-2x of the last spectra() call for record `rec` (full film only).
+  const FullSpectrum& second_of(size_t rec) const { return second_z_[rec]; }
   bool planes() const { return planes_; }
   int residual_count() const { return static_cast<int>(sigma_.size()); }
   int dims() const { return n_; }
@@ -64,7 +90,16 @@ class Evaluator {
     const double spin = 2.0 * M_PI * m.speed_hz;
     const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, m.journal, spin);
     rigs_[rec].set_static_film_force({d.fx0_n, d.fy0_n});
-    return rigs_[rec].all_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
+    if (!full_) return rigs_[rec].all_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
+    // Full film: harmonic balance, started from the previous wear's orbit (the optimiser's
+    // consecutive wears are close; the tolerance keeps the result independent of the start
+    // to ~1e-6 of the response).
+    const FullFilmSpectrum f = rigs_[rec].journal_probes_full_film(s, m.journal, d, o_.film_samples, 60, o_.film_tolerance,
+                                                                   last_[rec].iterations > 0 ? &last_[rec] : nullptr);
+    if (!f.converged) throw std::invalid_argument("wear-id: full-film harmonic balance did not converge");
+    last_[rec] = f;
+    second_z_[rec] = f.second;
+    return {f.first, FullSpectrum{}, FullSpectrum{}};
   }
   FullSpectrum spectrum(const mj::WearParams& w, size_t rec = 0) { return spectra(w, rec)[0]; }
 
@@ -84,11 +119,13 @@ class Evaluator {
         r.insert(r.end(), {a.real(), a.imag(), c.real(), c.imag()});
       };
       add(z[0], m.spectrum);
+      if (second_) add(second_z_[rec], m.second_harmonic);
       if (planes_) {
         add(z[1], m.amb_planes[0]);
         add(z[2], m.amb_planes[1]);
       }
     }
+    for (size_t k = 0; k < r.size(); ++k) r[k] *= weight_[k];
     return r;
   }
   double cost(const std::vector<double>& u) {
@@ -107,9 +144,11 @@ class Evaluator {
   const std::vector<JournalMeasurement>& ms_;
   const WearIdOptions& o_;
   std::vector<RigResponse> rigs_;
-  std::vector<double> scales_, sigma_;
+  std::vector<double> scales_, sigma_, weight_;
+  std::vector<FullFilmSpectrum> last_;
+  std::vector<FullSpectrum> second_z_;
   int n_ = 3;
-  bool planes_ = false;
+  bool planes_ = false, full_ = false, second_ = false;
 };
 
 double nlopt_cost(unsigned n, const double* x, double* grad, void* data) {
@@ -144,6 +183,11 @@ std::string WearIdOptions::check() const {
   if (max_restarts < 0 || max_restarts > 50) return "max_restarts must be 0..50";
   if (threads < 1 || threads > 64) return "threads must be 1..64";
   if (!(window_s > 0.0)) return "window_s must be > 0";
+  if (second_harmonic && !full_film) return "the 2x components need the full-film model (full_film)";
+  if (full_film && use_amb_planes) return "the full-film model predicts the journal probes only (not with the AMB planes)";
+  if (film_samples < 8 || film_samples > 512) return "film_samples must be 8..512";
+  if (!(model_error_1x >= 0.0 && model_error_1x < 0.5)) return "model_error_1x must be in [0, 0.5)";
+  if (!(film_tolerance > 0.0 && film_tolerance < 1e-2)) return "film_tolerance must be in (0, 1e-2)";
   return "";
 }
 
@@ -153,6 +197,14 @@ FullSpectrum predict_spectrum(const board::BoardConfig& board, const mj::WearPar
   const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, state, 2.0 * M_PI * speed_hz);
   RigResponse rig(board, speed_hz, {d.fx0_n, d.fy0_n});
   return rig.journal_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
+}
+
+FullFilmSpectrum predict_full_film(const board::BoardConfig& board, const mj::WearParams& wear, const mj::JournalState& mean,
+                                   double speed_hz, int samples, double tolerance) {
+  mj::ReynoldsSolver s(board.journal.geometry, wear, board.journal.grid);
+  const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, mean, 2.0 * M_PI * speed_hz);
+  RigResponse rig(board, speed_hz, {d.fx0_n, d.fy0_n});
+  return rig.journal_probes_full_film(s, mean, d, samples, 60, tolerance);
 }
 
 WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasurement& meas, const WearIdOptions& o) {
@@ -332,6 +384,9 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   r.beta_deg = n == 3 ? w.span_rad / k_deg
                       : mj::two_parameter_span_rad(w.depth_m, board.journal.geometry.clearance_m) / k_deg;
   r.fitted = e.spectrum(w);
+  r.used_full_film = e.full_film();
+  r.used_second_harmonic = e.second_harmonic();
+  if (e.full_film()) r.fitted_2x = e.second_of(0);
 
   // Uncertainty: noise of each real residual component = noise_m / sqrt(2) (complex noise
   // split evenly), Jacobian by central differences in physical units (um, deg).

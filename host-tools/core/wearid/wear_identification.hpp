@@ -39,6 +39,27 @@ struct WearIdOptions {
   /// dominated by the controller, whose frequency-domain model leaves a ~1 % misfit there,
   /// which biased the wear more than the extra residuals helped (docs/journal-bearing.md).
   bool use_amb_planes = false;
+  /// Forward model with the full (nonlinear) Reynolds film instead of its linearisation:
+  /// the steady orbit by harmonic balance (RigResponse::journal_probes_full_film, 1x and 2x,
+  /// `film_samples` Reynolds solves per iteration). Default false: seed 002's linear film
+  /// (eq. 22-23). At e = 0.7 the unbalance orbit is not small against the ~52 um minimum
+  /// film: a full-film record's 1x differs from the linear model's by ~10 %
+  /// (docs/journal-bearing.md, "The nonlinear film at e = 0.7"). Not with use_amb_planes.
+  bool full_film = false;
+  /// Also fit the +2x / -2x full-spectrum components at the journal probes (needs
+  /// full_film): the film's second-order response, which depends on the wear profile over
+  /// the arc the orbit sweeps. Residuals in the same units as the 1x ones (normalised by the
+  /// record's 1x spectrum), each with the record's noise around 2x.
+  bool second_harmonic = false;
+  /// Relative model-error floor of the 1x residuals (0: none, the seed's equal weights):
+  /// each 1x residual's standard deviation becomes sqrt(noise^2 + (floor |Z|)^2) instead of
+  /// the noise alone, and the residuals are weighted accordingly (so that the residuals the
+  /// forward model reproduces to noise level, e.g. the 2x, are not outweighed by a systematic
+  /// 1x mismatch). The frequency-domain model's measured 1x mismatch to the SIL is 0.2-0.3 %
+  /// of |Z+| on an unworn record (docs/journal-bearing.md, Rig checks).
+  double model_error_1x = 0.0;
+  int film_samples = 32;                           ///< full film: Reynolds solves per orbit (>= 8)
+  double film_tolerance = 1e-6;                    ///< full film: harmonic-balance update, relative to |X1_linear|
   /// Empty when valid, else the reason.
   std::string check() const;
 };
@@ -56,6 +77,8 @@ struct WearIdResult {
   JournalMeasurement measured;       ///< the (first) record
   int records = 1;                   ///< records fitted together
   FullSpectrum fitted;               ///< model spectrum at the optimum (journal probes)
+  FullSpectrum fitted_2x;            ///< full film: model +-2x at the optimum (journal probes), m; zero otherwise
+  bool used_full_film = false, used_second_harmonic = false;
   bool used_amb_planes = false;
 };
 
@@ -71,5 +94,10 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
 /// probes with the journal at `state` and the speed given.
 FullSpectrum predict_spectrum(const board::BoardConfig& board, const model::journal::WearParams& wear,
                               const model::journal::JournalState& state, double speed_hz);
+/// The same with the full (nonlinear) film by harmonic balance: +-1x and +-2x at the journal
+/// probes with the journal's mean position at `mean` (see RigResponse::journal_probes_full_film).
+FullFilmSpectrum predict_full_film(const board::BoardConfig& board, const model::journal::WearParams& wear,
+                                   const model::journal::JournalState& mean, double speed_hz, int samples = 32,
+                                   double tolerance = 1e-6);
 
 }  // namespace amb::host::wearid
