@@ -94,6 +94,9 @@ RotorAmbPlant::RotorAmbPlant(const PlantParams& p, const Options& o) : p_(p), o_
 }
 
 void RotorAmbPlant::reset(bool levitated, double spin_hz) {
+  film_extra_n_ = {};
+  film_prev_v_m_s_ = {};
+  film_prev_dt_s_ = 0.0;
   ex_ = Vec::Zero(m_);
   ey_ = Vec::Zero(m_);
   vx_ = Vec::Zero(m_);

@@ -96,7 +96,8 @@ class RotorAmbPlant final : public Plant {
   /// second- and higher-order terms (harmonics of the orbit, a shift of the mean force). The
   /// solver must describe the same bore (geometry, wear) as the element and is owned by the
   /// plant from here on. A state the solver refuses (film <= 0) adds no difference and is
-  /// counted in film_refused_steps.
+  /// counted in film_refused_steps. Host-side simulation only: the solve is not real-time safe
+  /// (sparse factorisation, ~0.1-0.5 ms per step).
   void set_journal_film(std::shared_ptr<journal::ReynoldsSolver> solver);
   bool journal_film_nonlinear() const { return film_ != nullptr; }
   /// Journal probes now (with noise, updated each step): displacement from the bore centre
