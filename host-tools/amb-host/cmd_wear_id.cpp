@@ -30,6 +30,7 @@ struct Args {
   bool full_film = false;
   bool second_harmonic = false;
   double model_error_1x = 0.0;
+  int film_samples = 32;
   int threads = 2;
   double window_s = 2.0;
   bool json = false;
@@ -58,6 +59,7 @@ int run(const Args& a) {
   o.second_harmonic = a.second_harmonic;
   o.full_film = a.full_film || a.second_harmonic;
   o.model_error_1x = a.model_error_1x;
+  o.film_samples = a.film_samples;
   if (const std::string why = o.check(); !why.empty()) {
     std::fprintf(stderr, "amb-host wear-id: error: %s\n", why.c_str());
     return 1;
@@ -166,6 +168,8 @@ const amb::host::Registration reg{
                    "linearisation (default: linear, as the seed)");
       sub.add_flag("--2x", args->second_harmonic,
                    "also fit the +2x/-2x at the journal probes (the film's second-order response; implies --full-film)");
+      sub.add_option("--film-samples", args->film_samples,
+                     "full film: Reynolds solves per revolution of the orbit (default 32)");
       sub.add_option("--model-error", args->model_error_1x,
                      "relative model-error floor of the 1x residuals, e.g. 0.0025 (default 0: the seed's equal weights)");
       sub.add_flag("--json", args->json, "print the figures as JSON");
