@@ -78,7 +78,7 @@ struct Synchronous {
 
 std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model::PlantParams& rig, size_t first, size_t last,
                                           int h, const model::rotor::RotorModel& rotor, const FrictionEstimateOptions& o,
-                                          Synchronous* sync_out) {
+                                          const std::vector<double>& rate, Synchronous* sync_out) {
   const model::drop::SensorOrbit view(rig);
   const double dt = 1.0 / m.sample_rate_hz;
   const double zs0 = rig.sensor[0].axial_m, zs1 = rig.sensor[2].axial_m;
@@ -126,7 +126,7 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
       out[k].radius_m[b] = std::hypot(at_aux[k][b][0], at_aux[k][b][1]);
     }
   }
-  if (o.remove_synchronous && !m.speed_rad_s.empty() && omega0 != 0.0) {
+  if (o.remove_synchronous && rate.size() == n && omega0 != 0.0) {
     // The rotor's unbalance accelerates its geometric centre, which the sensors see, by a
     // force U Omega^2 e^{i theta} and a moment V Omega^2 e^{i theta} that no contact exerts
     // (complex x + i y; theta the spin angle). Where it goes into the tangential forces, the
@@ -134,7 +134,6 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
     // -Ip dOmega/dt; where no bearing is near contact, the force itself is U Omega^2 e^{i theta}.
     // Least squares over both kinds of sample (force rows times the collar radius, N m) for
     // the four real unknowns (U, V).
-    const std::vector<double> rate = spin_rate_rad_s2(m, first, n, h);
     std::vector<std::array<bool, 2>> near(n, {false, false});
     for (size_t k = 0; k < n; ++k)
       for (size_t b = 0; b < 2; ++b)
@@ -318,15 +317,25 @@ struct Pass {
   }
 };
 
-Pass run_pass(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o, size_t first,
-              size_t last, int h, const model::rotor::RotorModel& rotor) {
+// The per-sample part of a pass (contact forces, synchronous fit, speed rate) for half width h;
+// it does not depend on the window length, so the window halving reuses it.
+Pass prepare_pass(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o, size_t first,
+                  size_t last, int h, const model::rotor::RotorModel& rotor) {
   Pass p;
-  p.samples = contact_forces(m, rig, first, last, h, rotor, o, &p.synchronous);
+  const std::vector<double> rate = m.speed_rad_s.empty() ? std::vector<double>{} : spin_rate_rad_s2(m, first, last - first, h);
+  p.samples = contact_forces(m, rig, first, last, h, rotor, o, rate, &p.synchronous);
+  if (o.matched_speed_filter) p.speed_rate_rad_s2 = rate;
+  return p;
+}
+
+// Windows of o.window_s over a prepared pass, and their sliding cluster.
+Pass run_pass(Pass p, const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o, size_t first,
+              const model::rotor::RotorModel& rotor) {
+  p.windows.clear();
   const double dt = 1.0 / m.sample_rate_hz;
   p.per_window = std::max<size_t>(1, static_cast<size_t>(std::lround(o.window_s * m.sample_rate_hz)));
   std::vector<FrictionWindow> all;
   const bool spin = o.friction_from_speed && !m.speed_rad_s.empty();
-  if (!m.speed_rad_s.empty() && o.matched_speed_filter) p.speed_rate_rad_s2 = spin_rate_rad_s2(m, first, p.samples.size(), h);
   const double spin_sign = m.speed_at_trigger_hz >= 0.0 ? 1.0 : -1.0;
   // One window of n samples from sample s at bearing b (-1: both).
   const auto make = [&](size_t s, size_t n, int b) {
@@ -385,11 +394,12 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
   FrictionEstimate r;
   // Windows of window_s; too few sliding ones: halve them (down to min_window_s).
   FrictionEstimateOptions ow = o;
-  Pass p = run_pass(m, rig, ow, first, last, h, rotor);
+  const Pass base = prepare_pass(m, rig, o, first, last, h, rotor);
+  Pass p = run_pass(base, m, rig, ow, first, rotor);
   const auto too_few = [&](const Pass& q) { return q.cluster.used < o.min_sliding_windows || !(q.cluster.mu > 0.0); };
   while (too_few(p) && 0.5 * ow.window_s >= o.min_window_s && o.min_window_s > 0.0) {
     ow.window_s *= 0.5;
-    p = run_pass(m, rig, ow, first, last, h, rotor);
+    p = run_pass(base, m, rig, ow, first, rotor);
   }
   r.window_s = ow.window_s;
   r.synchronous_removed = p.synchronous.fitted;
@@ -415,7 +425,7 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
   r.valid = true;
   r.friction = p.cluster.mu;
   r.standard_error = p.cluster.se;
-  const Pass p2 = run_pass(m, rig, ow, first, last, h2, rotor);
+  const Pass p2 = run_pass(prepare_pass(m, rig, o, first, last, h2, rotor), m, rig, ow, first, rotor);
   r.smoothing_change = p2.cluster.used > 0 ? p2.cluster.mu - p.cluster.mu : 0.0;
   r.uncertainty = std::sqrt(r.standard_error * r.standard_error + r.smoothing_change * r.smoothing_change);
 
