@@ -4,11 +4,14 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <stdexcept>
 
 #include <Eigen/Dense>
 
+#include "model/drop/flexible_orbit.hpp"
 #include "model/drop/sensor_orbit.hpp"
+#include "model/plant/gaussian_rng.hpp"
 #include "model/rotor/rotor_model.hpp"
 
 namespace amb::host::fit {
@@ -22,6 +25,8 @@ std::string FrictionEstimateOptions::check() const {
   if (!(min_impulse_fraction >= 0.0 && min_impulse_fraction < 1.0)) return "min_impulse_fraction must be in [0, 1)";
   if (!(sliding_fraction > 0.0 && sliding_fraction < 1.0)) return "sliding_fraction must be in (0, 1)";
   if (min_sliding_windows < 1) return "min_sliding_windows must be >= 1";
+  if (bending_modes < 0) return "bending_modes must be >= 0";
+  if (min_free_flight_samples < 1) return "min_free_flight_samples must be >= 1";
   return {};
 }
 
@@ -76,9 +81,55 @@ struct Synchronous {
   std::complex<double> force{}, moment{};  // per (rad/s)^2: F = Omega^2 force e^{i theta}, N s^2, N m s^2
 };
 
+// Rigid-body coordinates (x_G, y_G, slope_x, slope_y) from the rotor centre at the two sensor
+// planes (x0, y0, x1, y1).
+std::array<double, 4> rigid_coordinates(const std::array<double, 4>& pl, double zs0, double zs1, double zg) {
+  const double sx = (pl[2] - pl[0]) / (zs1 - zs0), sy = (pl[3] - pl[1]) / (zs1 - zs0);
+  return {pl[0] + (zg - zs0) * sx, pl[1] + (zg - zs0) * sy, sx, sy};
+}
+
+// Aux-plane forces (A x, y, B x, y) from resultant force f and moment mo about the centre of
+// mass: F_A + F_B = F, la F_A + lb F_B = M.
+std::array<double, 4> split_force(std::complex<double> f, std::complex<double> mo, double la, double lb) {
+  const std::complex<double> fb = (mo - la * f) / (lb - la);
+  return {f.real() - fb.real(), f.imag() - fb.imag(), fb.real(), fb.imag()};
+}
+
+// Rms of the aux-plane forces averaged over +-a samples, over the samples whose whole average
+// lies in `free` (all of them when `free` is empty); counts them into `samples`.
+double smoothed_rms(const std::vector<std::array<double, 4>>& f, const std::vector<bool>& free, size_t a, int* samples) {
+  double sum = 0.0;
+  int k_used = 0;
+  for (size_t k = a; k + a < f.size(); ++k) {
+    bool ok = true;
+    for (size_t j = k - a; j <= k + a && !free.empty(); ++j) ok = ok && free[j];
+    if (!ok) continue;
+    std::array<double, 4> mean{};
+    for (size_t j = k - a; j <= k + a; ++j)
+      for (size_t c = 0; c < 4; ++c) mean[c] += f[j][c] / static_cast<double>(2 * a + 1);
+    ++k_used;
+    for (size_t c = 0; c < 4; ++c) sum += mean[c] * mean[c];
+  }
+  if (samples) *samples = k_used;
+  return k_used > 0 ? std::sqrt(sum / k_used) : 0.0;
+}
+
+// What the momentum balance leaves in free flight (no bearing within the derivative fit's
+// reach of contact), where the true contact force is zero: the aux-plane forces' rms, N.
+struct FreeFlight {
+  int samples = 0;
+  double force_rms_n = 0.0;
+  double noise_rms_n = 0.0;  // the share of the board's probe noise (same description and filters)
+  int bending_modes = 0;     // of the rotor description the forces were computed with
+};
+
+// Averaging half width of the free-flight force, samples (0.5 ms at 10 kHz: the probe noise
+// through the derivative fit lies mostly above 1 kHz, a rotor's ringing after an impact below).
+constexpr size_t kFreeFlightAverage = 2;
+
 std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model::PlantParams& rig, size_t first, size_t last,
                                           int h, const model::rotor::RotorModel& rotor, const FrictionEstimateOptions& o,
-                                          const std::vector<double>& rate, Synchronous* sync_out) {
+                                          const std::vector<double>& rate, Synchronous* sync_out, FreeFlight* free_out) {
   const model::drop::SensorOrbit view(rig);
   const double dt = 1.0 / m.sample_rate_hz;
   const double zs0 = rig.sensor[0].axial_m, zs1 = rig.sensor[2].axial_m;
@@ -86,12 +137,31 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
   const double mass = rotor.mass_kg, it = rotor.transverse_inertia_kg_m2, ip = rotor.polar_inertia_kg_m2;
   const double la = rig.aux[0].axial_m - zg, lb = rig.aux[1].axial_m - zg;
   const double g = rig.gravity_m_s2;
+  // Rotor centre at the two sensor planes per sample from the trigger on, (x0, y0, x1, y1);
+  // with bending modes, their rigid-body part (the bending the aux-plane loads cause taken out).
+  const size_t start = std::min(static_cast<size_t>(m.trigger_index), first - static_cast<size_t>(h));
+  std::vector<std::array<double, 4>> planes;
+  planes.reserve(last + static_cast<size_t>(h) - start);
+  for (size_t i = start; i < last + static_cast<size_t>(h); ++i) {
+    const auto p0 = view.at_sensor_plane(m.sensor_m[i], 0), p1 = view.at_sensor_plane(m.sensor_m[i], 1);
+    planes.push_back({p0[0], p0[1], p1[0], p1[1]});
+  }
+  std::unique_ptr<model::drop::FlexibleOrbit> flex;
+  if (o.bending_modes > 0) {
+    flex = std::make_unique<model::drop::FlexibleOrbit>(rotor, rig.rotor, std::array<double, 2>{zs0, zs1},
+                                                        std::array<double, 2>{rig.aux[0].axial_m, rig.aux[1].axial_m},
+                                                        o.bending_modes, rig.gravity_m_s2);
+    if (flex->usable()) {
+      planes = flex->rigid_part(planes, dt);
+      if (free_out) free_out->bending_modes = o.bending_modes;
+    } else {
+      flex.reset();
+    }
+  }
   // Rigid-body coordinates per sample: x_G, y_G, slope_x, slope_y.
   std::vector<std::array<double, 4>> q(m.sensor_m.size());
   for (size_t i = first - static_cast<size_t>(h); i < last + static_cast<size_t>(h); ++i) {
-    const auto p0 = view.at_sensor_plane(m.sensor_m[i], 0), p1 = view.at_sensor_plane(m.sensor_m[i], 1);
-    const double sx = (p1[0] - p0[0]) / (zs1 - zs0), sy = (p1[1] - p0[1]) / (zs1 - zs0);
-    q[i] = {p0[0] + (zg - zs0) * sx, p0[1] + (zg - zs0) * sy, sx, sy};
+    q[i] = rigid_coordinates(planes[i - start], zs0, zs1, zg);
   }
   const Derivative der(h, dt);
   const double omega0 = 2.0 * M_PI * m.speed_at_trigger_hz;
@@ -126,6 +196,13 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
       out[k].radius_m[b] = std::hypot(at_aux[k][b][0], at_aux[k][b][1]);
     }
   }
+  // Samples within the derivative fit's reach of a bearing near contact.
+  std::vector<std::array<bool, 2>> near(n, {false, false});
+  for (size_t k = 0; k < n; ++k)
+    for (size_t b = 0; b < 2; ++b)
+      if (out[k].radius_m[b] >= o.contact_radius_fraction * rig.aux[b].clearance_m)
+        for (size_t j = k >= static_cast<size_t>(h) ? k - static_cast<size_t>(h) : 0; j <= std::min(n - 1, k + static_cast<size_t>(h)); ++j)
+          near[j][b] = true;
   if (o.remove_synchronous && rate.size() == n && omega0 != 0.0) {
     // The rotor's unbalance accelerates its geometric centre, which the sensors see, by a
     // force U Omega^2 e^{i theta} and a moment V Omega^2 e^{i theta} that no contact exerts
@@ -134,12 +211,6 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
     // -Ip dOmega/dt; where no bearing is near contact, the force itself is U Omega^2 e^{i theta}.
     // Least squares over both kinds of sample (force rows times the collar radius, N m) for
     // the four real unknowns (U, V).
-    std::vector<std::array<bool, 2>> near(n, {false, false});
-    for (size_t k = 0; k < n; ++k)
-      for (size_t b = 0; b < 2; ++b)
-        if (out[k].radius_m[b] >= o.contact_radius_fraction * rig.aux[b].clearance_m)
-          for (size_t j = k >= static_cast<size_t>(h) ? k - static_cast<size_t>(h) : 0; j <= std::min(n - 1, k + static_cast<size_t>(h)); ++j)
-            near[j][b] = true;
     const double span = lb - la;
     const std::array<double, 2> alpha{lb / span, -la / span}, beta{-1.0 / span, 1.0 / span};
     const double r_mean = 0.5 * (rig.aux[0].collar_radius_m + rig.aux[1].collar_radius_m);
@@ -194,11 +265,11 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
     }
     if (sync_out) *sync_out = sy;
   }
+  std::vector<std::array<double, 4>> free_force(n);  // aux-plane forces (A x, y, B x, y), N
   for (size_t k = 0; k < n; ++k) {
-    const double fx = force[k].real(), fy = force[k].imag(), mx = moment[k].real(), my = moment[k].imag();
-    // F_A + F_B = F, la F_A + lb F_B = M.
-    const double fbx = (mx - la * fx) / (lb - la), fby = (my - la * fy) / (lb - la);
-    const std::array<std::array<double, 2>, 2> f{{{fx - fbx, fy - fby}, {fbx, fby}}};
+    const std::array<double, 4> fs = split_force(force[k], moment[k], la, lb);
+    const std::array<std::array<double, 2>, 2> f{{{fs[0], fs[1]}, {fs[2], fs[3]}}};
+    free_force[k] = fs;
     for (size_t b = 0; b < 2; ++b) {
       const double r = out[k].radius_m[b];
       if (r <= 0.0) continue;
@@ -207,6 +278,32 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
       // Counter-clockwise tangent (the +z spin's surface direction); friction opposes it.
       out[k].friction_n[b] = -spin_sign * (-uy * f[b][0] + ux * f[b][1]);
     }
+  }
+  if (free_out) {
+    std::vector<bool> free(n);
+    for (size_t k = 0; k < n; ++k) free[k] = !near[k][0] && !near[k][1];
+    free_out->force_rms_n = smoothed_rms(free_force, free, kFreeFlightAverage, &free_out->samples);
+    // The board's probe noise through the same description, derivative fit and average
+    // (white, per channel, fixed seed).
+    model::GaussianRng rng(0x0f1e2d3cULL);
+    std::vector<std::array<double, 4>> noise_planes(n + 2 * static_cast<size_t>(h));
+    for (auto& pl : noise_planes) {
+      std::array<double, 4> reading{};
+      for (size_t c = 0; c < 4; ++c) reading[c] = rig.sensor[c].noise_rms_m * rng.normal();
+      const auto p0 = view.at_sensor_plane(reading, 0), p1 = view.at_sensor_plane(reading, 1);
+      pl = {p0[0], p0[1], p1[0], p1[1]};
+    }
+    if (flex) noise_planes = flex->rigid_part(noise_planes, dt, false);
+    std::vector<std::array<double, 4>> noise_force(n);
+    for (size_t k = 0; k < n; ++k) {
+      std::array<double, 4> a{};
+      for (int t = -h; t <= h; ++t) {
+        const auto qq = rigid_coordinates(noise_planes[k + static_cast<size_t>(t + h)], zs0, zs1, zg);
+        for (size_t c = 0; c < 4; ++c) a[c] += der.d2[static_cast<size_t>(t + h)] * qq[c];
+      }
+      noise_force[k] = split_force({mass * a[0], mass * a[1]}, {it * a[2], it * a[3]}, la, lb);
+    }
+    free_out->noise_rms_n = smoothed_rms(noise_force, {}, kFreeFlightAverage, nullptr);
   }
   return out;
 }
@@ -303,6 +400,7 @@ struct Pass {
   std::vector<FrictionWindow> windows;
   std::vector<ContactSample> samples;
   Synchronous synchronous;
+  FreeFlight free_flight;
   /// dOmega/dt per sample through the derivative fit of the forces (matched_speed_filter and a
   /// speed channel), rad/s^2; empty otherwise.
   std::vector<double> speed_rate_rad_s2;
@@ -323,7 +421,7 @@ Pass prepare_pass(const DropMeasurement& m, const model::PlantParams& rig, const
                   size_t last, int h, const model::rotor::RotorModel& rotor) {
   Pass p;
   const std::vector<double> rate = m.speed_rad_s.empty() ? std::vector<double>{} : spin_rate_rad_s2(m, first, last - first, h);
-  p.samples = contact_forces(m, rig, first, last, h, rotor, o, rate, &p.synchronous);
+  p.samples = contact_forces(m, rig, first, last, h, rotor, o, rate, &p.synchronous, &p.free_flight);
   if (o.matched_speed_filter) p.speed_rate_rad_s2 = rate;
   return p;
 }
@@ -394,7 +492,29 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
   FrictionEstimate r;
   // Windows of window_s; too few sliding ones: halve them (down to min_window_s).
   FrictionEstimateOptions ow = o;
-  const Pass base = prepare_pass(m, rig, o, first, last, h, rotor);
+  // The rotor taken as rigid between the sensor planes, or with its bending taken out: the
+  // description that leaves the smaller force in free flight, where the true one is zero.
+  ow.bending_modes = 0;
+  Pass base = prepare_pass(m, rig, ow, first, last, h, rotor);
+  r.free_flight_samples = base.free_flight.samples;
+  r.free_flight_force_rms_n = {base.free_flight.force_rms_n, 0.0};
+  r.free_flight_noise_rms_n = {base.free_flight.noise_rms_n, 0.0};
+  if (o.bending_modes > 0) {
+    Pass bent = prepare_pass(m, rig, o, first, last, h, rotor);
+    r.free_flight_force_rms_n[1] = bent.free_flight.force_rms_n;
+    r.free_flight_noise_rms_n[1] = bent.free_flight.noise_rms_n;
+    // Beyond the probe noise: the bent description is kept unless it leaves more force in
+    // free flight than the rigid one, or than the rigid one's noise level when that leaves none.
+    const auto excess = [](const FreeFlight& f) {
+      return std::sqrt(std::max(0.0, f.force_rms_n * f.force_rms_n - f.noise_rms_n * f.noise_rms_n));
+    };
+    const bool usable = bent.free_flight.bending_modes > 0 && bent.free_flight.samples >= o.min_free_flight_samples;
+    if (usable && excess(bent.free_flight) <= std::max(excess(base.free_flight), base.free_flight.noise_rms_n)) {
+      base = std::move(bent);
+      ow.bending_modes = o.bending_modes;
+    }
+  }
+  r.bending_modes = ow.bending_modes;
   Pass p = run_pass(base, m, rig, ow, first, rotor);
   const auto too_few = [&](const Pass& q) { return q.cluster.used < o.min_sliding_windows || !(q.cluster.mu > 0.0); };
   while (too_few(p) && 0.5 * ow.window_s >= o.min_window_s && o.min_window_s > 0.0) {
@@ -425,7 +545,7 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
   r.valid = true;
   r.friction = p.cluster.mu;
   r.standard_error = p.cluster.se;
-  const Pass p2 = run_pass(prepare_pass(m, rig, o, first, last, h2, rotor), m, rig, ow, first, rotor);
+  const Pass p2 = run_pass(prepare_pass(m, rig, ow, first, last, h2, rotor), m, rig, ow, first, rotor);
   r.smoothing_change = p2.cluster.used > 0 ? p2.cluster.mu - p.cluster.mu : 0.0;
   r.uncertainty = std::sqrt(r.standard_error * r.standard_error + r.smoothing_change * r.smoothing_change);
 

@@ -24,6 +24,7 @@
 // gives the spin-down over the sliding windows, compared with the one the estimated friction
 // torque r sum(T) implies (Ip dOmega/dt = -r sum T, both bearings).
 // Reads the measurement and the rig's geometry and inertia only; no model simulation.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,15 @@ struct FrictionEstimateOptions {
   /// Needs a speed channel and a record of at least synchronous_min_revolutions revolutions.
   bool remove_synchronous = true;
   double synchronous_min_revolutions = 2.0;  ///< 1
+  /// Lowest free-free bending modes of the board's FE rotor whose deflection is taken out of
+  /// the sensor readings before the rigid-body momentum balance (model/drop/flexible_orbit.hpp:
+  /// the loads act at the aux planes only, so the bending follows from the record); 0: the
+  /// rotor is taken as rigid between the sensor planes. The description that leaves the
+  /// smaller force in free flight is used (FrictionEstimate::bending_modes).
+  int bending_modes = 1;
+  /// With bending_modes > 0, the bent description is taken only when it leaves a smaller
+  /// force in free flight than the rigid one, over at least this many free-flight samples.
+  int min_free_flight_samples = 20;
   std::string check() const;  ///< empty when usable
 };
 
@@ -137,6 +147,17 @@ struct FrictionEstimate {
   int synchronous_fit_samples = 0;
   double synchronous_force_n = 0.0;
   double synchronous_moment_n_m = 0.0;
+  /// Rotor description the forces come from: 0 rigid between the sensor planes, else the
+  /// bending modes taken out (FrictionEstimateOptions::bending_modes), chosen by the force left
+  /// in free flight (no bearing near contact), rms over both aux planes for the rigid and the
+  /// bent description (0 when not computed), N, on free_flight_samples samples.
+  int bending_modes = 0;
+  std::array<double, 2> free_flight_force_rms_n{};
+  /// The board's probe noise put through the same descriptions and filters, N (the bent one
+  /// is kept unless its free-flight force beyond this exceeds the rigid one's, or the rigid
+  /// one's noise level when the rigid one leaves none).
+  std::array<double, 2> free_flight_noise_rms_n{};
+  int free_flight_samples = 0;
   std::vector<FrictionWindow> windows;
   std::string note;
 };
