@@ -5,7 +5,7 @@
 //  * FrictionSweep.Grid (default set, ~3 s: no model fit, the estimate reads the record):
 //    friction 0.05-0.5 x 1000-6000 rpm, prints the table of docs/drop-model.md. Command:
 //      build/tests/drop/friction_sweep_tests --gtest_filter=FrictionSweep.Grid
-//  * FrictionSweepCorners.WithinThreePercent (friction_estimate_test.cpp, default set): four cells.
+//  * FrictionSweepCorners.WithinThreePercent (friction_estimate_test.cpp, default set): eight cells.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,9 +16,9 @@
 using amb::test::sweep_cell;
 using amb::test::SweepCell;
 
-// Every cell: an estimate is either declined (too few sliding windows: the fit then fits the
-// friction with the model) or its uncertainty covers the truth (2 sigma). The table counts the
-// cells within 3 %.
+// Every cell: an estimate (none declined), within 3 % of the plant's friction (issue 13's
+// "within 3 % everywhere"; 33 of 36 before the bending correction and the clear-window rule of
+// session 10), and its uncertainty covers the truth (2 sigma).
 TEST(FrictionSweep, Grid) {
   const double mus[] = {0.05, 0.1, 0.2, 0.3, 0.4, 0.5};
   const double rpms[] = {1000, 2000, 3000, 4000, 5000, 6000};
@@ -36,10 +36,12 @@ TEST(FrictionSweep, Grid) {
       if (!c.valid) {
         ++declined;
         std::printf(" declined (%d) |", c.used);
+        ADD_FAILURE() << "declined: mu " << mu << " rpm " << rpm;
         continue;
       }
       if (std::abs(c.error) <= 0.03) ++within;
       std::printf(" %.4f +- %.4f (%+.1f %%) |", c.estimate, c.uncertainty, 100.0 * c.error);
+      EXPECT_LE(std::abs(c.error), 0.03) << "mu " << mu << " rpm " << rpm;
       EXPECT_LE(std::abs(c.estimate - mu), 2.0 * c.uncertainty) << "mu " << mu << " rpm " << rpm;
     }
     std::printf("\n");

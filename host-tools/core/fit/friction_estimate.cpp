@@ -311,16 +311,17 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
 struct Cluster {
   double mu = 0.0, se = 0.0;
   int used = 0;
+  int clear = 0;  // sliding windows with no rolling neighbour (FrictionEstimateOptions::clear_neighbour_fraction)
 };
 
 // Window i lies next to a heavier rolling window: a neighbour in time (same bearing) whose
 // ratio is below the sliding band [f mu, mu / f] and whose normal impulse is larger. At the
 // lock-in into a rolling whirl the derivative fit smears that window's normal impulse, which
 // carries no friction, across the edge: window i's ratio is biased low.
-bool next_to_heavier_rolling(const std::vector<FrictionWindow>& w, size_t i, double mu, double f) {
+bool next_to_heavier_rolling(const std::vector<FrictionWindow>& w, size_t i, double mu, double f, double heavier = 1.0) {
   for (const auto& x : w)
     if (x.bearing == w[i].bearing && std::abs(std::abs(x.start_s - w[i].start_s) - w[i].length_s) < 0.25 * w[i].length_s &&
-        x.ratio < f * mu && x.normal_impulse_n_s > w[i].normal_impulse_n_s)
+        x.ratio < f * mu && x.normal_impulse_n_s > heavier * w[i].normal_impulse_n_s)
       return true;
   return false;
 }
@@ -333,7 +334,8 @@ bool next_to_heavier_rolling(const std::vector<FrictionWindow>& w, size_t i, dou
 // drop_next_to_rolling a band's windows next to a heavier rolling one do not count, as long
 // as min_windows others remain in the band. Then the impulse-weighted ratio of the band,
 // re-centred until it stays, those windows left out under the same condition.
-Cluster upper_cluster(std::vector<FrictionWindow>& w, double sliding_fraction, bool drop_next_to_rolling, int min_windows) {
+Cluster upper_cluster(std::vector<FrictionWindow>& w, double sliding_fraction, bool drop_next_to_rolling, int min_windows,
+                      double clear_fraction) {
   Cluster c;
   const auto in_band = [&](const FrictionWindow& x, double m) { return x.ratio >= sliding_fraction * m && x.ratio <= m / sliding_fraction; };
   double mu = 0.0, best = 0.0;
@@ -387,6 +389,8 @@ Cluster upper_cluster(std::vector<FrictionWindow>& w, double sliding_fraction, b
     }
   c.mu = mu;
   c.used = k;
+  for (size_t i = 0; i < w.size(); ++i)
+    if (w[i].sliding && !(clear_fraction > 0.0 && next_to_heavier_rolling(w, i, mu, sliding_fraction, clear_fraction))) ++c.clear;
   // Weighted standard error: spread of the ratios / sqrt(effective number of windows).
   if (k >= 2 && sn > 0.0) {
     const double n_eff = sn * sn / sn2;
@@ -468,7 +472,7 @@ Pass run_pass(Pass p, const DropMeasurement& m, const model::PlantParams& rig, c
   for (const auto& w : all) biggest = std::max(biggest, w.normal_impulse_n_s);
   for (const auto& w : all)
     if (w.normal_impulse_n_s > o.min_impulse_fraction * biggest && w.normal_impulse_n_s > 0.0) p.windows.push_back(w);
-  p.cluster = upper_cluster(p.windows, o.sliding_fraction, o.drop_next_to_rolling, o.min_sliding_windows);
+  p.cluster = upper_cluster(p.windows, o.sliding_fraction, o.drop_next_to_rolling, o.min_sliding_windows, o.clear_neighbour_fraction);
   return p;
 }
 
@@ -517,9 +521,14 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
   r.bending_modes = ow.bending_modes;
   Pass p = run_pass(base, m, rig, ow, first, rotor);
   const auto too_few = [&](const Pass& q) { return q.cluster.used < o.min_sliding_windows || !(q.cluster.mu > 0.0); };
-  while (too_few(p) && 0.5 * ow.window_s >= o.min_window_s && o.min_window_s > 0.0) {
-    ow.window_s *= 0.5;
-    p = run_pass(base, m, rig, ow, first, rotor);
+  const auto not_clear = [&](const Pass& q) { return o.clear_neighbour_fraction > 0.0 && q.cluster.clear < o.min_sliding_windows; };
+  while ((too_few(p) || not_clear(p)) && 0.5 * ow.window_s >= o.min_window_s && o.min_window_s > 0.0) {
+    FrictionEstimateOptions oh = ow;
+    oh.window_s *= 0.5;
+    Pass q = run_pass(base, m, rig, oh, first, rotor);
+    if (!too_few(p) && too_few(q)) break;  // halved only for clear windows, and the halved ones give too few
+    ow = oh;
+    p = std::move(q);
   }
   r.window_s = ow.window_s;
   r.synchronous_removed = p.synchronous.fitted;

@@ -83,6 +83,13 @@ struct FrictionEstimateOptions {
   /// remain: at the lock-in into a rolling whirl the derivative fit smears the rolling
   /// contact's normal impulse, which carries no friction, across the window edge.
   bool drop_next_to_rolling = true;
+  /// A sliding window is "clear" when no neighbour in time rolls (ratio below the sliding
+  /// band) with a normal impulse above this fraction of its own (0: not checked). With fewer
+  /// than min_sliding_windows clear windows the windows are halved (down to min_window_s)
+  /// as long as the halved ones still give min_sliding_windows sliding windows: next to the
+  /// lock-in into a rolling whirl a window has often slid only part of its length (the ring
+  /// caught up), and shorter windows confine that to one of them.
+  double clear_neighbour_fraction = 0.1;
   /// Remove the synchronous (1x) force and moment from the momentum balance: a rotor's
   /// unbalance accelerates its geometric centre (what the sensors see) by e Omega^2 without any
   /// contact force; left in, it adds a rotating force of m e Omega^2 to every window (with an
