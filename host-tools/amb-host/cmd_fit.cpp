@@ -143,6 +143,7 @@ int run(const Args& a) {
                                 {"synchronous_force_n", fe.synchronous_force_n},
                                 {"synchronous_moment_n_m", fe.synchronous_moment_n_m},
                                 {"bending_modes", fe.bending_modes},
+                                {"rotor_choice", fe.rotor_choice},
                                 {"free_flight_samples", fe.free_flight_samples},
                                 {"free_flight_force_rms_n", {{"rigid", fe.free_flight_force_rms_n[0]}, {"bent", fe.free_flight_force_rms_n[1]}}},
                                 {"free_flight_noise_rms_n", {{"rigid", fe.free_flight_noise_rms_n[0]}, {"bent", fe.free_flight_noise_rms_n[1]}}},

@@ -95,27 +95,30 @@ std::array<double, 4> split_force(std::complex<double> f, std::complex<double> m
   return {f.real() - fb.real(), f.imag() - fb.imag(), fb.real(), fb.imag()};
 }
 
-// Rms of the aux-plane forces averaged over +-a samples, over the samples whose whole average
-// lies in `free` (all of them when `free` is empty); counts them into `samples`.
-double smoothed_rms(const std::vector<std::array<double, 4>>& f, const std::vector<bool>& free, size_t a, int* samples) {
+// Rms of one bearing's aux-plane force (its x and y), averaged over +-a samples, over the
+// (sample, bearing) pairs whose whole average lies in `free` (all of them when `free` is
+// empty); counts them into `samples`.
+double smoothed_rms(const std::vector<std::array<double, 4>>& f, const std::vector<std::array<bool, 2>>& free, size_t a,
+                    int* samples) {
   double sum = 0.0;
   int k_used = 0;
-  for (size_t k = a; k + a < f.size(); ++k) {
-    bool ok = true;
-    for (size_t j = k - a; j <= k + a && !free.empty(); ++j) ok = ok && free[j];
-    if (!ok) continue;
-    std::array<double, 4> mean{};
-    for (size_t j = k - a; j <= k + a; ++j)
-      for (size_t c = 0; c < 4; ++c) mean[c] += f[j][c] / static_cast<double>(2 * a + 1);
-    ++k_used;
-    for (size_t c = 0; c < 4; ++c) sum += mean[c] * mean[c];
-  }
+  for (size_t b = 0; b < 2; ++b)
+    for (size_t k = a; k + a < f.size(); ++k) {
+      bool ok = true;
+      for (size_t j = k - a; j <= k + a && !free.empty(); ++j) ok = ok && free[j][b];
+      if (!ok) continue;
+      std::array<double, 2> mean{};
+      for (size_t j = k - a; j <= k + a; ++j)
+        for (size_t c = 0; c < 2; ++c) mean[c] += f[j][2 * b + c] / static_cast<double>(2 * a + 1);
+      ++k_used;
+      sum += mean[0] * mean[0] + mean[1] * mean[1];
+    }
   if (samples) *samples = k_used;
   return k_used > 0 ? std::sqrt(sum / k_used) : 0.0;
 }
 
-// What the momentum balance leaves in free flight (no bearing within the derivative fit's
-// reach of contact), where the true contact force is zero: the aux-plane forces' rms, N.
+// What the momentum balance leaves in free flight (per bearing: not within the derivative
+// fit's reach of contact), where the true contact force is zero: that bearing's force rms, N.
 struct FreeFlight {
   int samples = 0;
   double force_rms_n = 0.0;
@@ -280,8 +283,8 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
     }
   }
   if (free_out) {
-    std::vector<bool> free(n);
-    for (size_t k = 0; k < n; ++k) free[k] = !near[k][0] && !near[k][1];
+    std::vector<std::array<bool, 2>> free(n);
+    for (size_t k = 0; k < n; ++k) free[k] = {!near[k][0], !near[k][1]};
     free_out->force_rms_n = smoothed_rms(free_force, free, kFreeFlightAverage, &free_out->samples);
     // The board's probe noise through the same description, derivative fit and average
     // (white, per channel, fixed seed).
@@ -476,49 +479,18 @@ Pass run_pass(Pass p, const DropMeasurement& m, const model::PlantParams& rig, c
   return p;
 }
 
-}  // namespace
-
-FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o) {
-  if (const std::string e = o.check(); !e.empty()) throw std::invalid_argument("friction estimate: " + e);
-  if (const std::string e = m.check(); !e.empty()) throw std::invalid_argument("friction estimate: " + e);
-  if (rig.sensor.size() < 4 || rig.aux.size() < 2)
-    throw std::invalid_argument("friction estimate: the rig needs two sensor pairs and two aux bearings");
-  const model::rotor::RotorModel rotor = model::rotor::build_rotor_model(rig.rotor);
+// The estimate from the per-sample part `base` of a description (bending_modes: 0 rigid):
+// ratio windows (halved while too few slide or too few are clear of a rolling neighbour),
+// the uncertainty (window scatter and the change at half the derivative fit's width) and the
+// spin-down check.
+FrictionEstimate finish_estimate(const Pass& base, const DropMeasurement& m, const model::PlantParams& rig,
+                                 const FrictionEstimateOptions& o, int bending_modes, size_t first, size_t last, int h2,
+                                 const model::rotor::RotorModel& rotor) {
   const double dt = 1.0 / m.sample_rate_hz;
-  const int h = std::max(2, static_cast<int>(std::lround(o.smoothing_half_window_s * m.sample_rate_hz)));
-  const int h2 = std::max(2, h / 2);
-  const size_t first = static_cast<size_t>(m.trigger_index) + std::max(static_cast<size_t>(h), static_cast<size_t>(std::lround(o.skip_s * m.sample_rate_hz)));
-  const size_t last = std::min(m.sensor_m.size() - static_cast<size_t>(h) - 1,
-                               static_cast<size_t>(m.trigger_index) + static_cast<size_t>(std::lround(o.max_window_s * m.sample_rate_hz)));
-  if (last <= first + static_cast<size_t>(std::lround(o.window_s * m.sample_rate_hz)))
-    throw std::invalid_argument("friction estimate: " + m.source + ": record too short after the trigger");
-
   FrictionEstimate r;
-  // Windows of window_s; too few sliding ones: halve them (down to min_window_s).
   FrictionEstimateOptions ow = o;
-  // The rotor taken as rigid between the sensor planes, or with its bending taken out: the
-  // description that leaves the smaller force in free flight, where the true one is zero.
-  ow.bending_modes = 0;
-  Pass base = prepare_pass(m, rig, ow, first, last, h, rotor);
-  r.free_flight_samples = base.free_flight.samples;
-  r.free_flight_force_rms_n = {base.free_flight.force_rms_n, 0.0};
-  r.free_flight_noise_rms_n = {base.free_flight.noise_rms_n, 0.0};
-  if (o.bending_modes > 0) {
-    Pass bent = prepare_pass(m, rig, o, first, last, h, rotor);
-    r.free_flight_force_rms_n[1] = bent.free_flight.force_rms_n;
-    r.free_flight_noise_rms_n[1] = bent.free_flight.noise_rms_n;
-    // Beyond the probe noise: the bent description is kept unless it leaves more force in
-    // free flight than the rigid one, or than the rigid one's noise level when that leaves none.
-    const auto excess = [](const FreeFlight& f) {
-      return std::sqrt(std::max(0.0, f.force_rms_n * f.force_rms_n - f.noise_rms_n * f.noise_rms_n));
-    };
-    const bool usable = bent.free_flight.bending_modes > 0 && bent.free_flight.samples >= o.min_free_flight_samples;
-    if (usable && excess(bent.free_flight) <= std::max(excess(base.free_flight), base.free_flight.noise_rms_n)) {
-      base = std::move(bent);
-      ow.bending_modes = o.bending_modes;
-    }
-  }
-  r.bending_modes = ow.bending_modes;
+  ow.bending_modes = bending_modes;
+  r.bending_modes = bending_modes;
   Pass p = run_pass(base, m, rig, ow, first, rotor);
   const auto too_few = [&](const Pass& q) { return q.cluster.used < o.min_sliding_windows || !(q.cluster.mu > 0.0); };
   const auto not_clear = [&](const Pass& q) { return o.clear_neighbour_fraction > 0.0 && q.cluster.clear < o.min_sliding_windows; };
@@ -595,6 +567,52 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
     }
   }
   return r;
+}
+
+}  // namespace
+
+FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o) {
+  if (const std::string e = o.check(); !e.empty()) throw std::invalid_argument("friction estimate: " + e);
+  if (const std::string e = m.check(); !e.empty()) throw std::invalid_argument("friction estimate: " + e);
+  if (rig.sensor.size() < 4 || rig.aux.size() < 2)
+    throw std::invalid_argument("friction estimate: the rig needs two sensor pairs and two aux bearings");
+  const model::rotor::RotorModel rotor = model::rotor::build_rotor_model(rig.rotor);
+  const int h = std::max(2, static_cast<int>(std::lround(o.smoothing_half_window_s * m.sample_rate_hz)));
+  const int h2 = std::max(2, h / 2);
+  const size_t first = static_cast<size_t>(m.trigger_index) + std::max(static_cast<size_t>(h), static_cast<size_t>(std::lround(o.skip_s * m.sample_rate_hz)));
+  const size_t last = std::min(m.sensor_m.size() - static_cast<size_t>(h) - 1,
+                               static_cast<size_t>(m.trigger_index) + static_cast<size_t>(std::lround(o.max_window_s * m.sample_rate_hz)));
+  if (last <= first + static_cast<size_t>(std::lround(o.window_s * m.sample_rate_hz)))
+    throw std::invalid_argument("friction estimate: " + m.source + ": record too short after the trigger");
+
+  const Pass rigid_base = prepare_pass(m, rig, [&] { FrictionEstimateOptions x = o; x.bending_modes = 0; return x; }(), first, last, h, rotor);
+  FrictionEstimate rigid = finish_estimate(rigid_base, m, rig, o, 0, first, last, h2, rotor);
+  rigid.free_flight_samples = rigid_base.free_flight.samples;
+  rigid.free_flight_force_rms_n = {rigid_base.free_flight.force_rms_n, 0.0};
+  rigid.free_flight_noise_rms_n = {rigid_base.free_flight.noise_rms_n, 0.0};
+  if (o.bending_modes == 0) return rigid;
+  const Pass bent_base = prepare_pass(m, rig, o, first, last, h, rotor);
+  if (bent_base.free_flight.bending_modes == 0) return rigid;  // the inverse is not stable for this rig
+  FrictionEstimate bent = finish_estimate(bent_base, m, rig, o, o.bending_modes, first, last, h2, rotor);
+  for (auto* e : {&rigid, &bent}) {
+    e->free_flight_samples = rigid_base.free_flight.samples;
+    e->free_flight_force_rms_n = {rigid_base.free_flight.force_rms_n, bent_base.free_flight.force_rms_n};
+    e->free_flight_noise_rms_n = {rigid_base.free_flight.noise_rms_n, bent_base.free_flight.noise_rms_n};
+  }
+  // Rigid or bent. Evidence first: where no bearing is near contact the true force is zero,
+  // and a description that misreads the rotor leaves a ringing force there beyond the probe
+  // noise (the board's noise put through the same description and filters). Without such
+  // evidence (too few free samples, or neither leaves a force beyond its noise), the
+  // description whose windows agree better (the smaller uncertainty) is taken.
+  const auto excess = [](const FreeFlight& f) {
+    return std::sqrt(std::max(0.0, f.force_rms_n * f.force_rms_n - f.noise_rms_n * f.noise_rms_n));
+  };
+  const FreeFlight &fr = rigid_base.free_flight, &fb = bent_base.free_flight;
+  const bool evidence = fr.samples >= o.min_free_flight_samples && (excess(fr) > fr.noise_rms_n || excess(fb) > fb.noise_rms_n);
+  const bool take_bent = evidence ? excess(fb) < excess(fr) : bent.valid && (!rigid.valid || bent.uncertainty < rigid.uncertainty);
+  FrictionEstimate& chosen = take_bent ? bent : rigid;
+  chosen.rotor_choice = evidence ? "free_flight" : "uncertainty";
+  return chosen;
 }
 
 }  // namespace amb::host::fit

@@ -104,11 +104,14 @@ struct FrictionEstimateOptions {
   /// Lowest free-free bending modes of the board's FE rotor whose deflection is taken out of
   /// the sensor readings before the rigid-body momentum balance (model/drop/flexible_orbit.hpp:
   /// the loads act at the aux planes only, so the bending follows from the record); 0: the
-  /// rotor is taken as rigid between the sensor planes. The description that leaves the
-  /// smaller force in free flight is used (FrictionEstimate::bending_modes).
+  /// rotor is taken as rigid between the sensor planes. With bending_modes > 0 both
+  /// descriptions are estimated and one is chosen (FrictionEstimate::bending_modes,
+  /// rotor_choice): by the force each leaves in free flight beyond the probe noise when either
+  /// leaves one (a description that misreads the rotor leaves a ringing force where the true
+  /// force is zero), else by the smaller uncertainty (the windows that agree better).
   int bending_modes = 1;
-  /// With bending_modes > 0, the bent description is taken only when it leaves a smaller
-  /// force in free flight than the rigid one, over at least this many free-flight samples.
+  /// Free-flight samples (per bearing: that bearing not within the derivative fit's reach of
+  /// contact) needed before the free-flight force counts as evidence.
   int min_free_flight_samples = 20;
   std::string check() const;  ///< empty when usable
 };
@@ -155,14 +158,16 @@ struct FrictionEstimate {
   double synchronous_force_n = 0.0;
   double synchronous_moment_n_m = 0.0;
   /// Rotor description the forces come from: 0 rigid between the sensor planes, else the
-  /// bending modes taken out (FrictionEstimateOptions::bending_modes), chosen by the force left
-  /// in free flight (no bearing near contact), rms over both aux planes for the rigid and the
-  /// bent description (0 when not computed), N, on free_flight_samples samples.
+  /// bending modes taken out (FrictionEstimateOptions::bending_modes); rotor_choice says what
+  /// chose it: "free_flight" (the force left where no contact acts), "uncertainty" (no such
+  /// evidence: the smaller uncertainty), empty (only the rigid one was estimated).
   int bending_modes = 0;
+  std::string rotor_choice;
+  /// One bearing's force in free flight (that bearing not near contact, averaged over
+  /// +-0.25 ms), rms, for the rigid and the bent description (0 when not computed), N, over
+  /// free_flight_samples (sample, bearing) pairs; and the board's probe noise put through the
+  /// same description and filters, N.
   std::array<double, 2> free_flight_force_rms_n{};
-  /// The board's probe noise put through the same descriptions and filters, N (the bent one
-  /// is kept unless its free-flight force beyond this exceeds the rigid one's, or the rigid
-  /// one's noise level when the rigid one leaves none).
   std::array<double, 2> free_flight_noise_rms_n{};
   int free_flight_samples = 0;
   std::vector<FrictionWindow> windows;
