@@ -192,7 +192,9 @@ DropFitResult fit_drop_structure(const DropMeasurement& m, const board::BoardCon
     fe = estimate_friction(m, rig, o.friction_estimate);
     if (o.progress)
       o.progress(fe.valid ? "fit: friction from contact forces " + std::to_string(fe.friction) + " +- " + std::to_string(fe.uncertainty) +
-                                " (" + std::to_string(fe.windows_used) + " of " + std::to_string(fe.windows_total) + " windows sliding)"
+                                " (" + std::to_string(fe.windows_used) + " of " + std::to_string(fe.windows_total) + " windows sliding; rotor read " +
+                                (fe.bending_modes > 0 ? "with its first bending mode taken out" : "as rigid") +
+                                (fe.rotor_choice.empty() ? "" : ", chosen by " + fe.rotor_choice) + ")"
                           : "fit: friction from contact forces: " + fe.note + "; friction fitted");
   }
   const bool fit_mu = !fe.valid;
