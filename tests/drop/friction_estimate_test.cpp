@@ -326,3 +326,30 @@ TEST(FrictionEstimate, DropModelHertzAndRigid) {
     }
 }
 
+
+namespace {
+
+// Options a user can get wrong are refused with a message naming the option.
+TEST(FrictionEstimate, BadOptionsAreRefusedByName) {
+  const hf::DropMeasurement m = amb::test::plant_drop(0.15, 45.0, board().plant, 0.05);
+  const auto message = [&](const hf::FrictionEstimateOptions& o) {
+    try {
+      hf::estimate_friction(m, board().plant, o);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  hf::FrictionEstimateOptions o;
+  o.bending_modes = -1;
+  EXPECT_NE(message(o).find("bending_modes"), std::string::npos) << message(o);
+  o = {};
+  o.min_free_flight_samples = 0;
+  EXPECT_NE(message(o).find("min_free_flight_samples"), std::string::npos) << message(o);
+  o = {};
+  o.clear_neighbour_fraction = -0.1;
+  EXPECT_NE(message(o).find("clear_neighbour_fraction"), std::string::npos) << message(o);
+  EXPECT_EQ(message(hf::FrictionEstimateOptions{}), "accepted");
+}
+
+}  // namespace

@@ -27,6 +27,7 @@ std::string FrictionEstimateOptions::check() const {
   if (min_sliding_windows < 1) return "min_sliding_windows must be >= 1";
   if (bending_modes < 0) return "bending_modes must be >= 0";
   if (min_free_flight_samples < 1) return "min_free_flight_samples must be >= 1";
+  if (!(clear_neighbour_fraction >= 0.0)) return "clear_neighbour_fraction must be >= 0";
   return {};
 }
 
