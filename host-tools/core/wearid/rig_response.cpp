@@ -70,6 +70,10 @@ void RigResponse::set_static_film_force(std::array<double, 2> f) {
       }
       const double ic = f_axis / p.amb[b].ki_n_per_a;
       const model::magnet::Linearisation lin = model::magnet::linearise(law, z_axis, ic);
+      axis_z0_m_[b][a] = z_axis;
+      axis_ic0_a_[b][a] = ic;
+      axis_ks_[b][a] = lin.ks_n_per_m;
+      axis_ki_[b][a] = lin.ki_n_per_a;
       const Eigen::Vector2d dv(d[0], d[1]);
       ks_xy_[b] += lin.ks_n_per_m * dv * dv.transpose();
       // The firmware divides its force demand by the board's ki; the coil pair delivers the
@@ -118,7 +122,6 @@ Eigen::Matrix2cd RigResponse::journal_receptance(double spin_hz, double excitati
 
 Eigen::MatrixXcd RigResponse::dynamic_matrix(double spin_hz, double excitation_hz, const Eigen::Matrix2d& kj,
                                              const Eigen::Matrix2d& cj) const {
-  const model::PlantParams& p = b_.plant;
   const double w = k_two_pi * excitation_hz, spin = k_two_pi * spin_hz;
   const cplx j(0.0, 1.0);
   const int m = m_;
@@ -132,6 +135,26 @@ Eigen::MatrixXcd RigResponse::dynamic_matrix(double spin_hz, double excitation_h
   a.block(0, m, m, m) += (j * w * spin) * red_.polar.cast<cplx>();
   a.block(m, 0, m, m) -= (j * w * spin) * red_.polar.cast<cplx>();
 
+  for (size_t b = 0; b < 2; ++b) {
+    const cplx loop = loop_gain(b, w);
+    const Eigen::MatrixXd aa = b_amb_[b].transpose() * b_amb_[b];
+    const Eigen::MatrixXd as = b_amb_[b].transpose() * b_sensor_[b];
+    for (int r = 0; r < 2; ++r)
+      for (int q = 0; q < 2; ++q) {
+        a.block(r * m, q * m, m, m) -= ks_xy_[b](r, q) * aa.cast<cplx>();
+        a.block(r * m, q * m, m, m) += ki_xy_[b](r, q) * loop * as.cast<cplx>();
+      }
+  }
+  // Film.
+  const Eigen::MatrixXd jj = b_journal_.transpose() * b_journal_;
+  for (int r = 0; r < 2; ++r)
+    for (int q = 0; q < 2; ++q) a.block(r * m, q * m, m, m) += (kj(r, q) + j * w * cj(r, q)) * jj.cast<cplx>();
+  return a;
+}
+
+cplx RigResponse::loop_gain(size_t b, double w) const {
+  const model::PlantParams& p = b_.plant;
+  const cplx j(0.0, 1.0);
   // Controller, discrete (see header), per direction in force units.
   const double dt = 1.0 / b_.rate_hz;
   const cplx zinv = std::exp(-j * w * dt);
@@ -147,24 +170,66 @@ Eigen::MatrixXcd RigResponse::dynamic_matrix(double spin_hz, double excitation_h
     pid *= (s * s + nt.depth * bw * s + w0 * w0) / (s * s + bw * s + w0 * w0);
   }
   const cplx hold = std::exp(-j * w * 0.5 * dt);
+  const double fa = p.amb[b].amplifier_bandwidth_hz, fs = p.sensor[2 * b].bandwidth_hz;
+  const cplx amp = fa > 0.0 ? 1.0 / (1.0 + j * w / (k_two_pi * fa)) : cplx(1.0);
+  const cplx sen = fs > 0.0 ? 1.0 / (1.0 + j * w / (k_two_pi * fs)) : cplx(1.0);
+  return amp * hold * pid * sen;
+}
+
+void RigResponse::amb_remainder(const Eigen::VectorXcd& e1, const Eigen::VectorXcd& e2, double w, int samples,
+                                Eigen::VectorXcd& f1, Eigen::VectorXcd& f2) const {
+  const model::PlantParams& p = b_.plant;
+  const int m = m_;
+  f1 = Eigen::VectorXcd::Zero(2 * m);
+  f2 = Eigen::VectorXcd::Zero(2 * m);
+  const auto at = [&](const Eigen::RowVectorXd& row, const Eigen::VectorXcd& e) {
+    cplx x = 0.0, y = 0.0;
+    for (int i = 0; i < m; ++i) {
+      x += row(i) * e(i);
+      y += row(i) * e(m + i);
+    }
+    return std::array<cplx, 2>{x, y};
+  };
+  const int n = std::max(8, samples);
   for (size_t b = 0; b < 2; ++b) {
-    const double fa = p.amb[b].amplifier_bandwidth_hz, fs = p.sensor[2 * b].bandwidth_hz;
-    const cplx amp = fa > 0.0 ? 1.0 / (1.0 + j * w / (k_two_pi * fa)) : cplx(1.0);
-    const cplx sen = fs > 0.0 ? 1.0 / (1.0 + j * w / (k_two_pi * fs)) : cplx(1.0);
-    const cplx loop = amp * hold * pid * sen;
-    const Eigen::MatrixXd aa = b_amb_[b].transpose() * b_amb_[b];
-    const Eigen::MatrixXd as = b_amb_[b].transpose() * b_sensor_[b];
-    for (int r = 0; r < 2; ++r)
-      for (int q = 0; q < 2; ++q) {
-        a.block(r * m, q * m, m, m) -= ks_xy_[b](r, q) * aa.cast<cplx>();
-        a.block(r * m, q * m, m, m) += ki_xy_[b](r, q) * loop * as.cast<cplx>();
+    const model::magnet::AxisLaw law = model::magnet::make_axis_law(p.amb[b]);
+    const std::array<std::array<cplx, 2>, 2> xa{at(b_amb_[b], e1), at(b_amb_[b], e2)}, xs{at(b_sensor_[b], e1), at(b_sensor_[b], e2)};
+    const std::array<cplx, 2> loop{loop_gain(b, w), loop_gain(b, 2.0 * w)};
+    std::array<cplx, 2> fxy1{}, fxy2{};
+    for (size_t a = 0; a < 2; ++a) {
+      const auto d = model::magnet::axis_direction(p.amb[b].actuator_angle_deg[a]);
+      // Actuator-plane displacement along the axis and the control current the loop commands
+      // (force demand -loop x_sensor along the axis, divided by the board's ki), per harmonic.
+      std::array<cplx, 2> z{}, ic{};
+      for (size_t k = 0; k < 2; ++k) {
+        z[k] = d[0] * xa[k][0] + d[1] * xa[k][1];
+        ic[k] = -loop[k] * (d[0] * xs[k][0] + d[1] * xs[k][1]) / p.amb[b].ki_n_per_a;
       }
+      const double z0 = axis_z0_m_[b][a], i0 = axis_ic0_a_[b][a];
+      const double f0 = model::magnet::axis_force_n(law, z0, i0);
+      cplx r1 = 0.0, r2 = 0.0;
+      for (int s = 0; s < n; ++s) {
+        const double th = k_two_pi * s / n;
+        const cplx e = std::polar(1.0, th), ee = e * e;
+        const double zt = (z[0] * e + z[1] * ee).real(), it = (ic[0] * e + ic[1] * ee).real();
+        const double rem = model::magnet::axis_force_n(law, z0 + zt, i0 + it) - f0 - axis_ks_[b][a] * zt - axis_ki_[b][a] * it;
+        r1 += rem * std::conj(e);
+        r2 += rem * std::conj(ee);
+      }
+      r1 *= 2.0 / n;
+      r2 *= 2.0 / n;
+      for (size_t c = 0; c < 2; ++c) {
+        fxy1[c] += d[c] * r1;
+        fxy2[c] += d[c] * r2;
+      }
+    }
+    for (int i = 0; i < m; ++i) {
+      f1(i) += b_amb_[b](i) * fxy1[0];
+      f1(m + i) += b_amb_[b](i) * fxy1[1];
+      f2(i) += b_amb_[b](i) * fxy2[0];
+      f2(m + i) += b_amb_[b](i) * fxy2[1];
+    }
   }
-  // Film.
-  const Eigen::MatrixXd jj = b_journal_.transpose() * b_journal_;
-  for (int r = 0; r < 2; ++r)
-    for (int q = 0; q < 2; ++q) a.block(r * m, q * m, m, m) += (kj(r, q) + j * w * cj(r, q)) * jj.cast<cplx>();
-  return a;
 }
 
 namespace {
@@ -224,51 +289,105 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
                                                         const model::journal::JournalState& mean,
                                                         const model::journal::DynamicCoefficients& lin, int samples,
                                                         int max_iterations, double tolerance,
-                                                        const FullFilmSpectrum* start) const {
+                                                        const FullFilmSpectrum* start, bool amb_nonlinear) const {
   if (max_iterations < 1) throw std::invalid_argument("full film: max_iterations must be >= 1");
   const Eigen::Matrix2d& k = lin.stiffness_n_per_m;
   const Eigen::Matrix2d& c = lin.damping_n_s_per_m;
   const double w = k_two_pi * speed_hz_;
   const cplx j(0.0, 1.0);
-  const auto x_lin = journal_xy_at(speed_hz_, k, c);
-  const Eigen::Matrix2cd h1 = journal_receptance(speed_hz_, speed_hz_, k, c);
-  const Eigen::Matrix2cd h2 = journal_receptance(speed_hz_, 2.0 * speed_hz_, k, c);
+  const int m = m_;
+  const Eigen::PartialPivLU<Eigen::MatrixXcd> a1(dynamic_matrix(speed_hz_, speed_hz_, k, c));
+  const Eigen::PartialPivLU<Eigen::MatrixXcd> a2(dynamic_matrix(speed_hz_, 2.0 * speed_hz_, k, c));
+  Eigen::VectorXcd f_unb(2 * m);
+  for (int i = 0; i < m; ++i) {
+    const cplx fx = w * w * cplx(unb_s_(i), unb_c_(i));
+    f_unb(i) = fx;
+    f_unb(m + i) = -j * fx;
+  }
+  const Eigen::VectorXcd e1_lin = a1.solve(f_unb);
   const Eigen::Matrix2cd d1 = k.cast<cplx>() + j * w * c.cast<cplx>();
   const Eigen::Matrix2cd d2 = k.cast<cplx>() + 2.0 * j * w * c.cast<cplx>();
-  const Eigen::Vector2cd x1_lin(x_lin[0], x_lin[1]);
-  const double scale = std::max(x1_lin.norm(), 1e-12);
-  // Unknowns as 8 reals (X1 then X2, x and y, re and im), in units of |X1_linear|.
-  using V8 = Eigen::Matrix<double, 8, 1>;
-  auto pack = [&](const Eigen::Vector2cd& a, const Eigen::Vector2cd& b) {
-    V8 v;
-    v << a(0).real(), a(0).imag(), a(1).real(), a(1).imag(), b(0).real(), b(0).imag(), b(1).real(), b(1).imag();
-    return V8(v / scale);
+  const auto journal_xy = [&](const Eigen::VectorXcd& e) {
+    Eigen::Vector2cd x = Eigen::Vector2cd::Zero();
+    for (int i = 0; i < m; ++i) {
+      x(0) += b_journal_(i) * e(i);
+      x(1) += b_journal_(i) * e(m + i);
+    }
+    return x;
   };
-  auto unpack = [&](const V8& v, Eigen::Vector2cd& a, Eigen::Vector2cd& b) {
-    a << cplx(v(0), v(1)) * scale, cplx(v(2), v(3)) * scale;
-    b << cplx(v(4), v(5)) * scale, cplx(v(6), v(7)) * scale;
+  const auto journal_force = [&](const Eigen::Vector2cd& f) {
+    Eigen::VectorXcd v(2 * m);
+    for (int i = 0; i < m; ++i) {
+      v(i) = b_journal_(i) * f(0);
+      v(m + i) = b_journal_(i) * f(1);
+    }
+    return v;
+  };
+  const double scale = std::max(journal_xy(e1_lin).norm(), 1e-12);
+  // Unknowns: the modal responses E1, E2 as reals (re, im per entry), in units of the linear
+  // journal orbit.
+  const int nv = 8 * m;
+  auto pack = [&](const Eigen::VectorXcd& e1, const Eigen::VectorXcd& e2) {
+    Eigen::VectorXd v(nv);
+    for (int i = 0; i < 2 * m; ++i) {
+      v(2 * i) = e1(i).real() / scale;
+      v(2 * i + 1) = e1(i).imag() / scale;
+      v(4 * m + 2 * i) = e2(i).real() / scale;
+      v(4 * m + 2 * i + 1) = e2(i).imag() / scale;
+    }
+    return v;
+  };
+  auto unpack = [&](const Eigen::VectorXd& v, Eigen::VectorXcd& e1, Eigen::VectorXcd& e2) {
+    e1.resize(2 * m);
+    e2.resize(2 * m);
+    for (int i = 0; i < 2 * m; ++i) {
+      e1(i) = cplx(v(2 * i), v(2 * i + 1)) * scale;
+      e2(i) = cplx(v(4 * m + 2 * i), v(4 * m + 2 * i + 1)) * scale;
+    }
   };
   FullFilmSpectrum r;
   model::journal::FilmHarmonics fh;
-  auto map = [&](const V8& v) {
-    Eigen::Vector2cd x1, x2;
-    unpack(v, x1, x2);
+  auto map = [&](const Eigen::VectorXd& v) {
+    Eigen::VectorXcd e1, e2;
+    unpack(v, e1, e2);
+    const Eigen::Vector2cd x1 = journal_xy(e1), x2 = journal_xy(e2);
     fh = model::journal::film_harmonics(solver, mean, {x1(0), x1(1)}, {x2(0), x2(1)}, w, samples);
     const Eigen::Vector2cd r1 = Eigen::Vector2cd(fh.first_n[0], fh.first_n[1]) + d1 * x1;
     const Eigen::Vector2cd r2 = Eigen::Vector2cd(fh.second_n[0], fh.second_n[1]) + d2 * x2;
-    return pack(x1_lin + h1 * r1, h2 * r2);
+    Eigen::VectorXcd g1 = f_unb + journal_force(r1), g2 = journal_force(r2);
+    if (amb_nonlinear) {
+      Eigen::VectorXcd a_1, a_2;
+      amb_remainder(e1, e2, w, samples, a_1, a_2);
+      g1 += a_1;
+      g2 += a_2;
+    }
+    return pack(a1.solve(g1), a2.solve(g2));
   };
-  V8 x = start ? pack(Eigen::Vector2cd(start->journal_first_m[0], start->journal_first_m[1]),
-                      Eigen::Vector2cd(start->journal_second_m[0], start->journal_second_m[1]))
-               : pack(x1_lin, Eigen::Vector2cd::Zero());
+  Eigen::VectorXd x;
+  if (start) {
+    // The previous orbit's journal motion as a start: the linear response scaled to it is
+    // not available, so start from the linear response plus the 2x the journal force implies.
+    const Eigen::Vector2cd x2(start->journal_second_m[0], start->journal_second_m[1]);
+    const Eigen::Vector2cd x1(start->journal_first_m[0], start->journal_first_m[1]);
+    const Eigen::Vector2cd dx1 = x1 - journal_xy(e1_lin);
+    // Least-norm modal correction that moves the journal by dx1 (and puts x2 there), through
+    // the journal receptance of the linear system.
+    const Eigen::Matrix2cd h1 = journal_receptance(speed_hz_, speed_hz_, k, c);
+    const Eigen::Matrix2cd h2 = journal_receptance(speed_hz_, 2.0 * speed_hz_, k, c);
+    const Eigen::VectorXcd e1 = e1_lin + a1.solve(journal_force(h1.partialPivLu().solve(dx1)));
+    const Eigen::VectorXcd e2 = a2.solve(journal_force(h2.partialPivLu().solve(x2)));
+    x = pack(e1, e2);
+  } else {
+    x = pack(e1_lin, Eigen::VectorXcd::Zero(2 * m));
+  }
   // Anderson acceleration (depth 3) of the fixed-point map x -> g(x): the plain iteration
   // contracts by only ~0.45 per step at e = 0.7 (the film's describing-function stiffness
   // differs from its tangent stiffness by ~10 % there).
   constexpr int depth = 3;
-  std::vector<V8> gs, fs;
+  std::vector<Eigen::VectorXd> gs, fs;
   for (r.iterations = 1; r.iterations <= max_iterations; ++r.iterations) {
-    const V8 g = map(x);
-    const V8 f = g - x;
+    const Eigen::VectorXd g = map(x);
+    const Eigen::VectorXd f = g - x;
     if (f.norm() < tolerance) {
       x = g;
       r.converged = true;
@@ -285,7 +404,7 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
       x = g;
       continue;
     }
-    Eigen::Matrix<double, 8, Eigen::Dynamic> df(8, mk), dg(8, mk);
+    Eigen::MatrixXd df(nv, mk), dg(nv, mk);
     for (int i = 0; i < mk; ++i) {
       df.col(i) = fs[static_cast<size_t>(i + 1)] - fs[static_cast<size_t>(i)];
       dg.col(i) = gs[static_cast<size_t>(i + 1)] - gs[static_cast<size_t>(i)];
@@ -294,8 +413,9 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
     x = g - dg * gamma;
   }
   r.iterations = std::min(r.iterations, max_iterations);
-  Eigen::Vector2cd x1, x2;
-  unpack(x, x1, x2);
+  Eigen::VectorXcd e1, e2;
+  unpack(x, e1, e2);
+  const Eigen::Vector2cd x1 = journal_xy(e1), x2 = journal_xy(e2);
   r.mean_force_n = {fh.fx_mean_n, fh.fy_mean_n};
   r.journal_first_m = {x1(0), x1(1)};
   r.journal_second_m = {x2(0), x2(1)};

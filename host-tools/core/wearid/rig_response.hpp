@@ -70,20 +70,24 @@ class RigResponse {
   /// Modal response (x modes then y modes) at a speed.
   Eigen::VectorXcd modal_response(double speed_hz, const Eigen::Matrix2d& k_n_per_m, const Eigen::Matrix2d& c_n_s_per_m) const;
   /// The journal probes' +-1x and +-2x with the full Reynolds film (`solver`, the bore and its
-  /// wear) about the journal's mean position `mean` (m, velocities 0), by harmonic balance:
-  /// the film is split into its linearisation `lin` at `mean` (K, C for this response's speed)
-  /// and the remainder; the orbit X1 (1x) and X2 (2x) at the journal plane solve
-  ///   X1 = X1_linear + H(W) R1(X1, X2),   X2 = H(2 W) R2(X1, X2),
-  /// with H the journal receptance (journal_receptance) and R_k the remainder's k-th harmonic
-  /// along the orbit (model::journal::film_harmonics, `samples` solves per iteration).
-  /// Anderson-accelerated fixed-point iteration from X1_linear (or from `start`'s orbit, e.g.
-  /// the previous wear's) until the update is below `tolerance` times |X1_linear| or
-  /// `max_iterations`. Higher harmonics are neglected. Throws std::invalid_argument when the
-  /// orbit touches the bore.
+  /// wear) about the journal's mean position `mean` (m, velocities 0), by harmonic balance.
+  /// Two nonlinear forces are split into their linearisation (in the closed loop's dynamic
+  /// matrix A) and a remainder: the film at the journal plane (linearised by `lin` at `mean`,
+  /// K, C for this response's speed; remainder's harmonics by model::journal::film_harmonics,
+  /// `samples` solves per iteration) and, with `amb_nonlinear`, each AMB's force law
+  /// (model/amb/amb_force.hpp) about its static gap and current, along the orbit of its
+  /// actuator plane and the control current the loop commands (the quadratic law makes a 2x
+  /// of its own: at e = 0.7 about 0.02 um at the journal probes, the size of the film's 2x
+  /// error it would otherwise leave). The modal response at 1x and 2x solves
+  ///   A(W) E1 = F_unbalance + B^T R1(E1, E2),   A(2 W) E2 = B^T R2(E1, E2)
+  /// by Anderson-accelerated fixed-point iteration from the linear response (or from
+  /// `start`'s journal orbit, e.g. the previous wear's) until the update is below `tolerance`
+  /// times the linear response or `max_iterations`. Higher harmonics are neglected. Throws
+  /// std::invalid_argument when the orbit touches the bore.
   FullFilmSpectrum journal_probes_full_film(model::journal::ReynoldsSolver& solver, const model::journal::JournalState& mean,
                                             const model::journal::DynamicCoefficients& lin, int samples = 32,
                                             int max_iterations = 40, double tolerance = 1e-5,
-                                            const FullFilmSpectrum* start = nullptr) const;
+                                            const FullFilmSpectrum* start = nullptr, bool amb_nonlinear = true) const;
   /// Receptance at the journal plane: complex displacement amplitudes (x, y), m, per unit
   /// complex force amplitude (x, y), N, applied at the journal plane at `excitation_hz`
   /// (any frequency, e.g. a harmonic of the spin), with the rotor spinning at `spin_hz`
@@ -100,6 +104,13 @@ class RigResponse {
   // excitation frequency, spinning at spin_hz.
   Eigen::MatrixXcd dynamic_matrix(double spin_hz, double excitation_hz, const Eigen::Matrix2d& k_n_per_m,
                                   const Eigen::Matrix2d& c_n_s_per_m) const;
+  // Force demand per unit sensor-plane displacement of AMB b at `w_rad_s` (N/m, complex): the
+  // sensor roll-off, the discrete PID with its notches, the half-period hold, the amplifier.
+  cplx loop_gain(size_t b, double w_rad_s) const;
+  // Harmonics 1 and 2 of the AMB force-law remainder (law - its linearisation) along the orbit
+  // of modal responses e1 (1x) and e2 (2x), as modal forces (x modes then y modes), N.
+  void amb_remainder(const Eigen::VectorXcd& e1, const Eigen::VectorXcd& e2, double w_rad_s, int samples,
+                     Eigen::VectorXcd& f1, Eigen::VectorXcd& f2) const;
   board::BoardConfig b_;
   double speed_hz_ = 0.0;
   model::rotor::RotorModel fe_;
@@ -110,6 +121,9 @@ class RigResponse {
   Eigen::VectorXd unb_s_, unb_c_;
   std::array<Eigen::Matrix2d, 2> ks_xy_;   // per AMB: linearised negative stiffness in (x, y), N/m
   std::array<Eigen::Matrix2d, 2> ki_xy_;   // per AMB: local current gain / board ki in (x, y), 1
+  // Per AMB and actuator axis: the static gap offset (m) and control current (A), and the
+  // local linearisation there.
+  std::array<std::array<double, 2>, 2> axis_z0_m_{}, axis_ic0_a_{}, axis_ks_{}, axis_ki_{};
   // Static AMB force/position per unit film force: st0 + fx * stx + fy * sty.
   std::array<std::array<std::array<double, 2>, 2>, 3> amb_force_basis_{}, amb_disp_basis_{};
   std::array<std::array<double, 2>, 2> probe_dir_{};
