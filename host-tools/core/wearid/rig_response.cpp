@@ -289,7 +289,8 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
                                                         const model::journal::JournalState& mean,
                                                         const model::journal::DynamicCoefficients& lin, int samples,
                                                         int max_iterations, double tolerance,
-                                                        const FullFilmSpectrum* start, bool amb_nonlinear) const {
+                                                        const FullFilmSpectrum* start, bool amb_nonlinear,
+                                                        bool film_nonlinear) const {
   if (max_iterations < 1) throw std::invalid_argument("full film: max_iterations must be >= 1");
   const Eigen::Matrix2d& k = lin.stiffness_n_per_m;
   const Eigen::Matrix2d& c = lin.damping_n_s_per_m;
@@ -351,10 +352,12 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
     Eigen::VectorXcd e1, e2;
     unpack(v, e1, e2);
     const Eigen::Vector2cd x1 = journal_xy(e1), x2 = journal_xy(e2);
-    fh = model::journal::film_harmonics(solver, mean, {x1(0), x1(1)}, {x2(0), x2(1)}, w, samples);
-    const Eigen::Vector2cd r1 = Eigen::Vector2cd(fh.first_n[0], fh.first_n[1]) + d1 * x1;
-    const Eigen::Vector2cd r2 = Eigen::Vector2cd(fh.second_n[0], fh.second_n[1]) + d2 * x2;
-    Eigen::VectorXcd g1 = f_unb + journal_force(r1), g2 = journal_force(r2);
+    Eigen::VectorXcd g1 = f_unb, g2 = Eigen::VectorXcd::Zero(2 * m);
+    if (film_nonlinear) {
+      fh = model::journal::film_harmonics(solver, mean, {x1(0), x1(1)}, {x2(0), x2(1)}, w, samples);
+      g1 += journal_force(Eigen::Vector2cd(fh.first_n[0], fh.first_n[1]) + d1 * x1);
+      g2 += journal_force(Eigen::Vector2cd(fh.second_n[0], fh.second_n[1]) + d2 * x2);
+    }
     if (amb_nonlinear) {
       Eigen::VectorXcd a_1, a_2;
       amb_remainder(e1, e2, w, samples, a_1, a_2);

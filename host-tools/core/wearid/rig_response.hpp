@@ -72,7 +72,8 @@ class RigResponse {
   /// The journal probes' +-1x and +-2x with the full Reynolds film (`solver`, the bore and its
   /// wear) about the journal's mean position `mean` (m, velocities 0), by harmonic balance.
   /// Two nonlinear forces are split into their linearisation (in the closed loop's dynamic
-  /// matrix A) and a remainder: the film at the journal plane (linearised by `lin` at `mean`,
+  /// matrix A) and a remainder: with `film_nonlinear` (false: the film stays linear, as the
+  /// SIL's default element) the film at the journal plane (linearised by `lin` at `mean`,
   /// K, C for this response's speed; remainder's harmonics by model::journal::film_harmonics,
   /// `samples` solves per iteration) and, with `amb_nonlinear`, each AMB's force law
   /// (model/amb/amb_force.hpp) about its static gap and current, along the orbit of its
@@ -87,7 +88,8 @@ class RigResponse {
   FullFilmSpectrum journal_probes_full_film(model::journal::ReynoldsSolver& solver, const model::journal::JournalState& mean,
                                             const model::journal::DynamicCoefficients& lin, int samples = 32,
                                             int max_iterations = 40, double tolerance = 1e-5,
-                                            const FullFilmSpectrum* start = nullptr, bool amb_nonlinear = true) const;
+                                            const FullFilmSpectrum* start = nullptr, bool amb_nonlinear = true,
+                                            bool film_nonlinear = true) const;
   /// Receptance at the journal plane: complex displacement amplitudes (x, y), m, per unit
   /// complex force amplitude (x, y), N, applied at the journal plane at `excitation_hz`
   /// (any frequency, e.g. a harmonic of the spin), with the rotor spinning at `spin_hz`
