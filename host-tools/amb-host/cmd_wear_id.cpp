@@ -28,6 +28,7 @@ struct Args {
   int starts = 8;
   bool amb_planes = false;
   bool full_film = false;
+  bool amb_nonlinear = false;
   bool second_harmonic = false;
   double model_error_1x = 0.0;
   int film_samples = 32;
@@ -58,6 +59,7 @@ int run(const Args& a) {
   o.use_amb_planes = a.amb_planes;
   o.second_harmonic = a.second_harmonic;
   o.full_film = a.full_film || a.second_harmonic;
+  o.amb_nonlinear = a.amb_nonlinear;
   o.model_error_1x = a.model_error_1x;
   o.film_samples = a.film_samples;
   if (const std::string why = o.check(); !why.empty()) {
@@ -109,6 +111,7 @@ int run(const Args& a) {
         {"used_full_film", r.used_full_film},
         {"used_2x", r.used_second_harmonic},
         {"model_error_1x", o.model_error_1x},
+        {"amb_nonlinear", o.amb_nonlinear},
         {"spectrum",
          {{"measured", {{"forward", component(r.measured.spectrum.forward_m)}, {"backward", component(r.measured.spectrum.backward_m)}}},
           {"fitted", {{"forward", component(r.fitted.forward_m)}, {"backward", component(r.fitted.backward_m)}}},
@@ -168,6 +171,9 @@ const amb::host::Registration reg{
                    "linearisation (default: linear, as the seed)");
       sub.add_flag("--2x", args->second_harmonic,
                    "also fit the +2x/-2x at the journal probes (the film's second-order response; implies --full-film)");
+      sub.add_flag("--amb-nonlinear", args->amb_nonlinear,
+                   "full film: the AMBs' force law in the harmonic balance too (its own 2x; opt-in, "
+                   "docs/journal-bearing.md)");
       sub.add_option("--film-samples", args->film_samples,
                      "full film: Reynolds solves per revolution of the orbit (default 32)");
       sub.add_option("--model-error", args->model_error_1x,

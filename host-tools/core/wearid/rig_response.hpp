@@ -75,7 +75,7 @@ class RigResponse {
   /// matrix A) and a remainder: with `film_nonlinear` (false: the film stays linear, as the
   /// SIL's default element) the film at the journal plane (linearised by `lin` at `mean`,
   /// K, C for this response's speed; remainder's harmonics by model::journal::film_harmonics,
-  /// `samples` solves per iteration) and, with `amb_nonlinear`, each AMB's force law
+  /// `samples` solves per iteration) and, with `amb_nonlinear` (opt-in), each AMB's force law
   /// (model/amb/amb_force.hpp) about its static gap and current, along the orbit of its
   /// actuator plane and the control current the loop commands (the quadratic law makes a 2x
   /// of its own: at e = 0.7 about 0.02 um at the journal probes, the size of the film's 2x
@@ -88,7 +88,7 @@ class RigResponse {
   FullFilmSpectrum journal_probes_full_film(model::journal::ReynoldsSolver& solver, const model::journal::JournalState& mean,
                                             const model::journal::DynamicCoefficients& lin, int samples = 32,
                                             int max_iterations = 40, double tolerance = 1e-5,
-                                            const FullFilmSpectrum* start = nullptr, bool amb_nonlinear = true,
+                                            const FullFilmSpectrum* start = nullptr, bool amb_nonlinear = false,
                                             bool film_nonlinear = true) const;
   /// Receptance at the journal plane: complex displacement amplitudes (x, y), m, per unit
   /// complex force amplitude (x, y), N, applied at the journal plane at `excitation_hz`

@@ -95,7 +95,8 @@ class Evaluator {
     // consecutive wears are close; the tolerance keeps the result independent of the start
     // to ~1e-6 of the response).
     const FullFilmSpectrum f = rigs_[rec].journal_probes_full_film(s, m.journal, d, o_.film_samples, 60, o_.film_tolerance,
-                                                                   last_[rec].iterations > 0 ? &last_[rec] : nullptr);
+                                                                   last_[rec].iterations > 0 ? &last_[rec] : nullptr,
+                                                                   o_.amb_nonlinear);
     if (!f.converged) throw std::invalid_argument("wear-id: full-film harmonic balance did not converge");
     last_[rec] = f;
     second_z_[rec] = f.second;

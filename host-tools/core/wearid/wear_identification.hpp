@@ -60,6 +60,11 @@ struct WearIdOptions {
   double model_error_1x = 0.0;
   int film_samples = 32;                           ///< full film: Reynolds solves per orbit (>= 8)
   double film_tolerance = 1e-6;                    ///< full film: harmonic-balance update, relative to |X1_linear|
+  /// Full film: the AMBs' force law in the harmonic balance too (its own 2x; opt-in, see
+  /// RigResponse::journal_probes_full_film and docs/journal-bearing.md "The AMBs' own 2x"):
+  /// right on linear-film records, but it uncovers a film-part 2x error of several per cent
+  /// (the neglected 3x, probably) that the AMBs' missing 2x partly cancelled.
+  bool amb_nonlinear = false;
   /// Empty when valid, else the reason.
   std::string check() const;
 };
