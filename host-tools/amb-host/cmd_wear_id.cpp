@@ -73,8 +73,8 @@ int run(const Args& a) {
     const amb::board::BoardConfig b =
         a.board.empty() ? amb::host::resolve_rig(ev.rig, dir, a.event) : amb::board::load_board(a.board);
     const wi::JournalMeasurement m = wi::measure_journal(ev, b, o.window_s);
-    std::fprintf(stderr, "wear-id: %s, %.3f Hz, static eccentricity %.3f, %d revolutions, model %s\n",
-                 a.event.c_str(), m.speed_hz, m.eccentricity, m.revolutions, a.model.c_str());
+    std::fprintf(stderr, "wear-id: %s, %.3f Hz, static eccentricity %.3f, %d revolutions (the last %.2f s of %.2f s; --window), model %s\n",
+                 a.event.c_str(), m.speed_hz, m.eccentricity, m.revolutions, m.window_s, m.available_s, a.model.c_str());
     std::vector<wi::JournalMeasurement> ms{m};
     for (const auto& w : a.with) {
       ms.push_back(wi::measure_journal(amb::host::load_event(w), b, o.window_s));
@@ -107,6 +107,8 @@ int run(const Args& a) {
         {"bound_active", r.bound_active},
         {"speed_hz", r.measured.speed_hz},
         {"static_eccentricity", r.measured.eccentricity},
+        {"analysed_s", r.measured.window_s},
+        {"available_s", r.measured.available_s},
         {"used_amb_planes", r.used_amb_planes},
         {"used_full_film", r.used_full_film},
         {"used_2x", r.used_second_harmonic},

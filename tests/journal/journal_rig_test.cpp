@@ -128,6 +128,9 @@ TEST(JournalRig, AmbForceLawMakesThe2xOfALinearFilmRecord) {
   ASSERT_TRUE(s.ok) << s.message;
   const board::BoardConfig b = board::load_board("unicamp-journal-rig");
   const wi::JournalMeasurement m = wi::measure_journal(host::load_event(stem + ".json"), b, 10.0);
+  EXPECT_NEAR(m.available_s, 10.0, 0.01);  // the whole record is there, and analysed
+  EXPECT_NEAR(m.window_s, 10.0, 1.0 / m.speed_hz);
+  EXPECT_NEAR(wi::measure_journal(host::load_event(stem + ".json"), b, 2.0).window_s, 2.0, 1.0 / m.speed_hz);
   mj::ReynoldsSolver solver(b.journal.geometry, o.wear, b.journal.grid);
   const mj::DynamicCoefficients d = mj::perturbation_coefficients(solver, m.journal, 2.0 * M_PI * m.speed_hz);
   const wi::RigResponse rig(b, m.speed_hz, {d.fx0_n, d.fy0_n});

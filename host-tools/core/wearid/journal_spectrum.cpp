@@ -67,6 +67,7 @@ JournalMeasurement measure_journal(const LoadedEvent& ev, const board::BoardConf
   // Whole revolutions at the end of the record, within window_s and after the trigger.
   const double avail_s = static_cast<double>(n_all - ev.trigger_index) / ev.sample_rate_hz;
   const double use_s = std::min(window_s, avail_s);
+  m.available_s = avail_s;
   m.revolutions = static_cast<int>(std::floor(use_s * m.speed_hz));
   if (m.revolutions < 8) throw std::invalid_argument("wear-id: fewer than 8 revolutions of steady data after the trigger");
   const size_t n = static_cast<size_t>(std::llround(m.revolutions / m.speed_hz * ev.sample_rate_hz));

@@ -31,6 +31,7 @@ struct JournalMeasurement {
   model::journal::JournalState journal;  ///< static journal centre from the bore centre (velocities 0), m
   double eccentricity = 0.0;             ///< |static position| / C
   double window_s = 0.0;                 ///< analysed (whole revolutions at the end of the record), s
+  double available_s = 0.0;              ///< steady data after the trigger in the record, s (window_s <= this)
   int revolutions = 0;
 };
 
