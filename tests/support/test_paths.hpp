@@ -6,7 +6,7 @@
 namespace amb::test {
 
 const char* source_dir();    ///< the repository root
-const char* shared_dir();    ///< ../shared next to the repository (seeds, formats, measured data)
+const char* shared_dir();    ///< ../shared next to the repository, or next to its local origin (tests/CMakeLists.txt)
 const char* artefact_dir();  ///< BUILD/artefacts: files kept for a person to look at
 
 }  // namespace amb::test
