@@ -29,6 +29,22 @@ board::BoardConfig rig_board(double ecc) {
   b.journal.static_eccentricity = ecc;
   return b;
 }
+
+// A SIL record of the rig at e = 0.7 with seed 002's elliptical wear (um, deg, deg), written
+// to the artefacts as `name`; the event file's stem is returned.
+std::string sil_record_e07(const char* name, double d0_um, double gamma_deg, double beta_deg, double record_s,
+                           double full_film_s) {
+  const std::string stem = std::string(test::artefact_dir()) + "/" + name;
+  std::filesystem::create_directories(test::artefact_dir());
+  wi::JournalSilOptions o;
+  o.eccentricity = 0.7;
+  o.wear = {mj::WearModel::elliptical, d0_um * 1e-6, gamma_deg * M_PI / 180.0, beta_deg * M_PI / 180.0};
+  o.record_s = record_s;
+  o.full_film_s = full_film_s;
+  const wi::JournalSilSummary s = wi::record_journal_sil(o, stem);
+  EXPECT_TRUE(s.ok) << s.message;
+  return s.ok ? stem : std::string();
+}
 }  // namespace
 
 TEST(JournalRig, BoardDescribesTheSeedBearing) {
@@ -118,20 +134,15 @@ TEST(JournalRig, AmbForceLawMakesThe2xOfALinearFilmRecord) {
   // and current (they carry the film's static load). The harmonic balance with the AMB law
   // (and the film kept linear) predicts it; linear AMBs predict none. This 2x was the
   // "film model's 2x bias" that biased the e = 0.7 identifications (docs/journal-bearing.md).
-  const std::string stem = std::string(test::artefact_dir()) + "/journal_sil_e07_linear_10s";
-  std::filesystem::create_directories(test::artefact_dir());
-  wi::JournalSilOptions o;
-  o.eccentricity = 0.7;
-  o.wear = {mj::WearModel::elliptical, 15.02e-6, 19.0 * M_PI / 180.0, 102.0 * M_PI / 180.0};
-  o.record_s = 10.0;
-  const wi::JournalSilSummary s = wi::record_journal_sil(o, stem);
-  ASSERT_TRUE(s.ok) << s.message;
+  const std::string stem = sil_record_e07("journal_sil_e07_linear_10s", 15.02, 19.0, 102.0, 10.0, 0.0);
+  ASSERT_FALSE(stem.empty());
+  const mj::WearParams wear{mj::WearModel::elliptical, 15.02e-6, 19.0 * M_PI / 180.0, 102.0 * M_PI / 180.0};
   const board::BoardConfig b = board::load_board("unicamp-journal-rig");
   const wi::JournalMeasurement m = wi::measure_journal(host::load_event(stem + ".json"), b, 10.0);
   EXPECT_NEAR(m.available_s, 10.0, 0.01);  // the whole record is there, and analysed
   EXPECT_NEAR(m.window_s, 10.0, 1.0 / m.speed_hz);
   EXPECT_NEAR(wi::measure_journal(host::load_event(stem + ".json"), b, 2.0).window_s, 2.0, 1.0 / m.speed_hz);
-  mj::ReynoldsSolver solver(b.journal.geometry, o.wear, b.journal.grid);
+  mj::ReynoldsSolver solver(b.journal.geometry, wear, b.journal.grid);
   const mj::DynamicCoefficients d = mj::perturbation_coefficients(solver, m.journal, 2.0 * M_PI * m.speed_hz);
   const wi::RigResponse rig(b, m.speed_hz, {d.fx0_n, d.fy0_n});
   const wi::FullFilmSpectrum with = rig.journal_probes_full_film(solver, m.journal, d, 32, 60, 1e-8, nullptr, true, false);
@@ -163,20 +174,14 @@ TEST(JournalRig, FullFilmSilMatchesTheHarmonicBalanceAndShowsThe2x) {
   // linear film cannot tell from it (89.5 um, 40.2 deg, 110.3 deg; docs item 5) is many
   // noise sigmas away. Checks the plant's film term, the 2x extraction (phase referred to
   // twice the key phasor angle) and the harmonic balance together.
-  const std::string stem = std::string(test::artefact_dir()) + "/journal_sil_e07_full_film";
-  std::filesystem::create_directories(test::artefact_dir());
-  wi::JournalSilOptions o;
-  o.eccentricity = 0.7;
-  o.wear = {mj::WearModel::elliptical, 46.5e-6, 23.0 * M_PI / 180.0, 77.0 * M_PI / 180.0};
-  o.record_s = 1.0;
-  o.full_film_s = 3.0;
-  const wi::JournalSilSummary s = wi::record_journal_sil(o, stem);
-  ASSERT_TRUE(s.ok) << s.message;
+  const std::string stem = sil_record_e07("journal_sil_e07_full_film", 46.5, 23.0, 77.0, 1.0, 3.0);
+  ASSERT_FALSE(stem.empty());
+  const mj::WearParams wear{mj::WearModel::elliptical, 46.5e-6, 23.0 * M_PI / 180.0, 77.0 * M_PI / 180.0};
   const board::BoardConfig b = board::load_board("unicamp-journal-rig");
   const wi::JournalMeasurement m = wi::measure_journal(host::load_event(stem + ".json"), b, 1.0);
-  const wi::FullFilmSpectrum f = wi::predict_full_film(b, o.wear, m.journal, m.speed_hz);
-  const wi::FullSpectrum lin = wi::predict_spectrum(b, o.wear, m.journal, m.speed_hz);
-  mj::WearParams alias = o.wear;
+  const wi::FullFilmSpectrum f = wi::predict_full_film(b, wear, m.journal, m.speed_hz);
+  const wi::FullSpectrum lin = wi::predict_spectrum(b, wear, m.journal, m.speed_hz);
+  mj::WearParams alias = wear;
   alias.depth_m = 89.5e-6;
   alias.position_rad = 40.2 * M_PI / 180.0;
   alias.span_rad = 110.3 * M_PI / 180.0;

@@ -424,12 +424,14 @@ struct Pass {
 };
 
 // The per-sample part of a pass (contact forces, synchronous fit, speed rate) for half width h;
-// it does not depend on the window length, so the window halving reuses it.
+// it does not depend on the window length, so the window halving reuses it. The free-flight
+// force and its noise level only when `free_flight` (they choose the rotor description; the
+// half-width pass of the uncertainty does not need them).
 Pass prepare_pass(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o, size_t first,
-                  size_t last, int h, const model::rotor::RotorModel& rotor) {
+                  size_t last, int h, const model::rotor::RotorModel& rotor, bool free_flight) {
   Pass p;
   const std::vector<double> rate = m.speed_rad_s.empty() ? std::vector<double>{} : spin_rate_rad_s2(m, first, last - first, h);
-  p.samples = contact_forces(m, rig, first, last, h, rotor, o, rate, &p.synchronous, &p.free_flight);
+  p.samples = contact_forces(m, rig, first, last, h, rotor, o, rate, &p.synchronous, free_flight ? &p.free_flight : nullptr);
   if (o.matched_speed_filter) p.speed_rate_rad_s2 = rate;
   return p;
 }
@@ -527,7 +529,7 @@ FrictionEstimate finish_estimate(const Pass& base, const DropMeasurement& m, con
   r.valid = true;
   r.friction = p.cluster.mu;
   r.standard_error = p.cluster.se;
-  const Pass p2 = run_pass(prepare_pass(m, rig, ow, first, last, h2, rotor), m, rig, ow, first, rotor);
+  const Pass p2 = run_pass(prepare_pass(m, rig, ow, first, last, h2, rotor, false), m, rig, ow, first, rotor);
   r.smoothing_change = p2.cluster.used > 0 ? p2.cluster.mu - p.cluster.mu : 0.0;
   r.uncertainty = std::sqrt(r.standard_error * r.standard_error + r.smoothing_change * r.smoothing_change);
 
@@ -586,13 +588,15 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
   if (last <= first + static_cast<size_t>(std::lround(o.window_s * m.sample_rate_hz)))
     throw std::invalid_argument("friction estimate: " + m.source + ": record too short after the trigger");
 
-  const Pass rigid_base = prepare_pass(m, rig, [&] { FrictionEstimateOptions x = o; x.bending_modes = 0; return x; }(), first, last, h, rotor);
+  FrictionEstimateOptions o_rigid = o;
+  o_rigid.bending_modes = 0;
+  const Pass rigid_base = prepare_pass(m, rig, o_rigid, first, last, h, rotor, true);
   FrictionEstimate rigid = finish_estimate(rigid_base, m, rig, o, 0, first, last, h2, rotor);
   rigid.free_flight_samples = rigid_base.free_flight.samples;
   rigid.free_flight_force_rms_n = {rigid_base.free_flight.force_rms_n, 0.0};
   rigid.free_flight_noise_rms_n = {rigid_base.free_flight.noise_rms_n, 0.0};
   if (o.bending_modes == 0) return rigid;
-  const Pass bent_base = prepare_pass(m, rig, o, first, last, h, rotor);
+  const Pass bent_base = prepare_pass(m, rig, o, first, last, h, rotor, true);
   if (bent_base.free_flight.bending_modes == 0) return rigid;  // the inverse is not stable for this rig
   FrictionEstimate bent = finish_estimate(bent_base, m, rig, o, o.bending_modes, first, last, h2, rotor);
   for (auto* e : {&rigid, &bent}) {
