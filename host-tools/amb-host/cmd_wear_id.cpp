@@ -32,6 +32,7 @@ struct Args {
   bool second_harmonic = false;
   double model_error_1x = 0.0;
   int film_samples = 32;
+  int film_harmonics = 2;
   int threads = 2;
   double window_s = 2.0;
   bool json = false;
@@ -62,6 +63,7 @@ int run(const Args& a) {
   o.amb_nonlinear = a.amb_nonlinear;
   o.model_error_1x = a.model_error_1x;
   o.film_samples = a.film_samples;
+  o.film_harmonics = a.film_harmonics;
   if (const std::string why = o.check(); !why.empty()) {
     std::fprintf(stderr, "amb-host wear-id: error: %s\n", why.c_str());
     return 1;
@@ -114,6 +116,7 @@ int run(const Args& a) {
         {"used_2x", r.used_second_harmonic},
         {"model_error_1x", o.model_error_1x},
         {"amb_nonlinear", o.amb_nonlinear},
+        {"film_harmonics", o.film_harmonics},
         {"spectrum",
          {{"measured", {{"forward", component(r.measured.spectrum.forward_m)}, {"backward", component(r.measured.spectrum.backward_m)}}},
           {"fitted", {{"forward", component(r.fitted.forward_m)}, {"backward", component(r.fitted.backward_m)}}},
@@ -178,6 +181,9 @@ const amb::host::Registration reg{
                    "docs/journal-bearing.md)");
       sub.add_option("--film-samples", args->film_samples,
                      "full film: Reynolds solves per revolution of the orbit (default 32)");
+      sub.add_option("--film-harmonics", args->film_harmonics,
+                     "full film: highest harmonic of the spin in the harmonic balance, 2 or 3 (default 2; 3 adds "
+                     "the orbit's 3x, which feeds the film's 2x)");
       sub.add_option("--model-error", args->model_error_1x,
                      "relative model-error floor of the 1x residuals, e.g. 0.0025 (default 0: the seed's equal weights)");
       sub.add_flag("--json", args->json, "print the figures as JSON");

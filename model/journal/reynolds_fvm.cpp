@@ -300,7 +300,8 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
 }
 
 FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean, const std::array<std::complex<double>, 2>& q1_m,
-                             const std::array<std::complex<double>, 2>& q2_m, double spin_rad_s, int samples) {
+                             const std::array<std::complex<double>, 2>& q2_m, double spin_rad_s, int samples,
+                             const std::array<std::complex<double>, 2>& q3_m) {
   using cplx = std::complex<double>;
   if (samples < 8) throw std::invalid_argument("film_harmonics: need at least 8 samples per revolution");
   FilmHarmonics r;
@@ -309,12 +310,12 @@ FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean, c
   const double inv = 1.0 / static_cast<double>(samples);
   for (int k = 0; k < samples; ++k) {
     const double phi = 2.0 * M_PI * k * inv;
-    const cplx e1 = std::exp(j * phi), e2 = e1 * e1;
+    const cplx e1 = std::exp(j * phi), e2 = e1 * e1, e3 = e2 * e1;
     JournalState s = mean;
-    s.x_m += (q1_m[0] * e1 + q2_m[0] * e2).real();
-    s.y_m += (q1_m[1] * e1 + q2_m[1] * e2).real();
-    s.vx_m_s += spin_rad_s * (j * q1_m[0] * e1 + 2.0 * j * q2_m[0] * e2).real();
-    s.vy_m_s += spin_rad_s * (j * q1_m[1] * e1 + 2.0 * j * q2_m[1] * e2).real();
+    s.x_m += (q1_m[0] * e1 + q2_m[0] * e2 + q3_m[0] * e3).real();
+    s.y_m += (q1_m[1] * e1 + q2_m[1] * e2 + q3_m[1] * e3).real();
+    s.vx_m_s += spin_rad_s * (j * (q1_m[0] * e1 + 2.0 * q2_m[0] * e2 + 3.0 * q3_m[0] * e3)).real();
+    s.vy_m_s += spin_rad_s * (j * (q1_m[1] * e1 + 2.0 * q2_m[1] * e2 + 3.0 * q3_m[1] * e3)).real();
     const FilmForces f = solver.solve(s, spin_rad_s);
     r.min_film_m = std::min(r.min_film_m, f.min_film_m);
     r.fx_mean_n += inv * f.fx_n;
@@ -323,6 +324,8 @@ FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean, c
     r.first_n[1] += 2.0 * inv * f.fy_n * std::conj(e1);
     r.second_n[0] += 2.0 * inv * f.fx_n * std::conj(e2);
     r.second_n[1] += 2.0 * inv * f.fy_n * std::conj(e2);
+    r.third_n[0] += 2.0 * inv * f.fx_n * std::conj(e3);
+    r.third_n[1] += 2.0 * inv * f.fy_n * std::conj(e3);
   }
   return r;
 }

@@ -222,9 +222,9 @@ TEST(Reynolds, FilmHarmonicsOfACircularOrbitAboutThePlainBoreCentre) {
 }
 
 TEST(Reynolds, FilmHarmonicsOfSmallOrbitsFollowTheCoefficientsAndGrowAsTheSquare) {
-  // About a loaded position (e = 0.6): a small 1x orbit gives F1 = -(K + j Omega C) Q1 and a
-  // small 2x orbit F2 = -(K + 2 j Omega C) Q2 (the 2x orbit's velocity is 2 Omega), to first
-  // order; the 2x force of a 1x orbit (the film's second-order response) grows as the
+  // About a loaded position (e = 0.6): a small 1x orbit gives F1 = -(K + j Omega C) Q1, a
+  // small 2x orbit F2 = -(K + 2 j Omega C) Q2 and a small 3x orbit F3 = -(K + 3 j Omega C) Q3
+  // (the k-th harmonic's velocity is k Omega), to first order; the 2x force of a 1x orbit (the film's second-order response) grows as the
   // square of the orbit: x 4 for twice the orbit.
   ReynoldsOptions o;
   ReynoldsSolver s(bearing(0.56), {}, o);
@@ -249,6 +249,17 @@ TEST(Reynolds, FilmHarmonicsOfSmallOrbitsFollowTheCoefficientsAndGrowAsTheSquare
   const FilmHarmonics h2 = film_harmonics(s, mean, zero, q, k_omega, 32);
   const auto e2 = expected(2.0);
   for (size_t i = 0; i < 2; ++i) EXPECT_LT(std::abs(h2.second_n[i] - e2[i]), 0.03 * scale) << i;
+  const FilmHarmonics h3 = film_harmonics(s, mean, zero, zero, k_omega, 48, q);
+  const auto e3 = expected(3.0);
+  for (size_t i = 0; i < 2; ++i) EXPECT_LT(std::abs(h3.third_n[i] - e3[i]), 0.03 * scale) << i;
+  // Exact: an orbit of 3x only repeats every third of a revolution, so its force has no 1x
+  // and no 2x at all (catches the 3x entering the orbit at the wrong order). 48 samples: a
+  // multiple of 3, so the sampled force repeats exactly too (with 32 the 33rd harmonic
+  // aliases onto the 1x).
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_LT(std::abs(h3.first_n[i]), 1e-9 * scale) << i;
+    EXPECT_LT(std::abs(h3.second_n[i]), 1e-9 * scale) << i;
+  }
   const std::array<cplx, 2> q2x{2.0 * q[0], 2.0 * q[1]};
   const FilmHarmonics big = film_harmonics(s, mean, q2x, zero, k_omega, 32);
   const double small_2x = std::hypot(std::abs(h1.second_n[0]), std::abs(h1.second_n[1]));

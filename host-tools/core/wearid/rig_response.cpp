@@ -176,60 +176,67 @@ cplx RigResponse::loop_gain(size_t b, double w) const {
   return amp * hold * pid * sen;
 }
 
-void RigResponse::amb_remainder(const Eigen::VectorXcd& e1, const Eigen::VectorXcd& e2, double w, int samples,
-                                Eigen::VectorXcd& f1, Eigen::VectorXcd& f2) const {
+std::vector<Eigen::VectorXcd> RigResponse::amb_remainder(const std::vector<Eigen::VectorXcd>& e, double w, int samples) const {
   const model::PlantParams& p = b_.plant;
   const int m = m_;
-  f1 = Eigen::VectorXcd::Zero(2 * m);
-  f2 = Eigen::VectorXcd::Zero(2 * m);
-  const auto at = [&](const Eigen::RowVectorXd& row, const Eigen::VectorXcd& e) {
+  const size_t nh = e.size();
+  std::vector<Eigen::VectorXcd> f(nh, Eigen::VectorXcd::Zero(2 * m));
+  const auto at = [&](const Eigen::RowVectorXd& row, const Eigen::VectorXcd& v) {
     cplx x = 0.0, y = 0.0;
     for (int i = 0; i < m; ++i) {
-      x += row(i) * e(i);
-      y += row(i) * e(m + i);
+      x += row(i) * v(i);
+      y += row(i) * v(m + i);
     }
     return std::array<cplx, 2>{x, y};
   };
   const int n = std::max(8, samples);
   for (size_t b = 0; b < 2; ++b) {
     const model::magnet::AxisLaw law = model::magnet::make_axis_law(p.amb[b]);
-    const std::array<std::array<cplx, 2>, 2> xa{at(b_amb_[b], e1), at(b_amb_[b], e2)}, xs{at(b_sensor_[b], e1), at(b_sensor_[b], e2)};
-    const std::array<cplx, 2> loop{loop_gain(b, w), loop_gain(b, 2.0 * w)};
-    std::array<cplx, 2> fxy1{}, fxy2{};
+    std::vector<std::array<cplx, 2>> xa(nh), xs(nh);
+    std::vector<cplx> loop(nh);
+    for (size_t k = 0; k < nh; ++k) {
+      xa[k] = at(b_amb_[b], e[k]);
+      xs[k] = at(b_sensor_[b], e[k]);
+      loop[k] = loop_gain(b, static_cast<double>(k + 1) * w);
+    }
+    std::vector<std::array<cplx, 2>> fxy(nh, std::array<cplx, 2>{});
     for (size_t a = 0; a < 2; ++a) {
       const auto d = model::magnet::axis_direction(p.amb[b].actuator_angle_deg[a]);
       // Actuator-plane displacement along the axis and the control current the loop commands
       // (force demand -loop x_sensor along the axis, divided by the board's ki), per harmonic.
-      std::array<cplx, 2> z{}, ic{};
-      for (size_t k = 0; k < 2; ++k) {
+      std::vector<cplx> z(nh), ic(nh), r(nh, 0.0);
+      for (size_t k = 0; k < nh; ++k) {
         z[k] = d[0] * xa[k][0] + d[1] * xa[k][1];
         ic[k] = -loop[k] * (d[0] * xs[k][0] + d[1] * xs[k][1]) / p.amb[b].ki_n_per_a;
       }
       const double z0 = axis_z0_m_[b][a], i0 = axis_ic0_a_[b][a];
       const double f0 = model::magnet::axis_force_n(law, z0, i0);
-      cplx r1 = 0.0, r2 = 0.0;
       for (int s = 0; s < n; ++s) {
-        const double th = k_two_pi * s / n;
-        const cplx e = std::polar(1.0, th), ee = e * e;
-        const double zt = (z[0] * e + z[1] * ee).real(), it = (ic[0] * e + ic[1] * ee).real();
+        const cplx e1 = std::polar(1.0, k_two_pi * s / n);
+        cplx ek = 1.0;
+        double zt = 0.0, it = 0.0;
+        for (size_t k = 0; k < nh; ++k) {
+          ek *= e1;
+          zt += (z[k] * ek).real();
+          it += (ic[k] * ek).real();
+        }
         const double rem = model::magnet::axis_force_n(law, z0 + zt, i0 + it) - f0 - axis_ks_[b][a] * zt - axis_ki_[b][a] * it;
-        r1 += rem * std::conj(e);
-        r2 += rem * std::conj(ee);
+        ek = 1.0;
+        for (size_t k = 0; k < nh; ++k) {
+          ek *= e1;
+          r[k] += rem * std::conj(ek);
+        }
       }
-      r1 *= 2.0 / n;
-      r2 *= 2.0 / n;
-      for (size_t c = 0; c < 2; ++c) {
-        fxy1[c] += d[c] * r1;
-        fxy2[c] += d[c] * r2;
+      for (size_t k = 0; k < nh; ++k)
+        for (size_t c = 0; c < 2; ++c) fxy[k][c] += d[c] * r[k] * (2.0 / n);
+    }
+    for (size_t k = 0; k < nh; ++k)
+      for (int i = 0; i < m; ++i) {
+        f[k](i) += b_amb_[b](i) * fxy[k][0];
+        f[k](m + i) += b_amb_[b](i) * fxy[k][1];
       }
-    }
-    for (int i = 0; i < m; ++i) {
-      f1(i) += b_amb_[b](i) * fxy1[0];
-      f1(m + i) += b_amb_[b](i) * fxy1[1];
-      f2(i) += b_amb_[b](i) * fxy2[0];
-      f2(m + i) += b_amb_[b](i) * fxy2[1];
-    }
   }
+  return f;
 }
 
 namespace {
@@ -287,27 +294,33 @@ FullSpectrum RigResponse::journal_probes_at(double speed_hz, const Eigen::Matrix
 
 FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsSolver& solver,
                                                         const model::journal::JournalState& mean,
-                                                        const model::journal::DynamicCoefficients& lin, int samples,
-                                                        int max_iterations, double tolerance,
-                                                        const FullFilmSpectrum* start, bool amb_nonlinear,
-                                                        bool film_nonlinear) const {
-  if (max_iterations < 1) throw std::invalid_argument("full film: max_iterations must be >= 1");
+                                                        const model::journal::DynamicCoefficients& lin,
+                                                        const HarmonicBalanceOptions& o) const {
+  if (o.max_iterations < 1) throw std::invalid_argument("full film: max_iterations must be >= 1");
+  if (o.harmonics < 2 || o.harmonics > 3) throw std::invalid_argument("full film: harmonics must be 2 or 3");
+  if (o.samples < 8) throw std::invalid_argument("full film: samples must be >= 8");
   const Eigen::Matrix2d& k = lin.stiffness_n_per_m;
   const Eigen::Matrix2d& c = lin.damping_n_s_per_m;
   const double w = k_two_pi * speed_hz_;
   const cplx j(0.0, 1.0);
   const int m = m_;
-  const Eigen::PartialPivLU<Eigen::MatrixXcd> a1(dynamic_matrix(speed_hz_, speed_hz_, k, c));
-  const Eigen::PartialPivLU<Eigen::MatrixXcd> a2(dynamic_matrix(speed_hz_, 2.0 * speed_hz_, k, c));
+  const size_t nh = static_cast<size_t>(o.harmonics);
+  // Per harmonic h (h + 1 times the spin): the closed loop's dynamic matrix and the film's
+  // linearisation at that frequency.
+  std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> a;
+  std::vector<Eigen::Matrix2cd> dk;
+  for (size_t h = 0; h < nh; ++h) {
+    const double order = static_cast<double>(h + 1);
+    a.emplace_back(dynamic_matrix(speed_hz_, order * speed_hz_, k, c));
+    dk.push_back(k.cast<cplx>() + order * j * w * c.cast<cplx>());
+  }
   Eigen::VectorXcd f_unb(2 * m);
   for (int i = 0; i < m; ++i) {
     const cplx fx = w * w * cplx(unb_s_(i), unb_c_(i));
     f_unb(i) = fx;
     f_unb(m + i) = -j * fx;
   }
-  const Eigen::VectorXcd e1_lin = a1.solve(f_unb);
-  const Eigen::Matrix2cd d1 = k.cast<cplx>() + j * w * c.cast<cplx>();
-  const Eigen::Matrix2cd d2 = k.cast<cplx>() + 2.0 * j * w * c.cast<cplx>();
+  const Eigen::VectorXcd e1_lin = a[0].solve(f_unb);
   const auto journal_xy = [&](const Eigen::VectorXcd& e) {
     Eigen::Vector2cd x = Eigen::Vector2cd::Zero();
     for (int i = 0; i < m; ++i) {
@@ -325,73 +338,75 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
     return v;
   };
   const double scale = std::max(journal_xy(e1_lin).norm(), 1e-12);
-  // Unknowns: the modal responses E1, E2 as reals (re, im per entry), in units of the linear
-  // journal orbit.
-  const int nv = 8 * m;
-  auto pack = [&](const Eigen::VectorXcd& e1, const Eigen::VectorXcd& e2) {
+  // Unknowns: the modal responses E_1..E_H as reals (re, im per entry), in units of the
+  // linear journal orbit; harmonic h occupies entries [4 m h, 4 m (h + 1)).
+  const int block = 4 * m;
+  const int nv = block * o.harmonics;
+  auto pack = [&](const std::vector<Eigen::VectorXcd>& e) {
     Eigen::VectorXd v(nv);
-    for (int i = 0; i < 2 * m; ++i) {
-      v(2 * i) = e1(i).real() / scale;
-      v(2 * i + 1) = e1(i).imag() / scale;
-      v(4 * m + 2 * i) = e2(i).real() / scale;
-      v(4 * m + 2 * i + 1) = e2(i).imag() / scale;
-    }
+    for (size_t h = 0; h < nh; ++h)
+      for (int i = 0; i < 2 * m; ++i) {
+        v(block * static_cast<int>(h) + 2 * i) = e[h](i).real() / scale;
+        v(block * static_cast<int>(h) + 2 * i + 1) = e[h](i).imag() / scale;
+      }
     return v;
   };
-  auto unpack = [&](const Eigen::VectorXd& v, Eigen::VectorXcd& e1, Eigen::VectorXcd& e2) {
-    e1.resize(2 * m);
-    e2.resize(2 * m);
-    for (int i = 0; i < 2 * m; ++i) {
-      e1(i) = cplx(v(2 * i), v(2 * i + 1)) * scale;
-      e2(i) = cplx(v(4 * m + 2 * i), v(4 * m + 2 * i + 1)) * scale;
-    }
+  auto unpack = [&](const Eigen::VectorXd& v) {
+    std::vector<Eigen::VectorXcd> e(nh, Eigen::VectorXcd(2 * m));
+    for (size_t h = 0; h < nh; ++h)
+      for (int i = 0; i < 2 * m; ++i)
+        e[h](i) = cplx(v(block * static_cast<int>(h) + 2 * i), v(block * static_cast<int>(h) + 2 * i + 1)) * scale;
+    return e;
   };
   FullFilmSpectrum r;
+  r.harmonics = o.harmonics;
   model::journal::FilmHarmonics fh;
   auto map = [&](const Eigen::VectorXd& v) {
-    Eigen::VectorXcd e1, e2;
-    unpack(v, e1, e2);
-    const Eigen::Vector2cd x1 = journal_xy(e1), x2 = journal_xy(e2);
-    Eigen::VectorXcd g1 = f_unb, g2 = Eigen::VectorXcd::Zero(2 * m);
-    if (film_nonlinear) {
-      fh = model::journal::film_harmonics(solver, mean, {x1(0), x1(1)}, {x2(0), x2(1)}, w, samples);
-      g1 += journal_force(Eigen::Vector2cd(fh.first_n[0], fh.first_n[1]) + d1 * x1);
-      g2 += journal_force(Eigen::Vector2cd(fh.second_n[0], fh.second_n[1]) + d2 * x2);
+    const std::vector<Eigen::VectorXcd> e = unpack(v);
+    std::vector<Eigen::Vector2cd> x(3, Eigen::Vector2cd::Zero());
+    for (size_t h = 0; h < nh; ++h) x[h] = journal_xy(e[h]);
+    std::vector<Eigen::VectorXcd> g(nh, Eigen::VectorXcd::Zero(2 * m));
+    g[0] = f_unb;
+    if (o.film_nonlinear) {
+      fh = model::journal::film_harmonics(solver, mean, {x[0](0), x[0](1)}, {x[1](0), x[1](1)}, w, o.samples,
+                                          {x[2](0), x[2](1)});
+      const std::array<const std::array<cplx, 2>*, 3> fk{&fh.first_n, &fh.second_n, &fh.third_n};
+      for (size_t h = 0; h < nh; ++h)
+        g[h] += journal_force(Eigen::Vector2cd((*fk[h])[0], (*fk[h])[1]) + dk[h] * x[h]);
     }
-    if (amb_nonlinear) {
-      Eigen::VectorXcd a_1, a_2;
-      amb_remainder(e1, e2, w, samples, a_1, a_2);
-      g1 += a_1;
-      g2 += a_2;
+    if (o.amb_nonlinear) {
+      const std::vector<Eigen::VectorXcd> ra = amb_remainder(e, w, o.samples);
+      for (size_t h = 0; h < nh; ++h) g[h] += ra[h];
     }
-    return pack(a1.solve(g1), a2.solve(g2));
+    for (size_t h = 0; h < nh; ++h) g[h] = a[h].solve(g[h]);
+    return pack(g);
   };
   Eigen::VectorXd x;
-  if (start) {
-    // The previous orbit's journal motion as a start: the linear response scaled to it is
-    // not available, so start from the linear response plus the 2x the journal force implies.
-    const Eigen::Vector2cd x2(start->journal_second_m[0], start->journal_second_m[1]);
-    const Eigen::Vector2cd x1(start->journal_first_m[0], start->journal_first_m[1]);
-    const Eigen::Vector2cd dx1 = x1 - journal_xy(e1_lin);
-    // Least-norm modal correction that moves the journal by dx1 (and puts x2 there), through
-    // the journal receptance of the linear system.
-    const Eigen::Matrix2cd h1 = journal_receptance(speed_hz_, speed_hz_, k, c);
-    const Eigen::Matrix2cd h2 = journal_receptance(speed_hz_, 2.0 * speed_hz_, k, c);
-    const Eigen::VectorXcd e1 = e1_lin + a1.solve(journal_force(h1.partialPivLu().solve(dx1)));
-    const Eigen::VectorXcd e2 = a2.solve(journal_force(h2.partialPivLu().solve(x2)));
-    x = pack(e1, e2);
-  } else {
-    x = pack(e1_lin, Eigen::VectorXcd::Zero(2 * m));
+  std::vector<Eigen::VectorXcd> e0(nh, Eigen::VectorXcd::Zero(2 * m));
+  e0[0] = e1_lin;
+  if (o.start) {
+    // The previous orbit's journal motion as a start: least-norm modal corrections that move
+    // the journal to it, through the journal receptance of the linear system at each harmonic.
+    const std::array<const std::array<cplx, 2>*, 3> xs{&o.start->journal_first_m, &o.start->journal_second_m,
+                                                       &o.start->journal_third_m};
+    for (size_t h = 0; h < nh; ++h) {
+      Eigen::Vector2cd target((*xs[h])[0], (*xs[h])[1]);
+      if (h == 0) target -= journal_xy(e1_lin);
+      const double order = static_cast<double>(h + 1);
+      const Eigen::Matrix2cd rec = journal_receptance(speed_hz_, order * speed_hz_, k, c);
+      e0[h] += a[h].solve(journal_force(rec.partialPivLu().solve(target)));
+    }
   }
+  x = pack(e0);
   // Anderson acceleration (depth 3) of the fixed-point map x -> g(x): the plain iteration
   // contracts by only ~0.45 per step at e = 0.7 (the film's describing-function stiffness
   // differs from its tangent stiffness by ~10 % there).
   constexpr int depth = 3;
   std::vector<Eigen::VectorXd> gs, fs;
-  for (r.iterations = 1; r.iterations <= max_iterations; ++r.iterations) {
+  for (r.iterations = 1; r.iterations <= o.max_iterations; ++r.iterations) {
     const Eigen::VectorXd g = map(x);
     const Eigen::VectorXd f = g - x;
-    if (f.norm() < tolerance) {
+    if (f.norm() < o.tolerance) {
       x = g;
       r.converged = true;
       break;
@@ -415,20 +430,21 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
     const Eigen::VectorXd gamma = df.completeOrthogonalDecomposition().solve(f);
     x = g - dg * gamma;
   }
-  r.iterations = std::min(r.iterations, max_iterations);
-  Eigen::VectorXcd e1, e2;
-  unpack(x, e1, e2);
-  const Eigen::Vector2cd x1 = journal_xy(e1), x2 = journal_xy(e2);
-  r.mean_force_n = {fh.fx_mean_n, fh.fy_mean_n};
-  r.journal_first_m = {x1(0), x1(1)};
-  r.journal_second_m = {x2(0), x2(1)};
+  r.iterations = std::min(r.iterations, o.max_iterations);
+  const std::vector<Eigen::VectorXcd> e = unpack(x);
   auto probes = [&](const Eigen::Vector2cd& v) {
     const cplx xp = probe_dir_[0][0] * v(0) + probe_dir_[0][1] * v(1);
     const cplx yp = probe_dir_[1][0] * v(0) + probe_dir_[1][1] * v(1);
     return FullSpectrum{0.5 * (xp + j * yp), 0.5 * std::conj(xp - j * yp)};
   };
-  r.first = probes(x1);
-  r.second = probes(x2);
+  r.mean_force_n = {fh.fx_mean_n, fh.fy_mean_n};
+  const std::array<std::array<cplx, 2>*, 3> xj{&r.journal_first_m, &r.journal_second_m, &r.journal_third_m};
+  const std::array<FullSpectrum*, 3> zp{&r.first, &r.second, &r.third};
+  for (size_t h = 0; h < nh; ++h) {
+    const Eigen::Vector2cd v = journal_xy(e[h]);
+    *xj[h] = {v(0), v(1)};
+    *zp[h] = probes(v);
+  }
   return r;
 }
 

@@ -19,6 +19,7 @@
 // Z- = conj(X' - j Y') / 2, so that x' + j y' = Z+ e^{j theta} + Z- e^{-j theta}.
 #include <array>
 #include <complex>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -36,14 +37,27 @@ struct FullSpectrum {
   cplx backward_m;  ///< -1x component, m
 };
 
-/// Steady response at the journal probes with the full (nonlinear) film: +-1x and +-2x.
+/// Steady response at the journal probes with the full (nonlinear) film: +-1x, +-2x (+-3x).
 struct FullFilmSpectrum {
   FullSpectrum first;            ///< +1x / -1x, m (referred to the spin angle)
   FullSpectrum second;           ///< +2x / -2x, m (referred to twice the spin angle)
-  std::array<cplx, 2> journal_first_m{}, journal_second_m{};  ///< (x, y) at the journal plane, m
+  FullSpectrum third;            ///< +3x / -3x, m (thrice the spin angle); zero with 2 harmonics
+  std::array<cplx, 2> journal_first_m{}, journal_second_m{}, journal_third_m{};  ///< (x, y) at the journal plane, m
   std::array<double, 2> mean_force_n{};  ///< film force averaged over the orbit, N
+  int harmonics = 2;             ///< highest harmonic of the spin in the balance
   int iterations = 0;            ///< harmonic-balance iterations used
   bool converged = false;        ///< last update below the tolerance
+};
+
+/// Settings of the harmonic balance (RigResponse::journal_probes_full_film).
+struct HarmonicBalanceOptions {
+  int samples = 32;              ///< Reynolds solves (and AMB-law samples) per revolution, >= 8
+  int max_iterations = 40;       ///< fixed-point iterations at most, >= 1
+  double tolerance = 1e-5;       ///< update norm, relative to the linear journal orbit
+  const FullFilmSpectrum* start = nullptr;  ///< a nearby solution to start from (e.g. the previous wear's)
+  bool amb_nonlinear = false;    ///< the AMBs' force law beyond its linearisation
+  bool film_nonlinear = true;    ///< the film beyond its linearisation (false: linear, as the SIL's default element)
+  int harmonics = 2;             ///< highest harmonic of the spin kept: 2 or 3
 };
 
 class RigResponse {
@@ -69,27 +83,25 @@ class RigResponse {
   double speed_hz() const { return speed_hz_; }
   /// Modal response (x modes then y modes) at a speed.
   Eigen::VectorXcd modal_response(double speed_hz, const Eigen::Matrix2d& k_n_per_m, const Eigen::Matrix2d& c_n_s_per_m) const;
-  /// The journal probes' +-1x and +-2x with the full Reynolds film (`solver`, the bore and its
-  /// wear) about the journal's mean position `mean` (m, velocities 0), by harmonic balance.
-  /// Two nonlinear forces are split into their linearisation (in the closed loop's dynamic
-  /// matrix A) and a remainder: with `film_nonlinear` (false: the film stays linear, as the
-  /// SIL's default element) the film at the journal plane (linearised by `lin` at `mean`,
-  /// K, C for this response's speed; remainder's harmonics by model::journal::film_harmonics,
-  /// `samples` solves per iteration) and, with `amb_nonlinear` (opt-in), each AMB's force law
-  /// (model/amb/amb_force.hpp) about its static gap and current, along the orbit of its
-  /// actuator plane and the control current the loop commands (the quadratic law makes a 2x
-  /// of its own: at e = 0.7 about 0.02 um at the journal probes, the size of the film's 2x
-  /// error it would otherwise leave). The modal response at 1x and 2x solves
-  ///   A(W) E1 = F_unbalance + B^T R1(E1, E2),   A(2 W) E2 = B^T R2(E1, E2)
+  /// The journal probes' +-1x and +-2x (and +-3x) with the full Reynolds film (`solver`, the
+  /// bore and its wear) about the journal's mean position `mean` (m, velocities 0), by
+  /// harmonic balance. Two nonlinear forces are split into their linearisation (in the closed
+  /// loop's dynamic matrix A) and a remainder: with `o.film_nonlinear` the film at the journal
+  /// plane (linearised by `lin` at `mean`, K, C for this response's speed; remainder's
+  /// harmonics by model::journal::film_harmonics, `o.samples` solves per iteration) and, with
+  /// `o.amb_nonlinear`, each AMB's force law (model/amb/amb_force.hpp) about its static gap
+  /// and current, along the orbit of its actuator plane and the control current the loop
+  /// commands (the quadratic law makes a 2x of its own: at e = 0.7 about 0.02 um at the
+  /// journal probes). The modal responses at the harmonics k = 1..H (H = `o.harmonics`) solve
+  ///   A(k W) E_k = [k = 1] F_unbalance + B^T R_k(E_1, ..., E_H)
   /// by Anderson-accelerated fixed-point iteration from the linear response (or from
-  /// `start`'s journal orbit, e.g. the previous wear's) until the update is below `tolerance`
-  /// times the linear response or `max_iterations`. Higher harmonics are neglected. Throws
-  /// std::invalid_argument when the orbit touches the bore.
+  /// `o.start`'s journal orbit) until the update is below `o.tolerance` times the linear
+  /// response or `o.max_iterations`. Harmonics above H are neglected: with H = 2 the 3x the
+  /// orbit makes (and its products with the 1x, which feed the 2x) are missing. Throws
+  /// std::invalid_argument when the orbit touches the bore or an option is out of range.
   FullFilmSpectrum journal_probes_full_film(model::journal::ReynoldsSolver& solver, const model::journal::JournalState& mean,
-                                            const model::journal::DynamicCoefficients& lin, int samples = 32,
-                                            int max_iterations = 40, double tolerance = 1e-5,
-                                            const FullFilmSpectrum* start = nullptr, bool amb_nonlinear = false,
-                                            bool film_nonlinear = true) const;
+                                            const model::journal::DynamicCoefficients& lin,
+                                            const HarmonicBalanceOptions& o = {}) const;
   /// Receptance at the journal plane: complex displacement amplitudes (x, y), m, per unit
   /// complex force amplitude (x, y), N, applied at the journal plane at `excitation_hz`
   /// (any frequency, e.g. a harmonic of the spin), with the rotor spinning at `spin_hz`
@@ -109,10 +121,10 @@ class RigResponse {
   // Force demand per unit sensor-plane displacement of AMB b at `w_rad_s` (N/m, complex): the
   // sensor roll-off, the discrete PID with its notches, the half-period hold, the amplifier.
   cplx loop_gain(size_t b, double w_rad_s) const;
-  // Harmonics 1 and 2 of the AMB force-law remainder (law - its linearisation) along the orbit
-  // of modal responses e1 (1x) and e2 (2x), as modal forces (x modes then y modes), N.
-  void amb_remainder(const Eigen::VectorXcd& e1, const Eigen::VectorXcd& e2, double w_rad_s, int samples,
-                     Eigen::VectorXcd& f1, Eigen::VectorXcd& f2) const;
+  // Harmonics 1..H of the AMB force-law remainder (law - its linearisation) along the orbit of
+  // modal responses e[k-1] at k x the spin (H = e.size()), as modal forces (x modes then y
+  // modes), N.
+  std::vector<Eigen::VectorXcd> amb_remainder(const std::vector<Eigen::VectorXcd>& e, double w_rad_s, int samples) const;
   board::BoardConfig b_;
   double speed_hz_ = 0.0;
   model::rotor::RotorModel fe_;

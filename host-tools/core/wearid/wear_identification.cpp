@@ -94,9 +94,14 @@ class Evaluator {
     // Full film: harmonic balance, started from the previous wear's orbit (the optimiser's
     // consecutive wears are close; the tolerance keeps the result independent of the start
     // to ~1e-6 of the response).
-    const FullFilmSpectrum f = rigs_[rec].journal_probes_full_film(s, m.journal, d, o_.film_samples, 60, o_.film_tolerance,
-                                                                   last_[rec].iterations > 0 ? &last_[rec] : nullptr,
-                                                                   o_.amb_nonlinear);
+    HarmonicBalanceOptions hb;
+    hb.samples = o_.film_samples;
+    hb.max_iterations = 60;
+    hb.tolerance = o_.film_tolerance;
+    hb.start = last_[rec].iterations > 0 ? &last_[rec] : nullptr;
+    hb.amb_nonlinear = o_.amb_nonlinear;
+    hb.harmonics = o_.film_harmonics;
+    const FullFilmSpectrum f = rigs_[rec].journal_probes_full_film(s, m.journal, d, hb);
     if (!f.converged) throw std::invalid_argument("wear-id: full-film harmonic balance did not converge");
     last_[rec] = f;
     second_z_[rec] = f.second;
@@ -187,6 +192,7 @@ std::string WearIdOptions::check() const {
   if (second_harmonic && !full_film) return "the 2x components need the full-film model (full_film)";
   if (full_film && use_amb_planes) return "the full-film model predicts the journal probes only (not with the AMB planes)";
   if (film_samples < 8 || film_samples > 512) return "film_samples must be 8..512";
+  if (film_harmonics < 2 || film_harmonics > 3) return "film_harmonics must be 2 or 3";
   if (!(model_error_1x >= 0.0 && model_error_1x < 0.5)) return "model_error_1x must be in [0, 0.5)";
   if (!(film_tolerance > 0.0 && film_tolerance < 1e-2)) return "film_tolerance must be in (0, 1e-2)";
   return "";
@@ -201,11 +207,13 @@ FullSpectrum predict_spectrum(const board::BoardConfig& board, const mj::WearPar
 }
 
 FullFilmSpectrum predict_full_film(const board::BoardConfig& board, const mj::WearParams& wear, const mj::JournalState& mean,
-                                   double speed_hz, int samples, double tolerance) {
+                                   double speed_hz, const HarmonicBalanceOptions& options) {
   mj::ReynoldsSolver s(board.journal.geometry, wear, board.journal.grid);
   const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, mean, 2.0 * M_PI * speed_hz);
   RigResponse rig(board, speed_hz, {d.fx0_n, d.fy0_n});
-  return rig.journal_probes_full_film(s, mean, d, samples, 60, tolerance);
+  HarmonicBalanceOptions hb = options;
+  hb.start = nullptr;
+  return rig.journal_probes_full_film(s, mean, d, hb);
 }
 
 WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasurement& meas, const WearIdOptions& o) {

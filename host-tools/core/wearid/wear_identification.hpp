@@ -65,6 +65,9 @@ struct WearIdOptions {
   /// right on linear-film records, but it uncovers a film-part 2x error of several per cent
   /// (the neglected 3x, probably) that the AMBs' missing 2x partly cancelled.
   bool amb_nonlinear = false;
+  /// Full film: highest harmonic of the spin in the harmonic balance, 2 or 3. With 2 the
+  /// orbit's 3x is neglected, and with it the film's 2x from the product of the 3x and the 1x.
+  int film_harmonics = 2;
   /// Empty when valid, else the reason.
   std::string check() const;
 };
@@ -102,7 +105,7 @@ FullSpectrum predict_spectrum(const board::BoardConfig& board, const model::jour
 /// The same with the full (nonlinear) film by harmonic balance: +-1x and +-2x at the journal
 /// probes with the journal's mean position at `mean` (see RigResponse::journal_probes_full_film).
 FullFilmSpectrum predict_full_film(const board::BoardConfig& board, const model::journal::WearParams& wear,
-                                   const model::journal::JournalState& mean, double speed_hz, int samples = 32,
-                                   double tolerance = 1e-6);
+                                   const model::journal::JournalState& mean, double speed_hz,
+                                   const HarmonicBalanceOptions& options = {32, 60, 1e-6});
 
 }  // namespace amb::host::wearid
