@@ -117,6 +117,7 @@ int run(const Args& a) {
         {"model_error_1x", o.model_error_1x},
         {"amb_nonlinear", o.amb_nonlinear},
         {"film_harmonics", o.film_harmonics},
+        {"refined_starts", r.refined_starts},
         {"spectrum",
          {{"measured", {{"forward", component(r.measured.spectrum.forward_m)}, {"backward", component(r.measured.spectrum.backward_m)}}},
           {"fitted", {{"forward", component(r.fitted.forward_m)}, {"backward", component(r.fitted.backward_m)}}},

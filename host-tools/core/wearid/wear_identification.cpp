@@ -111,9 +111,9 @@ class Evaluator {
 
   // Residuals in units of each record's measured spectra's norm: journal pair, then the AMB
   // planes, record after record.
-  std::vector<double> residual(const std::vector<double>& u) {
+  std::vector<double> residual(const std::vector<double>& u) { return residual_of(wear_of(u)); }
+  std::vector<double> residual_of(const mj::WearParams& w) {
     ++evaluations;
-    const mj::WearParams w = wear_of(u);
     std::vector<double> r;
     r.reserve(sigma_.size());
     for (size_t rec = 0; rec < ms_.size(); ++rec) {
@@ -134,10 +134,11 @@ class Evaluator {
     for (size_t k = 0; k < r.size(); ++k) r[k] *= weight_[k];
     return r;
   }
-  double cost(const std::vector<double>& u) {
+  double cost(const std::vector<double>& u) { return cost_of(wear_of(u)); }
+  double cost_of(const mj::WearParams& w) {
     double s = 0.0;
     try {
-      for (double r : residual(u)) s += r * r;
+      for (double r : residual_of(w)) s += r * r;
     } catch (const std::invalid_argument&) {
       return 1e3;  // a wear the model cannot represent (e.g. journal touching the worn bore)
     }
@@ -214,6 +215,14 @@ FullFilmSpectrum predict_full_film(const board::BoardConfig& board, const mj::We
   HarmonicBalanceOptions hb = options;
   hb.start = nullptr;
   return rig.journal_probes_full_film(s, mean, d, hb);
+}
+
+double wear_cost(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas, const WearIdOptions& o,
+                 const mj::WearParams& wear) {
+  if (meas.empty()) throw std::invalid_argument("wear-id: no measurement");
+  if (const std::string why = o.check(); !why.empty()) throw std::invalid_argument("wear-id: " + why);
+  Evaluator e(board, meas, o);
+  return e.cost_of(wear);
 }
 
 WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasurement& meas, const WearIdOptions& o) {
@@ -325,17 +334,23 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   // Local polish (BOBYQA, bounded) from those points, in parallel; each polish is restarted
   // from its end point (fresh trust region) until a restart gains less than 1e-3 of the cost,
   // as BOBYQA stops early in the long, narrow valleys of this cost.
-  const int starts = std::min(o.polished_starts, static_cast<int>(order.size()));
-  std::vector<std::vector<double>> best_x(static_cast<size_t>(starts));
-  std::vector<double> best_f(static_cast<size_t>(starts), 1e300);
-  std::vector<std::string> reasons(static_cast<size_t>(starts));
-  std::vector<int> pevals(static_cast<size_t>(starts), 0);
-  {
+  std::vector<std::vector<double>> best_x;
+  std::vector<double> best_f;
+  std::vector<std::string> reasons;
+  std::vector<int> pevals;
+  auto polish_all = [&](const std::vector<int>& from) {
+    const size_t first = best_x.size();
+    const int count = static_cast<int>(from.size());
+    best_x.resize(first + from.size());
+    best_f.resize(first + from.size(), 1e300);
+    reasons.resize(first + from.size());
+    pevals.resize(first + from.size(), 0);
     std::vector<std::thread> pool;
-    const int np = std::min(o.threads, starts);
+    const int np = std::min(o.threads, count);
     for (int t = 0; t < np; ++t)
       pool.emplace_back([&, t] {
-        for (int s = t; s < starts; s += np) {
+        for (int s = t; s < count; s += np) {
+          const size_t slot = first + static_cast<size_t>(s);
           Evaluator e(board, meas, o);
           nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
           opt.set_lower_bounds(std::vector<double>(static_cast<size_t>(n), 0.0));
@@ -345,12 +360,12 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
           opt.set_ftol_abs(1e-14);
           opt.set_maxeval(o.max_evaluations);
           opt.set_initial_step(0.5 / (o.doe_points - 1));
-          std::vector<double> x = points[static_cast<size_t>(order[static_cast<size_t>(s)])];
+          std::vector<double> x = points[static_cast<size_t>(from[static_cast<size_t>(s)])];
           // Keep the start strictly inside the box (BOBYQA's initial step must fit).
           for (double& v : x) v = std::clamp(v, 0.26 / (o.doe_points - 1), 1.0 - 0.26 / (o.doe_points - 1));
           double f = 1e300;
           try {
-            reasons[static_cast<size_t>(s)] = nlopt_reason(opt.optimize(x, f));
+            reasons[slot] = nlopt_reason(opt.optimize(x, f));
             for (int restart = 0; restart < o.max_restarts; ++restart) {
               std::vector<double> x2 = x;
               for (double& v : x2) v = std::clamp(v, 0.03, 0.97);
@@ -361,29 +376,57 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
               const bool small_gain = f - f2 < 1e-3 * f;
               x = x2;
               f = f2;
-              reasons[static_cast<size_t>(s)] = nlopt_reason(res);
+              reasons[slot] = nlopt_reason(res);
               if (small_gain) break;
             }
           } catch (const std::exception& ex) {
-            reasons[static_cast<size_t>(s)] = std::string("nlopt: ") + ex.what();
+            reasons[slot] = std::string("nlopt: ") + ex.what();
             f = e.cost(x);
           }
-          best_x[static_cast<size_t>(s)] = x;
-          best_f[static_cast<size_t>(s)] = f;
-          pevals[static_cast<size_t>(s)] = e.evaluations;
+          best_x[slot] = x;
+          best_f[slot] = f;
+          pevals[slot] = e.evaluations;
         }
       });
     for (auto& th : pool) th.join();
+  };
+  auto winner = [&] {
+    size_t w = 0;
+    for (size_t s = 0; s < best_f.size(); ++s)
+      if (best_f[s] < best_f[w]) w = s;
+    return w;
+  };
+  const int starts = std::min(o.polished_starts, static_cast<int>(order.size()));
+  order.resize(static_cast<size_t>(starts));
+  polish_all(order);
+  // Refinement: the valleys are narrow against the DOE grid's spacing, and the grid point
+  // nearest the truth can lie in a neighbouring valley (wear 1 at e = 0.7 with the full
+  // film: a side minimum 3 um from the truth at 3x its cost, reached from the grid point next
+  // to the truth; the grid points one step further along d0 or beta reach the truth's). So
+  // the winning start's face neighbours on the grid (+-1 step along each parameter) that were
+  // not polished are polished too.
+  if (o.refine_neighbours && starts > 0) {
+    const int from = order[winner()];
+    std::vector<int> more;
+    int stride = 1;
+    for (int i = 0; i < n; ++i, stride *= o.doe_points) {
+      const int gi = (from / stride) % o.doe_points;
+      for (int d : {-1, 1}) {
+        if (gi + d < 0 || gi + d >= o.doe_points) continue;
+        const int k = from + d * stride;
+        if (std::find(order.begin(), order.end(), k) == order.end()) more.push_back(k);
+      }
+    }
+    order.insert(order.end(), more.begin(), more.end());
+    polish_all(more);
+    r.refined_starts = static_cast<int>(more.size());
   }
-  int win = 0;
-  for (int s = 0; s < starts; ++s) {
-    r.evaluations += pevals[static_cast<size_t>(s)];
-    if (best_f[static_cast<size_t>(s)] < best_f[static_cast<size_t>(win)]) win = s;
-  }
+  const size_t win = winner();
+  for (int v : pevals) r.evaluations += v;
   r.evaluations += r.doe_evaluations;
-  const std::vector<double> x = best_x[static_cast<size_t>(win)];
-  r.cost = best_f[static_cast<size_t>(win)];
-  r.stop_reason = reasons[static_cast<size_t>(win)];
+  const std::vector<double> x = best_x[win];
+  r.cost = best_f[win];
+  r.stop_reason = reasons[win];
   for (double v : x) r.bound_active = r.bound_active || v < 0.005 || v > 0.995;
 
   Evaluator e(board, meas, o);

@@ -29,6 +29,10 @@ struct WearIdOptions {
   std::array<double, 2> span_deg{30.0, 150.0};     ///< bounds on beta (3p only), deg
   int doe_points = 9;                              ///< grid points per parameter (>= 2)
   int polished_starts = 8;                         ///< DOE grid local minima (then other non-adjacent points) polished by the local optimiser
+  /// After the polishes, also polish from the winning start's face neighbours on the DOE grid
+  /// (+-1 step per parameter, 2 n starts at most) that were not polished: the cost's valleys
+  /// are narrow against the grid spacing.
+  bool refine_neighbours = true;
   int max_restarts = 4;                            ///< BOBYQA restarts from a polish's end point (stop when the gain < 1e-3 of the cost)
   int max_evaluations = 400;                       ///< per local polish
   double xtol_rel = 1e-5;                          ///< on the scaled parameters
@@ -79,6 +83,7 @@ struct WearIdResult {
   double cost = 0.0;
   int doe_evaluations = 0, evaluations = 0;
   int doe_local_minima = 0;          ///< starting points that were local minima of the DOE grid
+  int refined_starts = 0;            ///< further polishes from the winning start's grid neighbours
   double wall_s = 0.0;
   std::string stop_reason;           ///< NLopt's result for the winning polish
   bool bound_active = false;         ///< a parameter ended on a bound (within 0.5 % of the range)
@@ -97,6 +102,12 @@ WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasure
 /// spectrum, the cost is their sum. `fitted`/`measured` refer to the first record.
 WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas,
                            const WearIdOptions& o);
+
+/// The identification's cost (what identify_wear minimises, with these options) at one wear:
+/// e.g. at a known truth, to tell a search that stopped short from a model that prefers
+/// another wear. 1e3 where the model cannot represent the wear.
+double wear_cost(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas, const WearIdOptions& o,
+                 const model::journal::WearParams& wear);
 
 /// Forward model for one wear (for sweeps, reports and tests): full spectrum at the journal
 /// probes with the journal at `state` and the speed given.
