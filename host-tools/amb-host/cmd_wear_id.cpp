@@ -29,10 +29,11 @@ struct Args {
   bool amb_planes = false;
   bool full_film = false;
   bool amb_nonlinear = false;
+  bool amb_linear = false;
   bool second_harmonic = false;
   double model_error_1x = 0.0;
   int film_samples = 32;
-  int film_harmonics = 2;
+  int film_harmonics = 3;
   int threads = 2;
   double window_s = 2.0;
   bool json = false;
@@ -60,7 +61,11 @@ int run(const Args& a) {
   o.use_amb_planes = a.amb_planes;
   o.second_harmonic = a.second_harmonic;
   o.full_film = a.full_film || a.second_harmonic;
-  o.amb_nonlinear = a.amb_nonlinear;
+  if (a.amb_nonlinear && a.amb_linear) {
+    std::fprintf(stderr, "amb-host wear-id: error: --amb-nonlinear and --amb-linear exclude each other\n");
+    return 1;
+  }
+  o.amb_nonlinear = !a.amb_linear;
   o.model_error_1x = a.model_error_1x;
   o.film_samples = a.film_samples;
   o.film_harmonics = a.film_harmonics;
@@ -178,13 +183,14 @@ const amb::host::Registration reg{
       sub.add_flag("--2x", args->second_harmonic,
                    "also fit the +2x/-2x at the journal probes (the film's second-order response; implies --full-film)");
       sub.add_flag("--amb-nonlinear", args->amb_nonlinear,
-                   "full film: the AMBs' force law in the harmonic balance too (its own 2x; opt-in, "
-                   "docs/journal-bearing.md)");
+                   "full film: the AMBs' force law in the harmonic balance too (its own 2x; the default)");
+      sub.add_flag("--amb-linear", args->amb_linear,
+                   "full film: the AMBs linearised at their operating point (no 2x of their own)");
       sub.add_option("--film-samples", args->film_samples,
                      "full film: Reynolds solves per revolution of the orbit (default 32)");
       sub.add_option("--film-harmonics", args->film_harmonics,
-                     "full film: highest harmonic of the spin in the harmonic balance, 2 or 3 (default 2; 3 adds "
-                     "the orbit's 3x, which feeds the film's 2x)");
+                     "full film: highest harmonic of the spin in the harmonic balance, 2 or 3 (default 3: the "
+                     "orbit's 3x feeds the film's 2x)");
       sub.add_option("--model-error", args->model_error_1x,
                      "relative model-error floor of the 1x residuals, e.g. 0.0025 (default 0: the seed's equal weights)");
       sub.add_flag("--json", args->json, "print the figures as JSON");

@@ -267,3 +267,31 @@ TEST(JournalRig, ThirdHarmonicCarriesTheFilmsTwoXAtLowEccentricity) {
   EXPECT_GT(dist(two.second, m.second_harmonic), 0.03 * z2);                   // 2 harmonics miss the 2x
   EXPECT_LT(dist(three.second, m.second_harmonic), 0.4 * dist(two.second, m.second_harmonic));  // 3 get most of it
 }
+
+TEST(JournalRig, HarmonicBalanceAndWearIdRefuseBadSettingsByName) {
+  wi::WearIdOptions o;
+  EXPECT_EQ(o.check(), "");
+  EXPECT_EQ(o.film_harmonics, 3);  // the full film's defaults: to the 3x, with the AMB law
+  EXPECT_TRUE(o.amb_nonlinear);
+  o.film_harmonics = 4;
+  EXPECT_NE(o.check().find("film_harmonics"), std::string::npos) << o.check();
+  o.film_harmonics = 3;
+  o.film_samples = 4;
+  EXPECT_NE(o.check().find("film_samples"), std::string::npos) << o.check();
+  const board::BoardConfig b = board::load_board("unicamp-journal-rig");
+  const mj::WearParams wear{mj::WearModel::elliptical, 46.5e-6, 23.0 * M_PI / 180.0, 77.0 * M_PI / 180.0};
+  mj::ReynoldsSolver solver(b.journal.geometry, wear, b.journal.grid);
+  const mj::JournalState js{0.0, -0.7 * b.journal.geometry.clearance_m, 0.0, 0.0};
+  const mj::DynamicCoefficients d = mj::perturbation_coefficients(solver, js, 2.0 * M_PI * 34.0);
+  const wi::RigResponse rig(b, 34.0, {d.fx0_n, d.fy0_n});
+  for (int h : {1, 4}) {
+    wi::HarmonicBalanceOptions hb;
+    hb.harmonics = h;
+    try {
+      rig.journal_probes_full_film(solver, js, d, hb);
+      ADD_FAILURE() << "harmonics " << h << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("harmonics"), std::string::npos) << e.what();
+    }
+  }
+}

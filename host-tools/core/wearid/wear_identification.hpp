@@ -64,14 +64,15 @@ struct WearIdOptions {
   double model_error_1x = 0.0;
   int film_samples = 32;                           ///< full film: Reynolds solves per orbit (>= 8)
   double film_tolerance = 1e-6;                    ///< full film: harmonic-balance update, relative to |X1_linear|
-  /// Full film: the AMBs' force law in the harmonic balance too (its own 2x; opt-in, see
-  /// RigResponse::journal_probes_full_film and docs/journal-bearing.md "The AMBs' own 2x"):
-  /// right on linear-film records, but it uncovers a film-part 2x error of several per cent
-  /// (the neglected 3x, probably) that the AMBs' missing 2x partly cancelled.
-  bool amb_nonlinear = false;
+  /// Full film: the AMBs' force law in the harmonic balance too (RigResponse::
+  /// journal_probes_full_film): the AMBs carry the film's static load at a static gap and
+  /// current, and their quadratic law makes a 2x of its own (~0.02 um at the journal probes at
+  /// e = 0.7, docs/journal-bearing.md "The AMBs' own 2x"). false: linearised AMBs.
+  bool amb_nonlinear = true;
   /// Full film: highest harmonic of the spin in the harmonic balance, 2 or 3. With 2 the
-  /// orbit's 3x is neglected, and with it the film's 2x from the product of the 3x and the 1x.
-  int film_harmonics = 2;
+  /// orbit's 3x is neglected, and with it the film's 2x from the product of the 3x and the 1x
+  /// (5 % of the 2x at e = 0.1, docs/journal-bearing.md "The 3x").
+  int film_harmonics = 3;
   /// Empty when valid, else the reason.
   std::string check() const;
 };
