@@ -276,4 +276,41 @@ double pearson(const std::vector<double>& a, const std::vector<double>& b) {
   return sab / std::sqrt(saa * sbb);
 }
 
+// Kinematic transport of a log PSD from its reference speed to ratio x that speed: the local
+// mean over +-h bins (the transfer path: housing resonances stay at their frequency) is kept,
+// the lines above it (level - local mean) move with the speed. Like the simulated spectra, the
+// result is the expectation over the nominal speed's uncertainty (power mean over `scales`),
+// so a training case (ratio 1) and a prediction see the same kind of input.
+std::vector<double> transport_log_psd(const std::vector<double>& ref, const std::vector<double>& c, double ratio,
+                                      const std::vector<double>& scales, int h) {
+  const auto lm = local_mean(ref, h);
+  std::vector<double> lines(ref.size()), acc(ref.size(), 0.0);
+  for (size_t k = 0; k < ref.size(); ++k) lines[k] = std::pow(10.0, ref[k] - lm[k]);
+  for (double sc : scales) {
+    const auto mv = move_with_speed(lines, c, ratio * sc);
+    for (size_t k = 0; k < acc.size(); ++k) acc[k] += mv[k] / static_cast<double>(scales.size());
+  }
+  std::vector<double> out(ref.size());
+  for (size_t k = 0; k < out.size(); ++k) out[k] = lm[k] + std::log10(std::max(acc[k], 1e-300));
+  return out;
+}
+
+// Envelope (power domain): its content is speed-locked lines over a floor; all of it moves.
+std::vector<double> transport_env(const std::vector<double>& ref, const std::vector<double>& c, double ratio,
+                                  const std::vector<double>& scales) {
+  std::vector<double> acc(ref.size(), 0.0);
+  for (double sc : scales) {
+    const auto mv = move_with_speed(ref, c, ratio * sc);
+    for (size_t k = 0; k < acc.size(); ++k) acc[k] += mv[k] / static_cast<double>(scales.size());
+  }
+  return acc;
+}
+
+
+std::vector<double> centres(const Grid& g) {
+  std::vector<double> c(g.bins());
+  for (size_t i = 0; i < c.size(); ++i) c[i] = g.centre_hz(i);
+  return c;
+}
+
 }  // namespace amb::host::hybrid

@@ -76,6 +76,19 @@ std::vector<double> move_with_speed(const std::vector<double>& y, const std::vec
 /// Mean of y over +-halfwidth bins (shorter at the ends).
 std::vector<double> local_mean(const std::vector<double>& y, int halfwidth);
 
+/// Kinematic transport of a log10 PSD read at one speed to `ratio` x that speed: the local
+/// mean over +-`halfwidth` bins (the transfer path: housing resonances stay at their
+/// frequency) is kept, the lines above it move with the speed (move_with_speed); the result is
+/// the power mean over the speed `scales` (see speed_scales).
+std::vector<double> transport_log_psd(const std::vector<double>& log_psd, const std::vector<double>& centres_hz, double ratio,
+                                      const std::vector<double>& scales, int halfwidth);
+/// The same for an envelope spectrum in the power domain (amplitude^2): all of it moves (its
+/// content is speed-locked lines over a floor).
+std::vector<double> transport_env(const std::vector<double>& env_power, const std::vector<double>& centres_hz, double ratio,
+                                  const std::vector<double>& scales);
+/// Bin centres of a grid, Hz.
+std::vector<double> centres(const Grid& g);
+
 /// Split-half reliability of a record's two spectra under options `o`: the Pearson correlation
 /// between the spectra of the record's first and second halves, and its Spearman-Brown
 /// extension to the full record, r_full = 2 r / (1 + r). sqrt(r_full) bounds the correlation
