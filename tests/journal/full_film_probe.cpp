@@ -1,8 +1,9 @@
 // Measurement helper (not a test): the +-1x and +-2x full-spectrum components of journal
 // records against the linear-film and full-film (harmonic balance) forward models for given
-// wears, and each model's misfit to each record. Reproduces the numbers of
-// docs/journal-bearing.md, "The nonlinear film at e = 0.7".
-//   full_film_probe EVENT [EVENT ...] -- D0_UM,GAMMA_DEG,BETA_DEG [...]
+// wears, and each model's misfit to each record. Full film three ways: linear AMBs to the 2x,
+// the AMB force law to the 2x, the AMB law to the 3x (the wear-id default). Reproduces the
+// numbers of docs/journal-bearing.md, "The nonlinear film at e = 0.7" and "The 3x".
+//   full_film_probe [--window S] EVENT [EVENT ...] -- D0_UM,GAMMA_DEG,BETA_DEG [...]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -36,8 +37,13 @@ int main(int argc, char** argv) {
   std::vector<mj::WearParams> wears;
   std::vector<std::string> names;
   bool after = false;
+  double window_s = 2.0;
   for (int a = 1; a < argc; ++a) {
     const std::string s = argv[a];
+    if (!after && s == "--window" && a + 1 < argc) {
+      window_s = std::atof(argv[++a]);
+      continue;
+    }
     if (s == "--") {
       after = true;
       continue;
@@ -58,12 +64,12 @@ int main(int argc, char** argv) {
     names.push_back(s);
   }
   if (events.empty() || wears.empty()) {
-    std::fprintf(stderr, "usage: full_film_probe EVENT [EVENT ...] -- D0_UM,GAMMA_DEG,BETA_DEG [...]\n");
+    std::fprintf(stderr, "usage: full_film_probe [--window S] EVENT [EVENT ...] -- D0_UM,GAMMA_DEG,BETA_DEG [...]\n");
     return 1;
   }
   const board::BoardConfig b = board::load_board("unicamp-journal-rig");
   for (const auto& e : events) {
-    const wi::JournalMeasurement m = wi::measure_journal(host::load_event(e), b, 2.0);
+    const wi::JournalMeasurement m = wi::measure_journal(host::load_event(e), b, window_s);
     std::printf("%s: eccentricity %.4f, noise per component 1x %.4f um, 2x %.4f um\n  measured     ", e.c_str(), m.eccentricity,
                 m.noise_m * 1e6, m.noise_2x_m * 1e6);
     print("1x", m.spectrum);
@@ -71,14 +77,29 @@ int main(int argc, char** argv) {
     std::printf("\n");
     for (size_t w = 0; w < wears.size(); ++w) {
       const wi::FullSpectrum lin = wi::predict_spectrum(b, wears[w], m.journal, m.speed_hz);
-      const wi::FullFilmSpectrum f = wi::predict_full_film(b, wears[w], m.journal, m.speed_hz);
       std::printf("  %-20s linear film", names[w].c_str());
       print("1x", lin);
-      std::printf("  misfit 1x %.4f um\n  %-20s full film  ", dist_um(lin, m.spectrum), "");
-      print("1x", f.first);
-      print("2x", f.second);
-      std::printf("  misfit 1x %.4f um, 2x %.4f um (%d iterations%s)\n", dist_um(f.first, m.spectrum),
-                  dist_um(f.second, m.second_harmonic), f.iterations, f.converged ? "" : ", NOT converged");
+      std::printf("  misfit 1x %.4f um\n", dist_um(lin, m.spectrum));
+      const struct {
+        const char* label;
+        bool amb;
+        int harmonics;
+      } variants[] = {{"full, AMBs linear, to 2x", false, 2}, {"full, AMB law, to 2x", true, 2}, {"full, AMB law, to 3x", true, 3}};
+      for (const auto& v : variants) {
+        wi::HarmonicBalanceOptions o;
+        o.max_iterations = 80;
+        o.tolerance = 1e-8;
+        o.amb_nonlinear = v.amb;
+        o.harmonics = v.harmonics;
+        const wi::FullFilmSpectrum f = wi::predict_full_film(b, wears[w], m.journal, m.speed_hz, o);
+        std::printf("  %-26s", v.label);
+        print("1x", f.first);
+        print("2x", f.second);
+        std::printf("  misfit 1x %.4f um, 2x %.4f um, |Z3| %.4f um (%d iterations%s)\n", dist_um(f.first, m.spectrum),
+                    dist_um(f.second, m.second_harmonic),
+                    1e6 * std::hypot(std::abs(f.third.forward_m), std::abs(f.third.backward_m)), f.iterations,
+                    f.converged ? "" : ", NOT converged");
+      }
     }
   }
   return 0;
