@@ -189,7 +189,7 @@ const amb::host::Registration reg{
       sub.add_option("--film-samples", args->film_samples,
                      "full film: Reynolds solves per revolution of the orbit (default 32)");
       sub.add_option("--film-harmonics", args->film_harmonics,
-                     "full film: highest harmonic of the spin in the harmonic balance, 2 or 3 (default 3: the "
+                     "full film: highest harmonic of the spin in the harmonic balance, 2..6 (default 3: the "
                      "orbit's 3x feeds the film's 2x)");
       sub.add_option("--model-error", args->model_error_1x,
                      "relative model-error floor of the 1x residuals, e.g. 0.0025 (default 0: the seed's equal weights)");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 #include <string>
 
 namespace amb::model::journal {
@@ -299,34 +300,55 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
   return d;
 }
 
-FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean, const std::array<std::complex<double>, 2>& q1_m,
-                             const std::array<std::complex<double>, 2>& q2_m, double spin_rad_s, int samples,
-                             const std::array<std::complex<double>, 2>& q3_m) {
+FilmHarmonicSeries film_harmonic_series(ReynoldsSolver& solver, const JournalState& mean,
+                                        const std::vector<std::array<std::complex<double>, 2>>& q_m, double spin_rad_s,
+                                        int samples) {
   using cplx = std::complex<double>;
   if (samples < 8) throw std::invalid_argument("film_harmonics: need at least 8 samples per revolution");
-  FilmHarmonics r;
+  const size_t n = q_m.size();
+  if (n < 1 || 2 * n >= static_cast<size_t>(samples))
+    throw std::invalid_argument("film_harmonics: need 1 <= harmonics < samples / 2");
+  FilmHarmonicSeries r;
+  r.harmonic_n.assign(n, std::array<cplx, 2>{});
   r.min_film_m = 1e300;
   const cplx j(0.0, 1.0);
   const double inv = 1.0 / static_cast<double>(samples);
+  std::vector<cplx> e(n);
   for (int k = 0; k < samples; ++k) {
-    const double phi = 2.0 * M_PI * k * inv;
-    const cplx e1 = std::exp(j * phi), e2 = e1 * e1, e3 = e2 * e1;
+    const cplx e1 = std::exp(j * (2.0 * M_PI * k * inv));
+    e[0] = e1;
+    for (size_t h = 1; h < n; ++h) e[h] = e[h - 1] * e1;
     JournalState s = mean;
-    s.x_m += (q1_m[0] * e1 + q2_m[0] * e2 + q3_m[0] * e3).real();
-    s.y_m += (q1_m[1] * e1 + q2_m[1] * e2 + q3_m[1] * e3).real();
-    s.vx_m_s += spin_rad_s * (j * (q1_m[0] * e1 + 2.0 * q2_m[0] * e2 + 3.0 * q3_m[0] * e3)).real();
-    s.vy_m_s += spin_rad_s * (j * (q1_m[1] * e1 + 2.0 * q2_m[1] * e2 + 3.0 * q3_m[1] * e3)).real();
+    for (size_t h = 0; h < n; ++h) {
+      const double order = static_cast<double>(h + 1);
+      s.x_m += (q_m[h][0] * e[h]).real();
+      s.y_m += (q_m[h][1] * e[h]).real();
+      s.vx_m_s += spin_rad_s * order * (j * q_m[h][0] * e[h]).real();
+      s.vy_m_s += spin_rad_s * order * (j * q_m[h][1] * e[h]).real();
+    }
     const FilmForces f = solver.solve(s, spin_rad_s);
     r.min_film_m = std::min(r.min_film_m, f.min_film_m);
     r.fx_mean_n += inv * f.fx_n;
     r.fy_mean_n += inv * f.fy_n;
-    r.first_n[0] += 2.0 * inv * f.fx_n * std::conj(e1);
-    r.first_n[1] += 2.0 * inv * f.fy_n * std::conj(e1);
-    r.second_n[0] += 2.0 * inv * f.fx_n * std::conj(e2);
-    r.second_n[1] += 2.0 * inv * f.fy_n * std::conj(e2);
-    r.third_n[0] += 2.0 * inv * f.fx_n * std::conj(e3);
-    r.third_n[1] += 2.0 * inv * f.fy_n * std::conj(e3);
+    for (size_t h = 0; h < n; ++h) {
+      r.harmonic_n[h][0] += 2.0 * inv * f.fx_n * std::conj(e[h]);
+      r.harmonic_n[h][1] += 2.0 * inv * f.fy_n * std::conj(e[h]);
+    }
   }
+  return r;
+}
+
+FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean, const std::array<std::complex<double>, 2>& q1_m,
+                             const std::array<std::complex<double>, 2>& q2_m, double spin_rad_s, int samples,
+                             const std::array<std::complex<double>, 2>& q3_m) {
+  const FilmHarmonicSeries f = film_harmonic_series(solver, mean, {q1_m, q2_m, q3_m}, spin_rad_s, samples);
+  FilmHarmonics r;
+  r.fx_mean_n = f.fx_mean_n;
+  r.fy_mean_n = f.fy_mean_n;
+  r.first_n = f.harmonic_n[0];
+  r.second_n = f.harmonic_n[1];
+  r.third_n = f.harmonic_n[2];
+  r.min_film_m = f.min_film_m;
   return r;
 }
 

@@ -150,9 +150,22 @@ struct FilmHarmonics {
 };
 
 /// `samples` (>= 8) equally spaced spin angles; one Reynolds solve each (warm-started). Throws
-/// std::invalid_argument when the orbit touches the bore or `samples` < 8.
+/// std::invalid_argument when the orbit touches the bore or `samples` < 8. (The first three
+/// harmonics of film_harmonic_series.)
 FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean, const std::array<std::complex<double>, 2>& q1_m,
                              const std::array<std::complex<double>, 2>& q2_m, double spin_rad_s, int samples = 32,
                              const std::array<std::complex<double>, 2>& q3_m = {});
+
+/// The same for an orbit with harmonics 1..N of the spin, N = q_m.size():
+/// q(phi) = q_mean + Re(sum_k Q_k e^{j k phi}); the force's harmonics 1..N (N, x y).
+struct FilmHarmonicSeries {
+  double fx_mean_n = 0.0, fy_mean_n = 0.0;                    ///< mean force over the orbit, N
+  std::vector<std::array<std::complex<double>, 2>> harmonic_n;  ///< F_k (x, y), k = 1..N, N
+  double min_film_m = 0.0;                                    ///< smallest film met along the orbit, m
+};
+/// Throws std::invalid_argument as film_harmonics, and when N < 1 or 2 N >= `samples`.
+FilmHarmonicSeries film_harmonic_series(ReynoldsSolver& solver, const JournalState& mean,
+                                        const std::vector<std::array<std::complex<double>, 2>>& q_m, double spin_rad_s,
+                                        int samples = 32);
 
 }  // namespace amb::model::journal

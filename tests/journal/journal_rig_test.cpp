@@ -273,8 +273,11 @@ TEST(JournalRig, HarmonicBalanceAndWearIdRefuseBadSettingsByName) {
   EXPECT_EQ(o.check(), "");
   EXPECT_EQ(o.film_harmonics, 3);  // the full film's defaults: to the 3x, with the AMB law
   EXPECT_TRUE(o.amb_nonlinear);
-  o.film_harmonics = 4;
+  o.film_harmonics = 7;
   EXPECT_NE(o.check().find("film_harmonics"), std::string::npos) << o.check();
+  o.film_harmonics = 5;
+  o.film_samples = 10;  // cannot resolve the 5x
+  EXPECT_NE(o.check().find("film_samples"), std::string::npos) << o.check();
   o.film_harmonics = 3;
   o.film_samples = 4;
   EXPECT_NE(o.check().find("film_samples"), std::string::npos) << o.check();
@@ -284,7 +287,7 @@ TEST(JournalRig, HarmonicBalanceAndWearIdRefuseBadSettingsByName) {
   const mj::JournalState js{0.0, -0.7 * b.journal.geometry.clearance_m, 0.0, 0.0};
   const mj::DynamicCoefficients d = mj::perturbation_coefficients(solver, js, 2.0 * M_PI * 34.0);
   const wi::RigResponse rig(b, 34.0, {d.fx0_n, d.fy0_n});
-  for (int h : {1, 4}) {
+  for (int h : {1, 7}) {
     wi::HarmonicBalanceOptions hb;
     hb.harmonics = h;
     try {

@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "model/amb/amb_force.hpp"
@@ -297,8 +298,10 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
                                                         const model::journal::DynamicCoefficients& lin,
                                                         const HarmonicBalanceOptions& o) const {
   if (o.max_iterations < 1) throw std::invalid_argument("full film: max_iterations must be >= 1");
-  if (o.harmonics < 2 || o.harmonics > 3) throw std::invalid_argument("full film: harmonics must be 2 or 3");
-  if (o.samples < 8) throw std::invalid_argument("full film: samples must be >= 8");
+  if (o.harmonics < 2 || o.harmonics > k_max_harmonics)
+    throw std::invalid_argument("full film: harmonics must be 2.." + std::to_string(k_max_harmonics));
+  if (o.samples < 8 || 2 * o.harmonics >= o.samples)
+    throw std::invalid_argument("full film: samples must be >= 8 and more than twice the harmonics");
   const Eigen::Matrix2d& k = lin.stiffness_n_per_m;
   const Eigen::Matrix2d& c = lin.damping_n_s_per_m;
   const double w = k_two_pi * speed_hz_;
@@ -360,19 +363,21 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
   };
   FullFilmSpectrum r;
   r.harmonics = o.harmonics;
-  model::journal::FilmHarmonics fh;
+  model::journal::FilmHarmonicSeries fh;
   auto map = [&](const Eigen::VectorXd& v) {
     const std::vector<Eigen::VectorXcd> e = unpack(v);
-    std::vector<Eigen::Vector2cd> x(3, Eigen::Vector2cd::Zero());
-    for (size_t h = 0; h < nh; ++h) x[h] = journal_xy(e[h]);
+    std::vector<Eigen::Vector2cd> x(nh);
+    std::vector<std::array<cplx, 2>> q(nh);
+    for (size_t h = 0; h < nh; ++h) {
+      x[h] = journal_xy(e[h]);
+      q[h] = {x[h](0), x[h](1)};
+    }
     std::vector<Eigen::VectorXcd> g(nh, Eigen::VectorXcd::Zero(2 * m));
     g[0] = f_unb;
     if (o.film_nonlinear) {
-      fh = model::journal::film_harmonics(solver, mean, {x[0](0), x[0](1)}, {x[1](0), x[1](1)}, w, o.samples,
-                                          {x[2](0), x[2](1)});
-      const std::array<const std::array<cplx, 2>*, 3> fk{&fh.first_n, &fh.second_n, &fh.third_n};
+      fh = model::journal::film_harmonic_series(solver, mean, q, w, o.samples);
       for (size_t h = 0; h < nh; ++h)
-        g[h] += journal_force(Eigen::Vector2cd((*fk[h])[0], (*fk[h])[1]) + dk[h] * x[h]);
+        g[h] += journal_force(Eigen::Vector2cd(fh.harmonic_n[h][0], fh.harmonic_n[h][1]) + dk[h] * x[h]);
     }
     if (o.amb_nonlinear) {
       const std::vector<Eigen::VectorXcd> ra = amb_remainder(e, w, o.samples);
@@ -387,10 +392,9 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
   if (o.start) {
     // The previous orbit's journal motion as a start: least-norm modal corrections that move
     // the journal to it, through the journal receptance of the linear system at each harmonic.
-    const std::array<const std::array<cplx, 2>*, 3> xs{&o.start->journal_first_m, &o.start->journal_second_m,
-                                                       &o.start->journal_third_m};
     for (size_t h = 0; h < nh; ++h) {
-      Eigen::Vector2cd target((*xs[h])[0], (*xs[h])[1]);
+      const std::array<cplx, 2> s = h < o.start->journal_m.size() ? o.start->journal_m[h] : std::array<cplx, 2>{};
+      Eigen::Vector2cd target(s[0], s[1]);
       if (h == 0) target -= journal_xy(e1_lin);
       const double order = static_cast<double>(h + 1);
       const Eigen::Matrix2cd rec = journal_receptance(speed_hz_, order * speed_hz_, k, c);
@@ -440,10 +444,14 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
   r.mean_force_n = {fh.fx_mean_n, fh.fy_mean_n};
   const std::array<std::array<cplx, 2>*, 3> xj{&r.journal_first_m, &r.journal_second_m, &r.journal_third_m};
   const std::array<FullSpectrum*, 3> zp{&r.first, &r.second, &r.third};
+  r.journal_m.resize(nh);
   for (size_t h = 0; h < nh; ++h) {
     const Eigen::Vector2cd v = journal_xy(e[h]);
-    *xj[h] = {v(0), v(1)};
-    *zp[h] = probes(v);
+    r.journal_m[h] = {v(0), v(1)};
+    if (h < 3) {
+      *xj[h] = r.journal_m[h];
+      *zp[h] = probes(v);
+    }
   }
   return r;
 }

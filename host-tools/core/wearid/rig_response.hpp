@@ -43,11 +43,15 @@ struct FullFilmSpectrum {
   FullSpectrum second;           ///< +2x / -2x, m (referred to twice the spin angle)
   FullSpectrum third;            ///< +3x / -3x, m (thrice the spin angle); zero with 2 harmonics
   std::array<cplx, 2> journal_first_m{}, journal_second_m{}, journal_third_m{};  ///< (x, y) at the journal plane, m
+  std::vector<std::array<cplx, 2>> journal_m;  ///< (x, y) at the journal plane of every harmonic in the balance, m
   std::array<double, 2> mean_force_n{};  ///< film force averaged over the orbit, N
   int harmonics = 2;             ///< highest harmonic of the spin in the balance
   int iterations = 0;            ///< harmonic-balance iterations used
   bool converged = false;        ///< last update below the tolerance
 };
+
+/// Highest harmonic of the spin the harmonic balance can carry.
+inline constexpr int k_max_harmonics = 6;
 
 /// Settings of the harmonic balance (RigResponse::journal_probes_full_film).
 struct HarmonicBalanceOptions {
@@ -57,7 +61,7 @@ struct HarmonicBalanceOptions {
   const FullFilmSpectrum* start = nullptr;  ///< a nearby solution to start from (e.g. the previous wear's)
   bool amb_nonlinear = false;    ///< the AMBs' force law beyond its linearisation
   bool film_nonlinear = true;    ///< the film beyond its linearisation (false: linear, as the SIL's default element)
-  int harmonics = 2;             ///< highest harmonic of the spin kept: 2 or 3
+  int harmonics = 2;             ///< highest harmonic of the spin kept: 2..k_max_harmonics (and < samples / 2)
 };
 
 class RigResponse {

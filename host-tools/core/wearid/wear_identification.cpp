@@ -193,7 +193,9 @@ std::string WearIdOptions::check() const {
   if (second_harmonic && !full_film) return "the 2x components need the full-film model (full_film)";
   if (full_film && use_amb_planes) return "the full-film model predicts the journal probes only (not with the AMB planes)";
   if (film_samples < 8 || film_samples > 512) return "film_samples must be 8..512";
-  if (film_harmonics < 2 || film_harmonics > 3) return "film_harmonics must be 2 or 3";
+  if (film_harmonics < 2 || film_harmonics > k_max_harmonics)
+    return "film_harmonics must be 2.." + std::to_string(k_max_harmonics);
+  if (2 * film_harmonics >= film_samples) return "film_samples must be more than twice film_harmonics";
   if (!(model_error_1x >= 0.0 && model_error_1x < 0.5)) return "model_error_1x must be in [0, 0.5)";
   if (!(film_tolerance > 0.0 && film_tolerance < 1e-2)) return "film_tolerance must be in (0, 1e-2)";
   return "";

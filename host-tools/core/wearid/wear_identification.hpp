@@ -69,7 +69,7 @@ struct WearIdOptions {
   /// current, and their quadratic law makes a 2x of its own (~0.02 um at the journal probes at
   /// e = 0.7, docs/journal-bearing.md "The AMBs' own 2x"). false: linearised AMBs.
   bool amb_nonlinear = true;
-  /// Full film: highest harmonic of the spin in the harmonic balance, 2 or 3. With 2 the
+  /// Full film: highest harmonic of the spin in the harmonic balance, 2..6. With 2 the
   /// orbit's 3x is neglected, and with it the film's 2x from the product of the 3x and the 1x
   /// (5 % of the 2x at e = 0.1, docs/journal-bearing.md "The 3x").
   int film_harmonics = 3;
