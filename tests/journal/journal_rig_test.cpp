@@ -47,6 +47,26 @@ std::string sil_record(const char* name, double ecc, double d0_um, double gamma_
   EXPECT_TRUE(s.ok) << s.message;
   return s.ok ? stem : std::string();
 }
+// The full-film forward model for `wear` about a record's mean journal position.
+struct ForwardModel {
+  ForwardModel(const board::BoardConfig& b, const mj::WearParams& wear, const wi::JournalMeasurement& m)
+      : record(m),
+        solver(b.journal.geometry, wear, b.journal.grid),
+        coefficients(mj::perturbation_coefficients(solver, m.journal, 2.0 * M_PI * m.speed_hz)),
+        rig(b, m.speed_hz, {coefficients.fx0_n, coefficients.fy0_n}) {}
+  wi::FullFilmSpectrum balance(const wi::HarmonicBalanceOptions& o) {
+    return rig.journal_probes_full_film(solver, record.journal, coefficients, o);
+  }
+  const wi::JournalMeasurement& record;
+  mj::ReynoldsSolver solver;
+  mj::DynamicCoefficients coefficients;
+  wi::RigResponse rig;
+};
+
+// Distance between two full spectra, m.
+double dist(const wi::FullSpectrum& p, const wi::FullSpectrum& q) {
+  return std::hypot(std::abs(p.forward_m - q.forward_m), std::abs(p.backward_m - q.backward_m));
+}
 }  // namespace
 
 TEST(JournalRig, BoardDescribesTheSeedBearing) {
@@ -144,21 +164,16 @@ TEST(JournalRig, AmbForceLawMakesThe2xOfALinearFilmRecord) {
   EXPECT_NEAR(m.available_s, 10.0, 0.01);  // the whole record is there, and analysed
   EXPECT_NEAR(m.window_s, 10.0, 1.0 / m.speed_hz);
   EXPECT_NEAR(wi::measure_journal(host::load_event(stem + ".json"), b, 2.0).window_s, 2.0, 1.0 / m.speed_hz);
-  mj::ReynoldsSolver solver(b.journal.geometry, wear, b.journal.grid);
-  const mj::DynamicCoefficients d = mj::perturbation_coefficients(solver, m.journal, 2.0 * M_PI * m.speed_hz);
-  const wi::RigResponse rig(b, m.speed_hz, {d.fx0_n, d.fy0_n});
+  ForwardModel fm(b, wear, m);
   wi::HarmonicBalanceOptions hb;
   hb.max_iterations = 60;
   hb.tolerance = 1e-8;
   hb.film_nonlinear = false;
   hb.amb_nonlinear = true;
-  const wi::FullFilmSpectrum with = rig.journal_probes_full_film(solver, m.journal, d, hb);
+  const wi::FullFilmSpectrum with = fm.balance(hb);
   hb.amb_nonlinear = false;
-  const wi::FullFilmSpectrum without = rig.journal_probes_full_film(solver, m.journal, d, hb);
+  const wi::FullFilmSpectrum without = fm.balance(hb);
   ASSERT_TRUE(with.converged);
-  auto dist = [](const wi::FullSpectrum& p, const wi::FullSpectrum& q) {
-    return std::hypot(std::abs(p.forward_m - q.forward_m), std::abs(p.backward_m - q.backward_m));
-  };
   const double z2 = std::hypot(std::abs(m.second_harmonic.forward_m), std::abs(m.second_harmonic.backward_m));
   std::printf("[ RESULT ] linear-film SIL e=0.7 wear 3: 2x+ %.4f%+.4fj um, 2x- %.4f%+.4fj um (noise %.4f um); AMB law: "
               "2x+ %.4f%+.4fj, 2x- %.4f%+.4fj, misfit %.4f um; linear AMBs misfit %.4f um\n",
@@ -195,9 +210,6 @@ TEST(JournalRig, FullFilmSilMatchesTheHarmonicBalanceAndShowsThe2x) {
   alias.span_rad = 110.3 * M_PI / 180.0;
   const wi::FullFilmSpectrum fa = wi::predict_full_film(b, alias, m.journal, m.speed_hz);
   ASSERT_TRUE(f.converged);
-  auto dist = [](const wi::FullSpectrum& p, const wi::FullSpectrum& q) {
-    return std::hypot(std::abs(p.forward_m - q.forward_m), std::abs(p.backward_m - q.backward_m));
-  };
   const double z1 = std::hypot(std::abs(m.spectrum.forward_m), std::abs(m.spectrum.backward_m));
   const double z2 = std::hypot(std::abs(m.second_harmonic.forward_m), std::abs(m.second_harmonic.backward_m));
   std::printf("[ RESULT ] full-film SIL e=0.7 wear 1: |Z1| %.3f um, |Z2| %.3f um, noise 1x %.4f / 2x %.4f um; "
@@ -241,21 +253,16 @@ TEST(JournalRig, ThirdHarmonicCarriesTheFilmsTwoXAtLowEccentricity) {
   const board::BoardConfig b = board::load_board(board_path);
   const wi::JournalMeasurement m = wi::measure_journal(host::load_event(stem + ".json"), b, 2.0);
   const mj::WearParams wear{mj::WearModel::elliptical, 46.5e-6, 23.0 * M_PI / 180.0, 77.0 * M_PI / 180.0};
-  mj::ReynoldsSolver solver(b.journal.geometry, wear, b.journal.grid);
-  const mj::DynamicCoefficients d = mj::perturbation_coefficients(solver, m.journal, 2.0 * M_PI * m.speed_hz);
-  const wi::RigResponse rig(b, m.speed_hz, {d.fx0_n, d.fy0_n});
+  ForwardModel fm(b, wear, m);
   wi::HarmonicBalanceOptions hb;
   hb.max_iterations = 80;
   hb.tolerance = 1e-8;
   hb.amb_nonlinear = true;
-  const wi::FullFilmSpectrum two = rig.journal_probes_full_film(solver, m.journal, d, hb);
+  const wi::FullFilmSpectrum two = fm.balance(hb);
   hb.harmonics = 3;
-  const wi::FullFilmSpectrum three = rig.journal_probes_full_film(solver, m.journal, d, hb);
+  const wi::FullFilmSpectrum three = fm.balance(hb);
   ASSERT_TRUE(two.converged);
   ASSERT_TRUE(three.converged);
-  auto dist = [](const wi::FullSpectrum& p, const wi::FullSpectrum& q) {
-    return std::hypot(std::abs(p.forward_m - q.forward_m), std::abs(p.backward_m - q.backward_m));
-  };
   const double z2 = std::hypot(std::abs(m.second_harmonic.forward_m), std::abs(m.second_harmonic.backward_m));
   const double z3 = std::hypot(std::abs(three.third.forward_m), std::abs(three.third.backward_m));
   std::printf("[ RESULT ] noise-free full-film SIL e=%.3f wear 1: |Z2| %.4f um (off-bin %.5f um); 2x misfit with "
@@ -283,15 +290,15 @@ TEST(JournalRig, HarmonicBalanceAndWearIdRefuseBadSettingsByName) {
   EXPECT_NE(o.check().find("film_samples"), std::string::npos) << o.check();
   const board::BoardConfig b = board::load_board("unicamp-journal-rig");
   const mj::WearParams wear{mj::WearModel::elliptical, 46.5e-6, 23.0 * M_PI / 180.0, 77.0 * M_PI / 180.0};
-  mj::ReynoldsSolver solver(b.journal.geometry, wear, b.journal.grid);
-  const mj::JournalState js{0.0, -0.7 * b.journal.geometry.clearance_m, 0.0, 0.0};
-  const mj::DynamicCoefficients d = mj::perturbation_coefficients(solver, js, 2.0 * M_PI * 34.0);
-  const wi::RigResponse rig(b, 34.0, {d.fx0_n, d.fy0_n});
+  wi::JournalMeasurement m;
+  m.journal = {0.0, -0.7 * b.journal.geometry.clearance_m, 0.0, 0.0};
+  m.speed_hz = 34.0;
+  ForwardModel fm(b, wear, m);
   for (int h : {1, 7}) {
     wi::HarmonicBalanceOptions hb;
     hb.harmonics = h;
     try {
-      rig.journal_probes_full_film(solver, js, d, hb);
+      fm.balance(hb);
       ADD_FAILURE() << "harmonics " << h << " accepted";
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find("harmonics"), std::string::npos) << e.what();
