@@ -57,6 +57,6 @@ static void BM_JournalWearIdentification(benchmark::State& state) {
     benchmark::DoNotOptimize(r.cost);
   }
   state.counters["evaluations"] = evals;
-  state.SetLabel(state.range(0) == 0 ? "3p: DOE 9^3 + 8 BOBYQA polishes, 2 threads" : "2p: DOE 9^2 + 8 BOBYQA polishes, 2 threads");
+  state.SetLabel(state.range(0) == 0 ? "3p: DOE 9^3 + 8 BOBYQA polishes + grid neighbours, 2 threads" : "2p: DOE 9^2 + 8 BOBYQA polishes + grid neighbours, 2 threads");
 }
 BENCHMARK(BM_JournalWearIdentification)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
