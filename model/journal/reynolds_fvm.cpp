@@ -300,15 +300,14 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
   return d;
 }
 
-FilmHarmonicSeries film_harmonic_series(ReynoldsSolver& solver, const JournalState& mean,
-                                        const std::vector<std::array<std::complex<double>, 2>>& q_m, double spin_rad_s,
-                                        int samples) {
+FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean,
+                             const std::vector<std::array<std::complex<double>, 2>>& q_m, double spin_rad_s, int samples) {
   using cplx = std::complex<double>;
   if (samples < 8) throw std::invalid_argument("film_harmonics: need at least 8 samples per revolution");
   const size_t n = q_m.size();
   if (n < 1 || 2 * n >= static_cast<size_t>(samples))
     throw std::invalid_argument("film_harmonics: need 1 <= harmonics < samples / 2");
-  FilmHarmonicSeries r;
+  FilmHarmonics r;
   r.harmonic_n.assign(n, std::array<cplx, 2>{});
   r.min_film_m = 1e300;
   const cplx j(0.0, 1.0);
@@ -335,20 +334,6 @@ FilmHarmonicSeries film_harmonic_series(ReynoldsSolver& solver, const JournalSta
       r.harmonic_n[h][1] += 2.0 * inv * f.fy_n * std::conj(e[h]);
     }
   }
-  return r;
-}
-
-FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean, const std::array<std::complex<double>, 2>& q1_m,
-                             const std::array<std::complex<double>, 2>& q2_m, double spin_rad_s, int samples,
-                             const std::array<std::complex<double>, 2>& q3_m) {
-  const FilmHarmonicSeries f = film_harmonic_series(solver, mean, {q1_m, q2_m, q3_m}, spin_rad_s, samples);
-  FilmHarmonics r;
-  r.fx_mean_n = f.fx_mean_n;
-  r.fy_mean_n = f.fy_mean_n;
-  r.first_n = f.harmonic_n[0];
-  r.second_n = f.harmonic_n[1];
-  r.third_n = f.harmonic_n[2];
-  r.min_film_m = f.min_film_m;
   return r;
 }
 

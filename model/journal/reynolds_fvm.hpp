@@ -136,36 +136,22 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
                                               double relative_step = 1e-2);
 
 /// Film force along a periodic journal orbit, as Fourier components over the spin angle phi:
-/// the journal at q(phi) = q_mean + Re(Q1 e^{j phi} + Q2 e^{j 2 phi} + Q3 e^{j 3 phi}) (x, y; m)
-/// with the velocity that orbit has at spin speed W (dq/dt = W dq/dphi), and the film force
-/// F(phi) = F_mean + Re(F1 e^{j phi} + F2 e^{j 2 phi} + F3 e^{j 3 phi} + ...). For the harmonic balance of a
-/// steady unbalance response with the full (nonlinear) film: the linear coefficients give
-/// F1 = -(K + j W C) Q1 only to first order in the orbit.
+/// the journal at q(phi) = q_mean + Re(sum_k Q_k e^{j k phi}), k = 1..N, N = q_m.size() (x, y;
+/// m) with the velocity that orbit has at spin speed W (dq/dt = W dq/dphi), and the film force
+/// F(phi) = F_mean + Re(sum_k F_k e^{j k phi} + ...). For the harmonic balance of a steady
+/// unbalance response with the full (nonlinear) film: the linear coefficients give
+/// F_k = -(K + j k W C) Q_k only to first order in the orbit.
 struct FilmHarmonics {
-  double fx_mean_n = 0.0, fy_mean_n = 0.0;   ///< mean force over the orbit, N
-  std::array<std::complex<double>, 2> first_n{};   ///< F1 (x, y), N
-  std::array<std::complex<double>, 2> second_n{};  ///< F2 (x, y), N
-  std::array<std::complex<double>, 2> third_n{};   ///< F3 (x, y), N
-  double min_film_m = 0.0;                   ///< smallest film met along the orbit, m
-};
-
-/// `samples` (>= 8) equally spaced spin angles; one Reynolds solve each (warm-started). Throws
-/// std::invalid_argument when the orbit touches the bore or `samples` < 8. (The first three
-/// harmonics of film_harmonic_series.)
-FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean, const std::array<std::complex<double>, 2>& q1_m,
-                             const std::array<std::complex<double>, 2>& q2_m, double spin_rad_s, int samples = 32,
-                             const std::array<std::complex<double>, 2>& q3_m = {});
-
-/// The same for an orbit with harmonics 1..N of the spin, N = q_m.size():
-/// q(phi) = q_mean + Re(sum_k Q_k e^{j k phi}); the force's harmonics 1..N (N, x y).
-struct FilmHarmonicSeries {
   double fx_mean_n = 0.0, fy_mean_n = 0.0;                    ///< mean force over the orbit, N
   std::vector<std::array<std::complex<double>, 2>> harmonic_n;  ///< F_k (x, y), k = 1..N, N
   double min_film_m = 0.0;                                    ///< smallest film met along the orbit, m
 };
-/// Throws std::invalid_argument as film_harmonics, and when N < 1 or 2 N >= `samples`.
-FilmHarmonicSeries film_harmonic_series(ReynoldsSolver& solver, const JournalState& mean,
-                                        const std::vector<std::array<std::complex<double>, 2>>& q_m, double spin_rad_s,
-                                        int samples = 32);
+
+/// `samples` equally spaced spin angles; one Reynolds solve each (warm-started). Throws
+/// std::invalid_argument when the orbit touches the bore, `samples` < 8, N < 1 or
+/// 2 N >= `samples`.
+FilmHarmonics film_harmonics(ReynoldsSolver& solver, const JournalState& mean,
+                             const std::vector<std::array<std::complex<double>, 2>>& q_m, double spin_rad_s,
+                             int samples = 32);
 
 }  // namespace amb::model::journal

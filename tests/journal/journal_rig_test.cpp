@@ -47,6 +47,28 @@ std::string sil_record(const char* name, double ecc, double d0_um, double gamma_
   EXPECT_TRUE(s.ok) << s.message;
   return s.ok ? stem : std::string();
 }
+// A SIL record with seed 002's elliptical wear (um, deg, deg), written to the artefacts as
+// `name`, and its measurement over the last `window_s`: the set-up of the tests that compare
+// a record with the harmonic balance. `ok` is false (and a failure recorded) if the SIL failed.
+struct SilCase {
+  bool ok = false;
+  std::string stem;
+  board::BoardConfig board;
+  mj::WearParams wear;
+  wi::JournalMeasurement m;
+};
+SilCase sil_case(const char* name, double ecc, double d0_um, double gamma_deg, double beta_deg, double record_s,
+                 double full_film_s, double window_s, const std::string& board = "unicamp-journal-rig") {
+  SilCase c;
+  c.stem = sil_record(name, ecc, d0_um, gamma_deg, beta_deg, record_s, full_film_s, board);
+  if (c.stem.empty()) return c;
+  c.board = board::load_board(board);
+  c.wear = {mj::WearModel::elliptical, d0_um * 1e-6, gamma_deg * M_PI / 180.0, beta_deg * M_PI / 180.0};
+  c.m = wi::measure_journal(host::load_event(c.stem + ".json"), c.board, window_s);
+  c.ok = true;
+  return c;
+}
+
 // The full-film forward model for `wear` about a record's mean journal position.
 struct ForwardModel {
   ForwardModel(const board::BoardConfig& b, const mj::WearParams& wear, const wi::JournalMeasurement& m)
@@ -156,15 +178,13 @@ TEST(JournalRig, AmbForceLawMakesThe2xOfALinearFilmRecord) {
   // and current (they carry the film's static load). The harmonic balance with the AMB law
   // (and the film kept linear) predicts it; linear AMBs predict none. This 2x was the
   // "film model's 2x bias" that biased the e = 0.7 identifications (docs/journal-bearing.md).
-  const std::string stem = sil_record("journal_sil_e07_linear_10s", 0.7, 15.02, 19.0, 102.0, 10.0, 0.0);
-  ASSERT_FALSE(stem.empty());
-  const mj::WearParams wear{mj::WearModel::elliptical, 15.02e-6, 19.0 * M_PI / 180.0, 102.0 * M_PI / 180.0};
-  const board::BoardConfig b = board::load_board("unicamp-journal-rig");
-  const wi::JournalMeasurement m = wi::measure_journal(host::load_event(stem + ".json"), b, 10.0);
+  const SilCase c = sil_case("journal_sil_e07_linear_10s", 0.7, 15.02, 19.0, 102.0, 10.0, 0.0, 10.0);
+  ASSERT_TRUE(c.ok);
+  const wi::JournalMeasurement& m = c.m;
   EXPECT_NEAR(m.available_s, 10.0, 0.01);  // the whole record is there, and analysed
   EXPECT_NEAR(m.window_s, 10.0, 1.0 / m.speed_hz);
-  EXPECT_NEAR(wi::measure_journal(host::load_event(stem + ".json"), b, 2.0).window_s, 2.0, 1.0 / m.speed_hz);
-  ForwardModel fm(b, wear, m);
+  EXPECT_NEAR(wi::measure_journal(host::load_event(c.stem + ".json"), c.board, 2.0).window_s, 2.0, 1.0 / m.speed_hz);
+  ForwardModel fm(c.board, c.wear, m);
   wi::HarmonicBalanceOptions hb;
   hb.max_iterations = 60;
   hb.tolerance = 1e-8;
@@ -197,11 +217,11 @@ TEST(JournalRig, FullFilmSilMatchesTheHarmonicBalanceAndShowsThe2x) {
   // linear film cannot tell from it (89.5 um, 40.2 deg, 110.3 deg; docs item 5) is many
   // noise sigmas away. Checks the plant's film term, the 2x extraction (phase referred to
   // twice the key phasor angle) and the harmonic balance together.
-  const std::string stem = sil_record("journal_sil_e07_full_film", 0.7, 46.5, 23.0, 77.0, 1.0, 3.0);
-  ASSERT_FALSE(stem.empty());
-  const mj::WearParams wear{mj::WearModel::elliptical, 46.5e-6, 23.0 * M_PI / 180.0, 77.0 * M_PI / 180.0};
-  const board::BoardConfig b = board::load_board("unicamp-journal-rig");
-  const wi::JournalMeasurement m = wi::measure_journal(host::load_event(stem + ".json"), b, 1.0);
+  const SilCase c = sil_case("journal_sil_e07_full_film", 0.7, 46.5, 23.0, 77.0, 1.0, 3.0, 1.0);
+  ASSERT_TRUE(c.ok);
+  const board::BoardConfig& b = c.board;
+  const mj::WearParams& wear = c.wear;
+  const wi::JournalMeasurement& m = c.m;
   const wi::FullFilmSpectrum f = wi::predict_full_film(b, wear, m.journal, m.speed_hz);
   const wi::FullSpectrum lin = wi::predict_spectrum(b, wear, m.journal, m.speed_hz);
   mj::WearParams alias = wear;
@@ -248,12 +268,10 @@ TEST(JournalRig, ThirdHarmonicCarriesTheFilmsTwoXAtLowEccentricity) {
   const std::string board_path = std::string(test::artefact_dir()) + "/unicamp-journal-rig-noise-free.toml";
   std::filesystem::create_directories(test::artefact_dir());
   std::ofstream(board_path) << toml;
-  const std::string stem = sil_record("journal_sil_e01_full_film_noise_free", 0.1, 46.5, 23.0, 77.0, 2.0, 4.0, board_path);
-  ASSERT_FALSE(stem.empty());
-  const board::BoardConfig b = board::load_board(board_path);
-  const wi::JournalMeasurement m = wi::measure_journal(host::load_event(stem + ".json"), b, 2.0);
-  const mj::WearParams wear{mj::WearModel::elliptical, 46.5e-6, 23.0 * M_PI / 180.0, 77.0 * M_PI / 180.0};
-  ForwardModel fm(b, wear, m);
+  const SilCase c = sil_case("journal_sil_e01_full_film_noise_free", 0.1, 46.5, 23.0, 77.0, 2.0, 4.0, 2.0, board_path);
+  ASSERT_TRUE(c.ok);
+  const wi::JournalMeasurement& m = c.m;
+  ForwardModel fm(c.board, c.wear, m);
   wi::HarmonicBalanceOptions hb;
   hb.max_iterations = 80;
   hb.tolerance = 1e-8;

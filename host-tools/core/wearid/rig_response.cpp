@@ -363,7 +363,7 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
   };
   FullFilmSpectrum r;
   r.harmonics = o.harmonics;
-  model::journal::FilmHarmonicSeries fh;
+  model::journal::FilmHarmonics fh;
   auto map = [&](const Eigen::VectorXd& v) {
     const std::vector<Eigen::VectorXcd> e = unpack(v);
     std::vector<Eigen::Vector2cd> x(nh);
@@ -375,7 +375,7 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
     std::vector<Eigen::VectorXcd> g(nh, Eigen::VectorXcd::Zero(2 * m));
     g[0] = f_unb;
     if (o.film_nonlinear) {
-      fh = model::journal::film_harmonic_series(solver, mean, q, w, o.samples);
+      fh = model::journal::film_harmonics(solver, mean, q, w, o.samples);
       for (size_t h = 0; h < nh; ++h)
         g[h] += journal_force(Eigen::Vector2cd(fh.harmonic_n[h][0], fh.harmonic_n[h][1]) + dk[h] * x[h]);
     }
@@ -442,16 +442,12 @@ FullFilmSpectrum RigResponse::journal_probes_full_film(model::journal::ReynoldsS
     return FullSpectrum{0.5 * (xp + j * yp), 0.5 * std::conj(xp - j * yp)};
   };
   r.mean_force_n = {fh.fx_mean_n, fh.fy_mean_n};
-  const std::array<std::array<cplx, 2>*, 3> xj{&r.journal_first_m, &r.journal_second_m, &r.journal_third_m};
   const std::array<FullSpectrum*, 3> zp{&r.first, &r.second, &r.third};
   r.journal_m.resize(nh);
   for (size_t h = 0; h < nh; ++h) {
     const Eigen::Vector2cd v = journal_xy(e[h]);
     r.journal_m[h] = {v(0), v(1)};
-    if (h < 3) {
-      *xj[h] = r.journal_m[h];
-      *zp[h] = probes(v);
-    }
+    if (h < zp.size()) *zp[h] = probes(v);
   }
   return r;
 }

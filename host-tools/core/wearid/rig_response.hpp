@@ -42,8 +42,7 @@ struct FullFilmSpectrum {
   FullSpectrum first;            ///< +1x / -1x, m (referred to the spin angle)
   FullSpectrum second;           ///< +2x / -2x, m (referred to twice the spin angle)
   FullSpectrum third;            ///< +3x / -3x, m (thrice the spin angle); zero with 2 harmonics
-  std::array<cplx, 2> journal_first_m{}, journal_second_m{}, journal_third_m{};  ///< (x, y) at the journal plane, m
-  std::vector<std::array<cplx, 2>> journal_m;  ///< (x, y) at the journal plane of every harmonic in the balance, m
+  std::vector<std::array<cplx, 2>> journal_m;  ///< (x, y) at the journal plane of harmonics 1..N of the balance, m
   std::array<double, 2> mean_force_n{};  ///< film force averaged over the orbit, N
   int harmonics = 2;             ///< highest harmonic of the spin in the balance
   int iterations = 0;            ///< harmonic-balance iterations used
