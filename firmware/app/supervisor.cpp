@@ -66,6 +66,8 @@ void Supervisor::configure(const board::BoardConfig& board) {
   for (int b = 0; b < 2; ++b) {
     const auto& amb = board.plant.amb[static_cast<size_t>(b)];
     ki_n_per_a_[static_cast<size_t>(b)] = amb.ki_n_per_a;
+    law_[static_cast<size_t>(b)] = model::magnet::make_axis_law(amb);
+    for (size_t a = 0; a < 2; ++a) act_dir_[static_cast<size_t>(b)][a] = model::magnet::axis_direction(amb.actuator_angle_deg[a]);
     xf_[static_cast<size_t>(b)].configure(
         {board.plant.sensor[static_cast<size_t>(2 * b)].angle_deg,
          board.plant.sensor[static_cast<size_t>(2 * b + 1)].angle_deg},
@@ -283,7 +285,12 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
       const auto f = xf_[b].xy_to_actuators({fx, fy});
       const double lim = board_.controller.current_limit_a;
       for (size_t a = 0; a < 2; ++a) {
-        ic[a] = f[a] / ki_n_per_a_[b];
+        // Set-point feed-forward: the current at which the bias flux pulls with zero force
+        // where the rotor is meant to be. Without it, energising with the rotor on its
+        // touchdown bearing pulls it into the bearing (about 1.5 kN on the Bath rig) and the
+        // integrator has to unwind that pull along the lift-off and landing ramps.
+        const double z = act_dir_[b][a][0] * ref_m_[2 * b] + act_dir_[b][a][1] * ref_m_[2 * b + 1];
+        ic[a] = f[a] / ki_n_per_a_[b] + model::magnet::zero_force_current_a(law_[b], z);
         if (std::abs(ic[a]) > lim) {
           ic[a] = std::copysign(lim, ic[a]);
           sx = true;

@@ -11,6 +11,7 @@
 #include "firmware/common/spsc_ring.hpp"
 #include "firmware/control/axis_transform.hpp"
 #include "firmware/control/pid_axis.hpp"
+#include "model/amb/amb_force.hpp"
 #include "hal/types.hpp"
 
 namespace amb::fw {
@@ -119,6 +120,8 @@ class Supervisor {
   std::array<PidAxis, 4> pid_{};           ///< [xA, yA, xB, yB]
   std::array<AxisTransform, 2> xf_{};      ///< per bearing plane
   std::array<double, 2> ki_n_per_a_{};
+  std::array<model::magnet::AxisLaw, 2> law_{};                 ///< board's AMB force law, per plane
+  std::array<std::array<std::array<double, 2>, 2>, 2> act_dir_{}; ///< actuator axis unit vectors (x, y)
   std::array<double, 2> weight_share_n_{}; ///< static load of each bearing plane, N (lever rule)
 
   State state_ = State::unconfigured;

@@ -29,6 +29,12 @@ double axis_force_n(const AxisLaw& law, double z_m, double ic_a) {
   return f_plus - f_minus;
 }
 
+double zero_force_current_a(const AxisLaw& law, double z_m) {
+  if (!(law.gap_m > 0.0)) return 0.0;
+  const double reach = std::max(0.0, law.gap_m - law.min_gap_m);
+  return -law.bias_a * std::clamp(z_m, -reach, reach) / law.gap_m;
+}
+
 Linearisation linearise(const AxisLaw& law, double z, double ic) {
   const double k = law.k_n_m2_per_a2, ip = law.bias_a + ic, im = law.bias_a - ic;
   const double gp = law.gap_m - z, gm = law.gap_m + z;

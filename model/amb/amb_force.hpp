@@ -34,6 +34,12 @@ struct Linearisation {
 };
 Linearisation linearise(const AxisLaw& law, double z_m, double ic_a);
 
+/// Control current (A) at which the pair pulls with zero force with the rotor at `z_m` along
+/// the axis: (i0 + ic) / (g0 - z) = (i0 - ic) / (g0 + z), i.e. ic = -i0 z / g0, with z held
+/// inside the gap (|z| <= g0 - min_gap). A set-point feed-forward: with it the bias flux does
+/// not pull a rotor held off-centre towards the nearer pole. No allocation; real-time safe.
+double zero_force_current_a(const AxisLaw& law, double z_m);
+
 /// Unit vector (x, y) of an axis at `angle_deg` from the upward vertical, positive towards +x.
 std::array<double, 2> axis_direction(double angle_deg);
 

@@ -21,6 +21,15 @@ double lag_alpha(double bandwidth_hz, double h) {
   return bandwidth_hz > 0.0 ? 1.0 - std::exp(-k_two_pi * bandwidth_hz * h) : 1.0;
 }
 
+// First-order lag y' = a (u - y), a = 2 pi bandwidth, over a step h with u moving linearly
+// from u0 to u1: y1 = y0 + alpha (u0 - y0) + ramp (u1 - u0), ramp = 1 - alpha / (a h)
+// (-> a h / 2 for a slow lag, 1 for none).
+double ramp_gain(double bandwidth_hz, double h) {
+  if (!(bandwidth_hz > 0.0)) return 1.0;
+  const double ah = k_two_pi * bandwidth_hz * h;
+  return ah < 1e-6 ? 0.5 * ah : 1.0 - lag_alpha(bandwidth_hz, h) / ah;
+}
+
 }  // namespace
 
 RotorAmbPlant::RotorAmbPlant(const PlantParams& p) : RotorAmbPlant(p, Options{}) {}
@@ -123,6 +132,8 @@ void RotorAmbPlant::reset(bool levitated, double spin_hz) {
   spin_accel_rad_s2_ = 0.0;
   ring_rad_s_ = {0.0, 0.0};
   current_a_ = {};
+  // A levitated start has the bias flux established; a start at rest has none.
+  for (size_t j = 0; j < 4; ++j) bias_a_[j] = levitated ? law_[j / 2].bias_a : 0.0;
   amb_force_n_ = {};
   contact_ = {};
   friction_dissipated_j_ = 0.0;
@@ -131,6 +142,7 @@ void RotorAmbPlant::reset(bool levitated, double spin_hz) {
   rng_.reseed(o_.noise_seed);
   for (size_t s = 0; s < 4; ++s) {
     sensor_filtered_m_[s] = sensor_dir_[s][0] * b_sensor_[s].dot(ex_) + sensor_dir_[s][1] * b_sensor_[s].dot(ey_);
+    sensor_true_m_[s] = sensor_filtered_m_[s];
     sensor_out_m_[s] = sensor_filtered_m_[s];
   }
   unb_s_step_ = unb_s_;
@@ -199,7 +211,10 @@ void RotorAmbPlant::step(double dt_s, const PlantInputs& in) {
   if (h != amp_h_) {
     amp_h_ = h;
     for (size_t b = 0; b < 2; ++b) amp_alpha_[b] = lag_alpha(p_.amb[b].amplifier_bandwidth_hz, h);
-    for (size_t s = 0; s < 4; ++s) sensor_alpha_[s] = lag_alpha(p_.sensor[s].bandwidth_hz, h);
+    for (size_t s = 0; s < 4; ++s) {
+      sensor_alpha_[s] = lag_alpha(p_.sensor[s].bandwidth_hz, h);
+      sensor_ramp_[s] = ramp_gain(p_.sensor[s].bandwidth_hz, h);
+    }
   }
   // Forces that change slowly enough to hold over one call: gravity, the misalignment
   // drift (coupling force at the right end) and the unbalance growth at the mid disk.
@@ -253,11 +268,21 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
                  std::sin(k_two_pi * faults_.disturbance_frequency_hz * (t_s_ - faults_.disturbance_start_s));
         const double lim = p_.amb[b].coil_current_limit_a;
         cmd = std::clamp(cmd, -lim, lim);
-        current_a_[j] += amp_alpha_[b] * (cmd - current_a_[j]);
+        // The force of this sub-step is the one at its start (x_n, i_n): the velocity update
+        // below is the kick of a leapfrog step centred on t_n. The current then follows its
+        // held command exactly to t_n + h. (Using the updated current here made the loop act
+        // one sub-step early.)
+        // The amplifier drives the coil currents i0 +- ic: the bias builds up through the same
+        // lag as the control current when the amplifiers are switched on.
+        magnet::AxisLaw law = law_[b];
+        law.bias_a = bias_a_[j];
         const double z = act_dir_[j][0] * xb + act_dir_[j][1] * yb;
-        force = magnet::axis_force_n(law_[b], z, current_a_[j]);
+        force = magnet::axis_force_n(law, z, current_a_[j]);
+        current_a_[j] += amp_alpha_[b] * (cmd - current_a_[j]);
+        bias_a_[j] += amp_alpha_[b] * (law_[b].bias_a - bias_a_[j]);
       } else {
         current_a_[j] = 0.0;
+        bias_a_[j] = 0.0;
       }
       amb_force_n_[j] = force;
       fxb += force * act_dir_[j][0];
@@ -294,18 +319,19 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
   }
   if (any_contact) ++counters_.contact_substeps;
 
-  // Journal bearing: linearised film force, scaled with speed (see journal_rig.hpp).
+  // Journal bearing: linearised film force, scaled with speed (see journal_rig.hpp). The
+  // stiffness part here; the damping part acts on the mean of the journal velocities before and
+  // after the kick (trapezoidal, solved with the velocity update below), i.e. at t_n like the
+  // other forces (the stored velocity is half a sub-step old).
+  const double vjx0 = journal_.enabled ? b_journal_.dot(vx_) : 0.0;
+  const double vjy0 = journal_.enabled ? b_journal_.dot(vy_) : 0.0;
   if (journal_.enabled) {
     const double dx = b_journal_.dot(ex_) - journal_.bore_x_m - journal_.lin_x_m;
     const double dy = b_journal_.dot(ey_) - journal_.bore_y_m - journal_.lin_y_m;
-    const double vjx = b_journal_.dot(vx_), vjy = b_journal_.dot(vy_);
     const auto& k = journal_.coeff.stiffness_n_per_m;
-    const auto& c = journal_.coeff.damping_n_s_per_m;
     const double sc = spin_rad_s_ / journal_.ref_spin_rad_s;
-    const double fjx = sc * (journal_.coeff.fx0_n - k(0, 0) * dx - k(0, 1) * dy) - c(0, 0) * vjx - c(0, 1) * vjy +
-                       film_extra_n_[0];
-    const double fjy = sc * (journal_.coeff.fy0_n - k(1, 0) * dx - k(1, 1) * dy) - c(1, 0) * vjx - c(1, 1) * vjy +
-                       film_extra_n_[1];
+    const double fjx = sc * (journal_.coeff.fx0_n - k(0, 0) * dx - k(0, 1) * dy) + film_extra_n_[0];
+    const double fjy = sc * (journal_.coeff.fy0_n - k(1, 0) * dx - k(1, 1) * dy) + film_extra_n_[1];
     journal_force_n_ = {fjx, fjy};
     fx += fjx * b_journal_;
     fy += fjy * b_journal_;
@@ -322,6 +348,25 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
   // rotation (I - h W G + (h W)^2/2 G^2 with G = [[0, P], [-P, 0]]), then positions.
   vx_ = (vx_ + h * (fx - w2_.cwiseProduct(ex_))).cwiseQuotient((1.0 + h * damp_.array()).matrix());
   vy_ = (vy_ + h * (fy - w2_.cwiseProduct(ey_))).cwiseQuotient((1.0 + h * damp_.array()).matrix());
+  if (journal_.enabled) {
+    // Film damping F = -C (v0 + v1) / 2 at the journal, v = b . v_modal: with D the diagonal
+    // of the update above and u = D^-1 b, v1_modal = v1_above - (h/2) u (C (v0 + v1)), so the
+    // journal's new velocity solves (I + (h/2) g C) v1 = s - (h/2) g C v0, g = b . u.
+    const auto& cj = journal_.coeff.damping_n_s_per_m;
+    const Vec u = b_journal_.cwiseQuotient((1.0 + h * damp_.array()).matrix());
+    const double g = b_journal_.dot(u), hg = 0.5 * h * g;
+    const double jx = b_journal_.dot(vx_) - hg * (cj(0, 0) * vjx0 + cj(0, 1) * vjy0);
+    const double jy = b_journal_.dot(vy_) - hg * (cj(1, 0) * vjx0 + cj(1, 1) * vjy0);
+    const double a00 = 1.0 + hg * cj(0, 0), a01 = hg * cj(0, 1), a10 = hg * cj(1, 0), a11 = 1.0 + hg * cj(1, 1);
+    const double det = a00 * a11 - a01 * a10;
+    const double v1x = (a11 * jx - a01 * jy) / det, v1y = (a00 * jy - a10 * jx) / det;
+    const double fdx = -0.5 * (cj(0, 0) * (vjx0 + v1x) + cj(0, 1) * (vjy0 + v1y));
+    const double fdy = -0.5 * (cj(1, 0) * (vjx0 + v1x) + cj(1, 1) * (vjy0 + v1y));
+    vx_ += (h * fdx) * u;
+    vy_ += (h * fdy) * u;
+    journal_force_n_[0] += fdx;
+    journal_force_n_[1] += fdy;
+  }
   const double g = h * spin_rad_s_;
   if (g != 0.0) {
     const Vec pvx = polar_ * vx_, pvy = polar_ * vy_;
@@ -351,10 +396,14 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
     ring_rad_s_[b] = (w + h / j * (contact_[b].ring_torque_n_m - td * (phi - dphi * w))) / (1.0 + h * td * dphi / j);
   }
 
-  // Sensors: true displacement along each sensor axis through the first-order roll-off.
+  // Sensors: true displacement along each sensor axis through the first-order roll-off,
+  // exact for a displacement that moves linearly over the sub-step (first-order hold between
+  // its values at t_n and t_n + h; holding the end value instead leads by half a sub-step).
   for (size_t k = 0; k < 4; ++k) {
     const double meas = sensor_dir_[k][0] * b_sensor_[k].dot(ex_) + sensor_dir_[k][1] * b_sensor_[k].dot(ey_);
-    sensor_filtered_m_[k] += sensor_alpha_[k] * (meas - sensor_filtered_m_[k]);
+    const double prev = sensor_true_m_[k];
+    sensor_filtered_m_[k] += sensor_alpha_[k] * (prev - sensor_filtered_m_[k]) + sensor_ramp_[k] * (meas - prev);
+    sensor_true_m_[k] = meas;
   }
   t_s_ += h;
 }

@@ -9,8 +9,10 @@
 // per sub-step. Stiffness is explicit; Rayleigh damping is implicit (diagonal in modal
 // coordinates); the gyroscopic coupling is applied as a norm-preserving rotation of the
 // modal velocities (second-order Cayley form), so spin neither adds nor removes energy; the
-// contact friction is implicit in the slip velocity; amplifier and sensor lags are exact
-// first-order updates. Sub-step rule: h <= 0.2 / w_max, w_max the largest of the highest
+// contact friction is implicit in the slip velocity; the AMB force of a sub-step uses the
+// coil current at its start, which then follows its held command exactly, and the sensor
+// roll-off is exact for a displacement moving linearly over the sub-step (so neither lag
+// leads its continuous counterpart). Sub-step rule: h <= 0.2 / w_max, w_max the largest of the highest
 // kept free-free mode and each contact frequency sqrt(k_contact / m_eff), and
 // h <= 0.5 m_eff / c_contact; the board's integration_step_s is used if it is smaller.
 // Symplectic Euler is stable for w h < 2; 0.2 keeps ~30 sub-steps per period of the
@@ -135,7 +137,9 @@ class RotorAmbPlant final : public Plant {
   double t_s_ = 0.0, spin_rad_s_ = 0.0, spin_angle_rad_ = 0.0, spin_accel_rad_s2_ = 0.0;
   std::array<double, 2> ring_rad_s_{};
   std::array<double, 4> current_a_{};         // actual control current per actuator axis
+  std::array<double, 4> bias_a_{};            // actual bias current per actuator axis (lags on switch-on)
   std::array<double, 4> sensor_filtered_m_{};
+  std::array<double, 4> sensor_true_m_{};     // sensed displacement before the roll-off, at t
   std::array<double, 4> sensor_out_m_{};
   double friction_dissipated_j_ = 0.0;
   PlantFaults faults_{};
@@ -149,7 +153,7 @@ class RotorAmbPlant final : public Plant {
   Vec fconst_x_, fconst_y_, unb_s_step_, unb_c_step_;
   std::array<double, 2> amp_alpha_{};
   double amp_h_ = -1.0;
-  std::array<double, 4> sensor_alpha_{};
+  std::array<double, 4> sensor_alpha_{}, sensor_ramp_{};
 
   Counters counters_{};
 

@@ -37,6 +37,27 @@ TEST_P(AmbLaw, LinearisationMatchesKsKiByFiniteDifferences) {
   EXPECT_NEAR(law.bias_a, p.bias_current_a, 0.25 * p.bias_current_a);
 }
 
+// The set-point feed-forward current cancels the bias pull anywhere inside the gap (the law is
+// far from linear there: at half the gap the pull is 1.8x ks z); outside it, it is held.
+TEST_P(AmbLaw, ZeroForceCurrentCancelsTheBiasPull) {
+  const auto board = test::board_from_repo(GetParam());
+  const AxisLaw law = make_axis_law(board.plant.amb[0]);
+  int checked = 0;
+  for (const double r : {-0.6, -0.5, -0.25, -0.05, 0.0, 0.05, 0.25, 0.5, 0.6}) {
+    const double z = r * law.gap_m;
+    const double ic = zero_force_current_a(law, z);
+    if (std::max(law.k_n_m2_per_a2 * (law.bias_a + std::abs(ic)) * (law.bias_a + std::abs(ic)) /
+                     ((law.gap_m - std::abs(z)) * (law.gap_m - std::abs(z))),
+                 0.0) >= law.max_coil_force_n)
+      continue;  // a saturated coil: no current cancels it exactly
+    EXPECT_NEAR(axis_force_n(law, z, ic), 0.0, 1e-9 * std::abs(axis_force_n(law, z, 0.0)) + 1e-12) << "z/g0 " << r;
+    EXPECT_LE(ic * z, 0.0);  // pulls away from the nearer pole
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+  EXPECT_EQ(zero_force_current_a(law, 10.0 * law.gap_m), zero_force_current_a(law, law.gap_m));  // held at the gap
+}
+
 // Opposed coils: F(-z, -i) = -F(z, i); zero at the centre without control current.
 TEST_P(AmbLaw, ForceIsAntisymmetric) {
   const auto board = test::board_from_repo(GetParam());

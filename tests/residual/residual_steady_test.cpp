@@ -102,13 +102,15 @@ TEST(ResidualSteady, CleanRecordAddsNothing) {
 }
 
 TEST(ResidualSteady, PedestalResonanceIsNamed) {
-  // A light support under AMB A (5 kg, 37 Hz as seed 002's unpredicted mode, zeta 0.02),
-  // moving about its loaded equilibrium. Known limit: the pedestal is the top candidate and
+  // A light support under AMB A (10 kg, 37 Hz as seed 002's unpredicted mode, zeta 0.02),
+  // moving about its loaded equilibrium. (It was 5 kg: on a 6.5 kg rotor that housing
+  // destabilises the Bath loop once the plant's sub-step acts when it should (issue 17,
+  // seventh round; the SIL had acted ~10 us early): the generator's rig no longer levitates.) Known limit: the pedestal is the top candidate and
   // improves the spectra, but its identified frequency is not the generator's (about 55 Hz)
   // and the time-domain rms rises with it, so the loop does not keep it (an element is kept
   // only when no reported error rises). Asserted: it is the top candidate, no filler instead.
   fx::EffectSet e;
-  e.pedestal = fx::PedestalResonance{0, 5.0, 37.0, 0.02};
+  e.pedestal = fx::PedestalResonance{0, 10.0, 37.0, 0.02};
   const auto o = run_case("pedestal_resonance", e);
   expect_top_candidate_not_kept(o, "pedestal_resonance");
   if (!o.effects_added.empty()) {

@@ -556,11 +556,17 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     fit::DropMeasurement mc = m;
     mc.sensor_m = remove_runout(m.sensor_m, angle, apply, bu.plant);
     const DropErrors e1 = evaluate(mc, base, bu.plant, o);  // runout is a reading artefact: the drop model's motion is unchanged
-    const bool falls = none_rises(out.drop_before.error, e1.error) && e1.error.statics < out.drop_before.error.statics;
+    // Kept when the contact misfit (the figure the runout test is about) falls and the orbit
+    // distance over the first impacts does not rise. The band spectra and their Pearson
+    // correlation are not asked: a few-micrometre reading correction moves them by less than
+    // their scatter on a chaotic 0.4 s drop (the same generated runout drop: spectral +0.3 %
+    // with one plant discretisation, +1.5 % with the next, while the contact misfit fell
+    // 1.5-2 % both times).
+    const bool falls = e1.error.rms <= out.drop_before.error.rms * (1.0 + tol) && e1.error.statics < out.drop_before.error.statics;
     out.drop_notes.push_back("runout (" + out.runout_source + ") subtracted from the drop readings: " + errs(out.drop_before.error) +
                              " -> " + errs(e1.error));
     if (runout_sig && !lev_runout && !falls) {
-      out.drop_notes.push_back("sensor_runout (drop part) not kept: a drop-part error does not fall with it");
+      out.drop_notes.push_back("sensor_runout (drop part) not kept: the contact misfit does not fall with it, or the orbit distance rises");
     } else {
       out.runout_applied = apply;
       m = mc;
