@@ -215,6 +215,12 @@ void RotorAmbPlant::step(double dt_s, const PlantInputs& in) {
       sensor_alpha_[s] = lag_alpha(p_.sensor[s].bandwidth_hz, h);
       sensor_ramp_[s] = ramp_gain(p_.sensor[s].bandwidth_hz, h);
     }
+    // Implicit Rayleigh damping of the kick, and the film damping's direction through it.
+    kick_den_ = (1.0 + h * damp_.array()).matrix();
+    if (journal_.enabled) {
+      journal_u_ = b_journal_.cwiseQuotient(kick_den_);
+      journal_g_ = b_journal_.dot(journal_u_);
+    }
   }
   // Forces that change slowly enough to hold over one call: gravity, the misalignment
   // drift (coupling force at the right end) and the unbalance growth at the mid disk.
@@ -346,15 +352,15 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
 
   // Lateral motion: explicit stiffness, implicit Rayleigh damping, then the gyroscopic
   // rotation (I - h W G + (h W)^2/2 G^2 with G = [[0, P], [-P, 0]]), then positions.
-  vx_ = (vx_ + h * (fx - w2_.cwiseProduct(ex_))).cwiseQuotient((1.0 + h * damp_.array()).matrix());
-  vy_ = (vy_ + h * (fy - w2_.cwiseProduct(ey_))).cwiseQuotient((1.0 + h * damp_.array()).matrix());
+  vx_ = (vx_ + h * (fx - w2_.cwiseProduct(ex_))).cwiseQuotient(kick_den_);
+  vy_ = (vy_ + h * (fy - w2_.cwiseProduct(ey_))).cwiseQuotient(kick_den_);
   if (journal_.enabled) {
     // Film damping F = -C (v0 + v1) / 2 at the journal, v = b . v_modal: with D the diagonal
     // of the update above and u = D^-1 b, v1_modal = v1_above - (h/2) u (C (v0 + v1)), so the
     // journal's new velocity solves (I + (h/2) g C) v1 = s - (h/2) g C v0, g = b . u.
     const auto& cj = journal_.coeff.damping_n_s_per_m;
-    const Vec u = b_journal_.cwiseQuotient((1.0 + h * damp_.array()).matrix());
-    const double g = b_journal_.dot(u), hg = 0.5 * h * g;
+    const Vec& u = journal_u_;
+    const double hg = 0.5 * h * journal_g_;
     const double jx = b_journal_.dot(vx_) - hg * (cj(0, 0) * vjx0 + cj(0, 1) * vjy0);
     const double jy = b_journal_.dot(vy_) - hg * (cj(1, 0) * vjx0 + cj(1, 1) * vjy0);
     const double a00 = 1.0 + hg * cj(0, 0), a01 = hg * cj(0, 1), a10 = hg * cj(1, 0), a11 = 1.0 + hg * cj(1, 1);

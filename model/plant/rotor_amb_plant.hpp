@@ -154,6 +154,8 @@ class RotorAmbPlant final : public Plant {
   std::array<double, 2> amp_alpha_{};
   double amp_h_ = -1.0;
   std::array<double, 4> sensor_alpha_{}, sensor_ramp_{};
+  Vec kick_den_, journal_u_;                  // 1 + h damp (per mode); D^-1 b_journal (see substep)
+  double journal_g_ = 0.0;                    // b_journal . journal_u_
 
   Counters counters_{};
 
