@@ -11,6 +11,7 @@
 #include "firmware/board/board.hpp"
 #include "hal/sim/sim_rig.hpp"
 #include "model/plant/plant.hpp"
+#include "model/plant/rotor_amb_plant.hpp"
 
 namespace amb::sil {
 
@@ -31,6 +32,8 @@ struct SilOptions {
 
 /// The plant the board describes (the penalty-contact rotor-AMB plant).
 std::unique_ptr<model::Plant> make_board_plant(const board::BoardConfig& board, uint64_t noise_seed);
+/// The same with the plant's own options (noise seed, contact law of the plant: test-data generators).
+std::unique_ptr<model::Plant> make_board_plant(const board::BoardConfig& board, const model::RotorAmbPlant::Options& options);
 
 class SilRig {
  public:

@@ -17,6 +17,7 @@
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/events/measured_event.hpp"
 #include "host-tools/core/io/mat_file.hpp"
+#include "host-tools/core/residual/candidate_report.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
 #include "host-tools/core/residual/journal_residual.hpp"
 #include "host-tools/core/residual/learned_correction.hpp"
@@ -52,13 +53,7 @@ nlohmann::json added(const std::vector<hr::EffectAdded>& v) {
   return a;
 }
 
-nlohmann::json ranking(const std::vector<hr::CandidateScore>& v) {
-  nlohmann::json a = nlohmann::json::array();
-  for (const auto& c : v)
-    a.push_back({{"name", c.name}, {"testable", c.testable},
-                 {"delta_bic", c.testable ? nlohmann::json(c.delta_bic) : nlohmann::json(nullptr)}, {"evidence", c.evidence}});
-  return a;
-}
+nlohmann::json ranking(const std::vector<hr::CandidateScore>& v) { return hr::candidates_json(v); }
 
 void print_text(const std::string& verdict, const hr::ErrorFigures& b, const hr::ErrorFigures& a,
                 const std::vector<hr::CandidateScore>& rank, const std::vector<hr::EffectAdded>& add,
@@ -66,7 +61,7 @@ void print_text(const std::string& verdict, const hr::ErrorFigures& b, const hr:
   std::printf("residual structure:\n");
   for (const auto& n : notes) std::printf("  %s\n", n.c_str());
   std::printf("candidates (best first):\n");
-  for (const auto& c : rank) std::printf("  %-20s %s\n", c.name.c_str(), c.evidence.c_str());
+  for (const auto& c : rank) std::printf("  %s\n", hr::candidate_text(c).c_str());
   for (const auto& e : add) {
     std::printf("added %s:", e.name.c_str());
     for (const auto& [k, x] : e.parameters) std::printf(" %s=%.4g", k.c_str(), x);

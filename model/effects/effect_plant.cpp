@@ -147,6 +147,7 @@ PlantOutputs EffectPlant::outputs() const {
         o.displacement_m[k] += d[0] * w.real() + d[1] * w.imag();
       }
     }
+    if (fx_.sensor_gain) o.displacement_m[k] *= fx_.sensor_gain->gain[k];
   }
   return o;
 }

@@ -15,6 +15,7 @@ const char* effect_name(EffectKind k) {
     case EffectKind::magnetic_saturation: return "magnetic_saturation";
     case EffectKind::sensor_mass: return "sensor_mass";
     case EffectKind::aux_support_compliance: return "aux_support_compliance";
+    case EffectKind::sensor_gain: return "sensor_gain";
   }
   return "unknown";
 }
@@ -46,6 +47,7 @@ bool EffectSet::has(EffectKind k) const {
     case EffectKind::magnetic_saturation: return saturation.has_value();
     case EffectKind::sensor_mass: return sensor_mass.has_value();
     case EffectKind::aux_support_compliance: return aux_support.has_value();
+    case EffectKind::sensor_gain: return sensor_gain.has_value();
   }
   return false;
 }

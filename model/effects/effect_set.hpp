@@ -24,8 +24,9 @@ enum class EffectKind {
   magnetic_saturation,
   sensor_mass,
   aux_support_compliance,
+  sensor_gain,
 };
-inline constexpr int k_effect_kinds = 8;
+inline constexpr int k_effect_kinds = 9;
 
 /// The report name of a kind ("pedestal_resonance", ...).
 const char* effect_name(EffectKind k);
@@ -107,6 +108,12 @@ struct ModelUpdate {
   double force_scale = 1.0;   ///< actual / board actuator force constant: scales ki and ks together (pole area, gap), 1
 };
 
+/// Probe sensitivities off the board's value (the reading is gain x the displacement along the
+/// probe's axis), per channel [A1, A2, B1, B2], 1.
+struct SensorGain {
+  std::array<double, 4> gain{1.0, 1.0, 1.0, 1.0};
+};
+
 /// The effects a model (or a generator) includes; unset = absent.
 struct EffectSet {
   ModelUpdate update;  ///< the base model's uncertain parameters (defaults: the board's values)
@@ -118,6 +125,7 @@ struct EffectSet {
   std::optional<MagneticSaturation> saturation;
   std::optional<SensorMass> sensor_mass;
   std::optional<AuxSupportCompliance> aux_support;
+  std::optional<SensorGain> sensor_gain;
 
   bool has(EffectKind k) const;
   /// Names of the effects present, in EffectKind order.

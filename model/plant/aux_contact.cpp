@@ -5,7 +5,8 @@
 
 namespace amb::model {
 
-ContactResult aux_contact(const AuxBearingParams& b, const ContactState& s, double h, double eps) {
+ContactResult aux_contact(const AuxBearingParams& b, const ContactState& s, double h, double eps, double hertz_exponent,
+                          double hertz_reference_m) {
   ContactResult out;
   const double dx = s.x_m - b.centre_offset_x_m, dy = s.y_m - b.centre_offset_y_m;
   const double r = std::hypot(dx, dy);
@@ -16,7 +17,12 @@ ContactResult aux_contact(const AuxBearingParams& b, const ContactState& s, doub
   const double tx = -ny, ty = nx;            // t = z x n: direction of positive spin at the contact
   const double vn = s.vx_m_s * nx + s.vy_m_s * ny;
   // Kelvin-Voigt penalty; clipped at zero so the damper never pulls the rotor back in.
-  const double fn = std::max(0.0, b.contact_stiffness_n_per_m * pen + b.contact_damping_n_s_per_m * vn);
+  // Elastic part: linear, or K d^e with dF/dd = k at the reference penetration.
+  const double elastic = hertz_exponent == 1.0
+                             ? b.contact_stiffness_n_per_m * pen
+                             : b.contact_stiffness_n_per_m / (hertz_exponent * std::pow(hertz_reference_m, hertz_exponent - 1.0)) *
+                                   std::pow(pen, hertz_exponent);
+  const double fn = std::max(0.0, elastic + b.contact_damping_n_s_per_m * vn);
   out.normal_n = fn;
   const double ring_radius = b.collar_radius_m + b.clearance_m;
   const double slip0 = s.vx_m_s * tx + s.vy_m_s * ty + s.spin_rad_s * b.collar_radius_m -

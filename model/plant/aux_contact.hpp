@@ -34,8 +34,12 @@ struct ContactResult {
 /// Contact force over a sub-step of `h_s`. The friction force is found implicitly in the
 /// slip velocity, F = -mu N phi(v_slip(t + h)), phi(v) = v / sqrt(v^2 + eps^2), so that a
 /// stiff regularisation (small `slip_regularisation_m_s`) stays stable for light rings.
+/// `hertz_exponent` 1 (default): linear penalty k d; 1.5: Hertz K d^1.5 with K such that the
+/// contact stiffness dF/dd equals b.contact_stiffness_n_per_m at d = hertz_reference_m (the
+/// board files' convention, 10 um).
 ContactResult aux_contact(const AuxBearingParams& b, const ContactState& s, double h_s,
-                          double slip_regularisation_m_s);
+                          double slip_regularisation_m_s, double hertz_exponent = 1.0,
+                          double hertz_reference_m = 10e-6);
 
 /// Regularised sign: v / sqrt(v^2 + eps^2).
 inline double regularised_sign(double v, double eps) { return v / std::sqrt(v * v + eps * eps); }

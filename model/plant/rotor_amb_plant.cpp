@@ -317,7 +317,7 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
     cs.ring_rad_s = ring_rad_s_[b];
     cs.lateral_inv_mass_1_per_kg = aux_inv_mass_[b];
     cs.spin_inertia_kg_m2 = spin_inertia_;
-    contact_[b] = aux_contact(p_.aux[b], cs, h, o_.slip_regularisation_m_s);
+    contact_[b] = aux_contact(p_.aux[b], cs, h, o_.slip_regularisation_m_s, o_.contact_exponent);
     fx += contact_[b].fx_n * b_aux_[b];
     fy += contact_[b].fy_n * b_aux_[b];
     spin_torque += contact_[b].spin_torque_n_m;

@@ -51,6 +51,9 @@ class RotorAmbPlant final : public Plant {
     std::uint64_t noise_seed = 1;               ///< sensor-noise seed (deterministic)
     double slip_regularisation_m_s = 1e-3;      ///< friction regularisation velocity, m/s
     double ring_regularisation_rad_s = 0.1;     ///< ring drag regularisation speed, rad/s
+    /// Aux-bearing contact law of the plant: 1 linear penalty (default), 1.5 Hertz (K d^1.5,
+    /// dF/dd = the board's contact stiffness at 10 um). Test-data generators vary it.
+    double contact_exponent = 1.0;
   };
 
   /// Counted, never thrown, while stepping.

@@ -117,48 +117,34 @@ TEST(ResidualDrop, CleanDropAddsNothing) {
   EXPECT_EQ(o.verdict, "none");
 }
 
-TEST(ResidualDrop, AuxBearingOffsetIsFoundAndKeptOnlyIfEveryErrorFalls) {
+TEST(ResidualDrop, AuxBearingOffsetIsNamedAndKeptOnItsEvidence) {
   // A rig with a spin record through the drop (tachometer). The offset must be found from
-  // the contact circles (the candidate ranked first, centres within 15 um of the generator's,
-  // clearance 400 um). It is kept only when every drop-part error falls with the refitted
-  // drop model; with the present drop fit on this plant (SIL penalty contact, backward whirl)
-  // the refit puts friction on its bound and the orbit rms rises (docs/residual.md), so it is
-  // then not kept. Either way no filler may be named.
+  // the contact circles, kept by the engine's criterion on the contact geometry (the
+  // post-impact trajectory is chaotic: reported, never a veto), with centres within 5 um of
+  // the generator's (clearance 400 um), and the decision's features must fall.
   fx::EffectSet e;
   fx::AuxBearingOffset a;
   a.x_m = {60e-6, -50e-6};
   a.y_m = {-40e-6, 30e-6};
   e.aux_offset = a;
   const auto o = run_case("aux_bearing_offset", e, true);
-  ASSERT_FALSE(o.drop_ranking.empty());
-  EXPECT_EQ(o.drop_ranking.front().name, "aux_bearing_offset");
-  EXPECT_GT(o.drop_ranking.front().delta_bic, 100.0);
-  // Found: measured contact-circle centres minus the fitted simulation's (its bias removed).
-  const auto& d = o.drop_before;
-  for (size_t k = 0; k < 2; ++k) {
-    ASSERT_TRUE(d.measured_circle[k].valid && d.simulated_circle[k].valid);
-    EXPECT_NEAR(d.measured_circle[k].centre_m[0] - d.simulated_circle[k].centre_m[0], a.x_m[k], 15e-6) << "bearing " << k;
-    EXPECT_NEAR(d.measured_circle[k].centre_m[1] - d.simulated_circle[k].centre_m[1], a.y_m[k], 15e-6) << "bearing " << k;
-  }
-  for (const auto& x : o.effects_added) EXPECT_EQ(x.name, "aux_bearing_offset") << "a filler was named";
-  if (!o.effects_added.empty()) {
-    ASSERT_EQ(o.effects_added.front().parameters.size(), 5u);
-    const auto& p = o.effects_added.front().parameters;
-    EXPECT_NEAR(p[0].second, 60e-6, 15e-6);
-    EXPECT_NEAR(p[1].second, -40e-6, 15e-6);
-    EXPECT_NEAR(p[2].second, -50e-6, 15e-6);
-    EXPECT_NEAR(p[3].second, 30e-6, 15e-6);
-    // Kept: no drop-part error rises (1 % counts as unchanged), the contact misfit falls.
-    EXPECT_LE(o.drop_after.error.rms, 1.01 * o.drop_before.error.rms);
-    EXPECT_LE(o.drop_after.error.spectral, 1.01 * o.drop_before.error.spectral);
-    EXPECT_GE(o.drop_after.error.pearson, 0.99 * o.drop_before.error.pearson);
-    EXPECT_LT(o.drop_after.error.statics, 0.9 * o.drop_before.error.statics);
-  } else {
-    // Not kept (and no runout subtracted): the drop part's errors are the fitted model's, unchanged.
-    if (o.runout_source.empty()) {
-      EXPECT_EQ(o.drop_after.error.rms, o.drop_before.error.rms);
-    }
-  }
+  ASSERT_EQ(o.verdict, "aux_bearing_offset");
+  ASSERT_EQ(o.effects_added.front().parameters.size(), 5u);
+  const auto& p = o.effects_added.front().parameters;
+  EXPECT_NEAR(p[0].second, 60e-6, 5e-6);
+  EXPECT_NEAR(p[1].second, -40e-6, 5e-6);
+  EXPECT_NEAR(p[2].second, -50e-6, 5e-6);
+  EXPECT_NEAR(p[3].second, 30e-6, 5e-6);
+  const hr::CandidateScore* c = nullptr;
+  for (const auto& r : o.drop_ranking)
+    if (r.name == "aux_bearing_offset") c = &r;
+  ASSERT_NE(c, nullptr);
+  ASSERT_TRUE(c->decided && c->kept) << c->reason;
+  EXPECT_GT(c->delta_bic, c->threshold);
+  ASSERT_FALSE(c->decision_features.empty());
+  for (const auto& f : c->decision_features) EXPECT_LE(f.after, f.before * 1.01 + 1e-12) << f.name;
+  EXPECT_LT(o.drop_after.error.statics, 0.9 * o.drop_before.error.statics);
+  EXPECT_FALSE(c->information_features.empty()) << "the chaotic remainder must be reported";
 }
 
 TEST(ResidualDrop, SensorRunoutIsNamed) {
@@ -231,6 +217,21 @@ TEST(ResidualDrop, AuxSupportComplianceIsFound) {
     bool listed = false;
     for (const auto& u : o.unexplained) listed = listed || (u.part == "drop" && u.kind == "contact_compliance" && u.plane == 0);
     EXPECT_TRUE(listed) << "a found but not kept support must be reported as unexplained";
+  }
+}
+
+// Examples 3 and 4 of ../shared/data/synthetic (a second independent simulator) carry one
+// undeclared effect each, stated in that folder's README only: the loop must name exactly
+// that element. Nothing here tells the code under test which; the test compares its verdict.
+TEST(ResidualDrop, SyntheticExamplesNameTheirEffect) {
+  const std::pair<int, const char*> cases[] = {{3, "aux_bearing_offset"}, {4, "sensor_runout"}};
+  for (const auto& [n, name] : cases) {
+    const std::string path = std::string(amb::test::shared_dir()) + "/data/synthetic/bath_drop_example_" + std::to_string(n) + ".json";
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+    const auto o = analyse(path);
+    report("synthetic " + std::to_string(n), o);
+    EXPECT_EQ(o.verdict, name) << path;
+    EXPECT_LT(o.drop_after.error.statics, 0.9 * o.drop_before.error.statics) << path;
   }
 }
 

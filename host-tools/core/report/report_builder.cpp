@@ -1,5 +1,7 @@
 #include "host-tools/core/report/report_builder.hpp"
 
+#include "host-tools/core/residual/candidate_report.hpp"
+
 #include <cmath>
 #include <cstdio>
 
@@ -305,6 +307,8 @@ void add_drop_residual(ReportData& d, const residual::DropResidualOutcome& o, co
   r.rows.emplace_back("drop part before", figs(o.drop_before.error) + fmt(", friction %.3f", o.drop_before.friction_coefficient));
   r.rows.emplace_back("drop part after", figs(o.drop_after.error) + fmt(", friction %.3f", o.drop_after.friction_coefficient));
   for (const auto& n : o.drop_notes) r.rows.emplace_back("drop part", n);
+  // Every candidate's decision under the engine's one criterion (evidence, value, threshold, reason).
+  for (const auto& c : o.drop_ranking) r.rows.emplace_back("candidate (drop part)", residual::candidate_text(c));
   for (size_t b = 0; b < 2; ++b) {
     const auto& m = o.drop_before.measured_circle[b];
     const auto& s = o.drop_before.simulated_circle[b];

@@ -350,6 +350,35 @@ std::array<double, 2> unbalance_contact_signature_m(const model::PlantParams& ri
   return out;
 }
 
+SagViewShift gravity_sag_view_shift_m(const model::PlantParams& rig) {
+  const auto rm = model::rotor::build_rotor_model(rig.rotor);
+  const Eigen::Index nd = rm.planar_stiffness.rows();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(nd + 2, nd + 2);
+  a.topLeftCorner(nd, nd) = rm.planar_stiffness;
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::RowVectorXd c = model::rotor::planar_interpolation(rm, rig.aux[static_cast<size_t>(k)].axial_m);
+    a.block(nd + k, 0, 1, nd) = c;
+    a.block(0, nd + k, nd, 1) = c.transpose();
+  }
+  // Gravity on every node's translation (y down).
+  Eigen::VectorXd unit_w = Eigen::VectorXd::Zero(nd);
+  for (Eigen::Index i = 0; i < nd; i += 2) unit_w(i) = 1.0;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nd + 2);
+  rhs.head(nd) = -rig.gravity_m_s2 * (rm.planar_mass * unit_w);
+  const Eigen::VectorXd u = a.partialPivLu().solve(rhs);
+  if (!u.allFinite()) return {};
+  const double ya = (model::rotor::planar_interpolation(rm, rig.sensor[0].axial_m) * u.head(nd))(0);
+  const double yb = (model::rotor::planar_interpolation(rm, rig.sensor[2].axial_m) * u.head(nd))(0);
+  const double za = rig.sensor[0].axial_m, zb = rig.sensor[2].axial_m;
+  SagViewShift out;
+  out.weight_n = rm.mass_kg * rig.gravity_m_s2;
+  for (size_t k = 0; k < 2; ++k) {
+    const double s = (rig.aux[k].axial_m - za) / (zb - za);
+    out.shift_m[k] = ya + s * (yb - ya);  // the contact point itself is pinned at 0
+  }
+  return out;
+}
+
 Readings remove_runout(const Readings& sensor_m, const SpinAngle& angle, const model::effects::SensorRunout& r,
                        const model::PlantParams& rig) {
   Readings out = sensor_m;
@@ -487,6 +516,214 @@ ContactCompliance estimate_contact_compliance(const Readings& sensor_m, const mo
   }
   out.testable = all;
   if (!all) out.why_not = "too few contact samples with a resolved contact force";
+  return out;
+}
+
+}  // namespace amb::host::residual
+
+namespace amb::host::residual {
+namespace {
+
+// Gauss-Newton on [c0x, c0y, R0, c1x, c1y, R1, aA, aB] (ratios held at 0 where not free).
+struct GainFit {
+  Eigen::VectorXd beta = Eigen::VectorXd::Zero(8);
+  Eigen::MatrixXd jtj;
+  double ssr = 0.0;
+  bool ok = false;
+};
+
+struct GainSample {
+  std::array<double, 4> r;  // readings
+  int k;                    // bearing
+  size_t i;                 // sample index
+};
+
+// Aux-plane point of bearing k from readings divided by the gains of ratios a (complex, m),
+// and its derivatives with respect to a_A and a_B.
+void gain_point(const std::array<std::array<cd, 4>, 2>& m, const GainSample& x, const Eigen::VectorXd& beta, cd& p,
+                std::array<cd, 2>& dp) {
+  p = 0.0;
+  dp = {cd(0.0), cd(0.0)};
+  for (size_t j = 0; j < 4; ++j) {
+    const size_t plane = j / 2;
+    const double sign = j % 2 == 0 ? 1.0 : -1.0;
+    const double inv_g = std::exp(-0.5 * sign * beta(6 + static_cast<int>(plane)));
+    const cd term = m[static_cast<size_t>(x.k)][j] * x.r[j] * inv_g;
+    p += term;
+    dp[plane] += -0.5 * sign * term;
+  }
+}
+
+GainFit fit_gain(const std::vector<GainSample>& s, const std::array<std::array<cd, 4>, 2>& m, const std::array<bool, 2>& free,
+                 const Eigen::VectorXd& start) {
+  GainFit f;
+  f.beta = start;
+  for (int p = 0; p < 2; ++p)
+    if (!free[static_cast<size_t>(p)]) f.beta(6 + p) = 0.0;
+  for (int it = 0; it < 40; ++it) {
+    Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(8, 8);
+    Eigen::VectorXd jtr = Eigen::VectorXd::Zero(8);
+    double ssr = 0.0;
+    Eigen::VectorXd j(8);
+    for (const auto& x : s) {
+      cd p;
+      std::array<cd, 2> dp;
+      gain_point(m, x, f.beta, p, dp);
+      const cd d = p - cd(f.beta(3 * x.k), f.beta(3 * x.k + 1));
+      const double rad = std::abs(d);
+      if (!(rad > 0.0)) continue;
+      const cd u = d / rad;
+      const double r = rad - f.beta(3 * x.k + 2);
+      j.setZero();
+      j(3 * x.k) = -u.real();
+      j(3 * x.k + 1) = -u.imag();
+      j(3 * x.k + 2) = -1.0;
+      for (int q = 0; q < 2; ++q)
+        if (free[static_cast<size_t>(q)]) j(6 + q) = (std::conj(u) * dp[static_cast<size_t>(q)]).real();
+      jtj.noalias() += j * j.transpose();
+      jtr.noalias() += j * r;
+      ssr += r * r;
+    }
+    for (int q = 0; q < 2; ++q)
+      if (!free[static_cast<size_t>(q)]) jtj(6 + q, 6 + q) = 1.0;  // held: a unit pivot, zero step
+    f.jtj = jtj;
+    f.ssr = ssr;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(jtj);
+    if (ldlt.info() != Eigen::Success) return f;
+    const Eigen::VectorXd step = -ldlt.solve(jtr);
+    if (!step.allFinite()) return f;
+    f.beta += step;
+    f.ok = true;
+    if (step.head(6).norm() < 1e-11 && step.tail(2).norm() < 1e-9) break;
+  }
+  return f;
+}
+
+}  // namespace
+
+ContactGain estimate_contact_gain(const Readings& sensor_m, const model::PlantParams& rig, double fs_hz, const ContactGeometryOptions& o,
+                                  const std::array<bool, 2>& free) {
+  ContactGain out;
+  const model::drop::SensorOrbit view(rig);
+  // The straight-line view is linear in the readings: its column per probe.
+  std::array<std::array<cd, 4>, 2> m{};
+  for (int k = 0; k < 2; ++k)
+    for (size_t j = 0; j < 4; ++j) {
+      std::array<double, 4> e{};
+      e[j] = 1.0;
+      m[static_cast<size_t>(k)][j] = aux_point(view, e, k);
+    }
+  const double min_corr = std::max(1.0, fs_hz * o.decorrelation_s);
+  std::vector<GainSample> cand;
+  for (size_t i = 0; i < sensor_m.size(); ++i)
+    for (int k = 0; k < 2; ++k) {
+      const auto& ab = rig.aux[static_cast<size_t>(k)];
+      if (std::abs(aux_point(view, sensor_m[i], k) - cd(ab.centre_offset_x_m, ab.centre_offset_y_m)) >= o.contact_band * ab.clearance_m)
+        cand.push_back({sensor_m[i], k, i});
+    }
+  auto count = [&](const std::vector<GainSample>& s) {
+    std::array<int, 2> c{};
+    for (const auto& x : s) ++c[static_cast<size_t>(x.k)];
+    return c;
+  };
+  auto enough = [&](const std::array<int, 2>& c) { return c[0] >= o.min_points * min_corr && c[1] >= o.min_points * min_corr; };
+  if (!enough(count(cand))) {
+    out.why_not = "too few contact samples";
+    return out;
+  }
+  Eigen::VectorXd start = Eigen::VectorXd::Zero(8);
+  for (int k = 0; k < 2; ++k) {
+    start(3 * k) = rig.aux[static_cast<size_t>(k)].centre_offset_x_m;
+    start(3 * k + 1) = rig.aux[static_cast<size_t>(k)].centre_offset_y_m;
+    start(3 * k + 2) = rig.aux[static_cast<size_t>(k)].clearance_m;
+  }
+  const std::array<bool, 2> none{false, false};
+  auto residuals = [&](const std::vector<GainSample>& s, const Eigen::VectorXd& beta) {
+    std::vector<double> r;
+    r.reserve(s.size());
+    for (const auto& x : s) {
+      cd p;
+      std::array<cd, 2> dp;
+      gain_point(m, x, beta, p, dp);
+      r.push_back(std::abs(p - cd(beta(3 * x.k), beta(3 * x.k + 1))) - beta(3 * x.k + 2));
+    }
+    return r;
+  };
+  // Contact samples: within trim_sigma robust scales of the circle fit's median residual, twice.
+  std::vector<GainSample> sel = cand;
+  GainFit c0 = fit_gain(sel, m, none, start);
+  for (int pass = 0; pass < 2 && c0.ok; ++pass) {
+    const auto r = residuals(cand, c0.beta);
+    std::array<std::vector<double>, 2> rk;
+    for (size_t i = 0; i < cand.size(); ++i) rk[static_cast<size_t>(cand[i].k)].push_back(r[i]);
+    std::array<double, 2> med{}, scale{};
+    for (size_t k = 0; k < 2; ++k) {
+      med[k] = median(rk[k]);
+      std::vector<double> dev;
+      for (double v : rk[k]) dev.push_back(std::abs(v - med[k]));
+      scale[k] = 1.4826 * median(dev);
+    }
+    std::vector<GainSample> next;
+    for (size_t i = 0; i < cand.size(); ++i) {
+      const auto k = static_cast<size_t>(cand[i].k);
+      if (std::abs(r[i] - med[k]) <= o.trim_sigma * scale[k]) next.push_back(cand[i]);
+    }
+    if (!enough(count(next))) break;
+    sel = std::move(next);
+    c0 = fit_gain(sel, m, none, c0.beta);
+  }
+  const auto pts = count(sel);
+  if (!c0.ok || !enough(pts)) {
+    out.why_not = "too few contact points on the clearance circles";
+    return out;
+  }
+  const GainFit c1 = fit_gain(sel, m, free, c0.beta);
+  const int nfree = static_cast<int>(free[0]) + static_cast<int>(free[1]);
+  if (!c1.ok || nfree == 0) {
+    out.why_not = nfree == 0 ? "no gain ratio free" : "the gain ratios are not resolved by the contact points";
+    return out;
+  }
+  // Resolution: the contact directions must spread round the circle (an arc at the bottom
+  // alone cannot tell an ellipse from a circle of another centre).
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(c1.jtj);
+  if (es.eigenvalues()(0) <= 1e-9 * es.eigenvalues()(7)) {
+    out.why_not = "the gain ratios are not resolved (the contact points do not spread round the circles)";
+    return out;
+  }
+  const auto res = residuals(sel, c1.beta);
+  double tau = min_corr;
+  for (int k = 0; k < 2; ++k) {
+    std::vector<double> r;
+    std::vector<size_t> idx;
+    for (size_t i = 0; i < sel.size(); ++i)
+      if (sel[i].k == k) {
+        r.push_back(res[i]);
+        idx.push_back(sel[i].i);
+      }
+    tau = std::max(tau, correlation_samples(r, idx));
+  }
+  const double per_point = 1.0 / tau;
+  const int npts = pts[0] + pts[1];
+  out.testable = true;
+  out.points = pts;
+  out.n_eff = std::max(1.0, npts * per_point);
+  out.ssr_without_m2 = c0.ssr;
+  out.ssr_with_m2 = c1.ssr;
+  out.delta_bic = out.n_eff * std::log(c0.ssr / std::max(c1.ssr, 1e-300)) - nfree * std::log(out.n_eff);
+  const double s2 = c1.ssr / std::max(1, npts - 6 - nfree);
+  const Eigen::MatrixXd cov = s2 * c1.jtj.inverse() / per_point;
+  for (int p = 0; p < 2; ++p)
+    if (free[static_cast<size_t>(p)]) {
+      out.log_ratio[static_cast<size_t>(p)] = c1.beta(6 + p);
+      out.sigma[static_cast<size_t>(p)] = std::sqrt(std::max(0.0, cov(6 + p, 6 + p)));
+    }
+  return out;
+}
+
+Readings remove_gain_ratio(const Readings& sensor_m, const std::array<double, 2>& log_ratio) {
+  Readings out = sensor_m;
+  for (auto& r : out)
+    for (size_t j = 0; j < 4; ++j) r[j] *= std::exp(-0.5 * (j % 2 == 0 ? 1.0 : -1.0) * log_ratio[j / 2]);
   return out;
 }
 

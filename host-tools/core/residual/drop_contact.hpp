@@ -80,10 +80,50 @@ ContactRunout estimate_contact_runout(const std::vector<std::array<double, 4>>& 
 std::array<double, 2> unbalance_contact_signature_m(const model::PlantParams& rig, const std::array<double, 2>& force_n,
                                                      const std::array<double, 2>& axial_m, double spin_hz);
 
+/// How the straight-line sensor view misplaces the aux-bearing centres of a flexible rotor
+/// resting on both aux bearings (y, m, per aux plane): under gravity the shaft bends between
+/// the two contacts (FE rotor pinned at the aux planes), the sensors see the sagged shaft and
+/// their straight line through the two sensor planes passes the aux planes off the contact
+/// points by this much. Zero for a rotor without bending flexibility; the bias a rigid drop
+/// model does not reproduce.
+struct SagViewShift {
+  std::array<double, 2> shift_m{};  ///< per aux plane, along y (negative: the view sits low), m
+  double weight_n = 0.0;            ///< the rotor's weight that makes it, N
+};
+SagViewShift gravity_sag_view_shift_m(const model::PlantParams& rig);
+
 /// Readings with the runout removed (each sensor's projection of the plane's vector), where
 /// the angle is known; elsewhere unchanged.
 std::vector<std::array<double, 4>> remove_runout(const std::vector<std::array<double, 4>>& sensor_m, const SpinAngle& angle,
                                                  const model::effects::SensorRunout& r, const model::PlantParams& rig);
+
+/// Probe sensitivity from the contact geometry: a probe whose gain is off by a factor reads the
+/// clearance circle as an ellipse stretched along its own axis. The contact points (all
+/// samples after the trigger whose radius about the board's centre is >= contact_band x
+/// clearance, trimmed as for the runout) are fitted with both circles and, per sensor plane,
+/// the log gain ratio a_p = ln(g_p1 / g_p2) of its two probes (the readings divided by
+/// g = e^{+-a/2} before the straight-line view to the aux planes). A common gain of a plane's
+/// two probes only scales the circles and is not identified here (the effective radius is a
+/// nuisance); the ratio is.
+struct ContactGain {
+  bool testable = false;
+  std::string why_not;
+  std::array<double, 2> log_ratio{};        ///< a_p = ln(g_p1 / g_p2) per sensor plane, 1
+  std::array<double, 2> sigma{};            ///< its standard error, 1
+  std::array<int, 2> points{};              ///< contact samples per bearing
+  double n_eff = 0.0;                       ///< decorrelated contact points (both bearings)
+  double ssr_without_m2 = 0.0, ssr_with_m2 = 0.0;  ///< circles only / circles + gain ratios, m^2
+  double delta_bic = 0.0;                   ///< n_eff ln(ssr_without / ssr_with) - (free ratios) ln n_eff
+};
+
+/// `free[p]`: fit plane p's ratio (else held at 0).
+ContactGain estimate_contact_gain(const std::vector<std::array<double, 4>>& sensor_m, const model::PlantParams& rig,
+                                  double fs_hz, const ContactGeometryOptions& o = {},
+                                  const std::array<bool, 2>& free = {true, true});
+
+/// Readings with the probe gains divided out (g_p1 = e^{a_p/2}, g_p2 = e^{-a_p/2}).
+std::vector<std::array<double, 4>> remove_gain_ratio(const std::vector<std::array<double, 4>>& sensor_m,
+                                                     const std::array<double, 2>& log_ratio);
 
 /// Force-deflection of the contacts per aux bearing from the readings: the contact force
 /// from the rigid rotor's dynamics (amplifiers off: m a = contact forces + weight; the

@@ -37,12 +37,22 @@ struct DropResidualOptions {
   double min_levitated_s = 1.0;     ///< shortest pre-trigger history the steady loop is run on, s
   double orbit_error_window_s = 0.015; ///< time-domain orbit error over the first this-many s after the trigger (the Phase C cost's orbit window: free fall and first impacts; later bouncing is chaotic), s
   double contact_band = 0.9;        ///< a sample is a contact point when its radius about the centre >= this x clearance
+  double contact_trim_sigma = 3.0;  ///< contact-circle fit: samples beyond this many robust scales of the radial residual's median are flight, left out
   double decorrelation_s = 1e-3;    ///< contact points closer than this in time count as one (uncertainty, BIC), s
   /// Smallest centre offset reported as evidence, fraction of the clearance: the measured
   /// contact circles of clean generated drops sit 10-18 um low (the flexible shaft sags
   /// between the aux contacts, not between the AMBs, and the straight-line sensor view reads
   /// that as a centre shift), so below 5 % of c an offset is not told from it.
   double min_offset_fraction = 0.05;
+  /// Smallest probe gain ratio claimed, |ln(g1 / g2)| (a contact circle read as an ellipse): 1
+  double min_gain_log_ratio = 0.02;
+  /// Fixed-point refinements of the aux-bearing offset (each a drop-model refit) while the refitted
+  /// simulation's contact circles stay > 2 standard errors off the measured ones
+  int max_offset_iterations = 2;
+  /// Fit the drop part with the board's rotor structure only (off: the drop cost chooses rigid
+  /// or flexible, and a rigid choice gets the flexible rotor's sag bias added to its contact
+  /// circles; on the main job's drop the flexible drop model fitted far worse, cost 14 vs 2.7)
+  bool board_rotor_structure = false;
   double max_spin_accel_rad_s2 = 1e5; ///< a recorded speed changing faster than this is not the spin (a lost tracker, a command), rad/s^2
   double spin_locked_factor = 1.25; ///< a 1x contact residual is runout only above this x the fitted unbalance's contact signature (margin for its pinned-beam approximation)
   bool update_contact_law = false;  ///< fit the drop model with each contact law (rigid, hertz, linear) and keep the best (model updating; off by default: triples the drop part's time and, with the present fit, gains nothing)
@@ -97,6 +107,7 @@ struct DropErrors {
   std::array<double, 2> radius_excess_m{};
   std::array<std::vector<double>, 2> band_db;  ///< per sensor plane: measured / simulated PSD per band, dB (mean of the plane's sensors)
   std::vector<double> band_hz;                 ///< band centres, Hz
+  double sag_scale = 0.0;   ///< the flexible rotor's sag bias added to a rigid model's circles, in weights (0: none added)
 };
 
 struct DropResidualOutcome {
@@ -117,6 +128,7 @@ struct DropResidualOutcome {
   model::effects::SensorRunout runout_applied;///< subtracted from the drop readings (zero: none)
   std::string runout_source;                  ///< "", "levitated", "drop", "levitated 2x + drop 1x"
   ContactCompliance compliance;               ///< force-deflection per bearing
+  std::array<double, 2> gain_log_ratio_applied{}; ///< probe gain ratios ln(g1/g2) divided out of the drop readings (0: none)
   std::vector<UnexplainedItem> unexplained;   ///< levitated part's, then the drop part's (part = "drop")
 };
 

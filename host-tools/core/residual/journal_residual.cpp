@@ -1,5 +1,7 @@
 #include "host-tools/core/residual/journal_residual.hpp"
 
+#include "host-tools/core/residual/candidate_report.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -106,10 +108,19 @@ JournalResidualOutcome run_journal_residual(const LoadedEvent& ev, const board::
   const bool identified = r.worst_sigma_of_range <= o.max_sigma_of_range;
   c.evidence += fmt(", largest 1-sigma %.3g of its range", r.worst_sigma_of_range);
   r.ranking.back().evidence = c.evidence;
-  const bool earns = r.delta_bic > o.min_delta_bic;
-  const bool falls = r.relative_improvement >= o.min_relative_improvement;
-  const bool acts = r.effect_sigma >= o.min_effect_sigma;
-  if (earns && falls && acts && identified) {
+  engine::CandidateEvidence ce;
+  ce.element = k_name;
+  ce.evidence = c.evidence;
+  ce.delta_ic = r.delta_bic;
+  ce.ic_basis = "BIC of the +1x/-1x journal components, Gaussian with the record's off-bin noise, 3 parameters";
+  ce.effect_sigma = r.effect_sigma;
+  ce.identified = identified;
+  if (!identified) ce.not_identified = fmt("a 1-sigma is %.3g of its range > %.2f", r.worst_sigma_of_range, o.max_sigma_of_range);
+  ce.decision.push_back({"spectral error", "1", r.before.spectral, with.spectral});
+  const engine::Decision dec = engine::decide(ce, o.criterion);
+  r.ranking.back() = scored(ce, dec);
+  r.ranking.back().name = k_name;
+  if (dec.kept) {
     EffectAdded a;
     a.name = k_name;
     a.parameters = {{"depth_m", r.fit.d0_um * 1e-6},
@@ -125,12 +136,7 @@ JournalResidualOutcome run_journal_residual(const LoadedEvent& ev, const board::
     r.verdict = k_name;
   } else {
     r.verdict = "none";
-    std::string w = "journal_bearing_wear not added:";
-    if (!earns) w += fmt(" dBIC %.1f <= %.0f;", r.delta_bic, o.min_delta_bic);
-    if (!falls) w += fmt(" error falls by %.1f %% < %.0f %%;", 100.0 * r.relative_improvement, 100.0 * o.min_relative_improvement);
-    if (!acts) w += fmt(" effect %.2f sigma < %.1f;", r.effect_sigma, o.min_effect_sigma);
-    if (!identified) w += fmt(" parameters not identified (a 1-sigma is %.3g of its range > %.2f);", r.worst_sigma_of_range, o.max_sigma_of_range);
-    r.notes.push_back(w);
+    r.notes.push_back("journal_bearing_wear not added: " + dec.reason);
   }
   return r;
 }
@@ -146,9 +152,7 @@ std::string journal_residual_json(const JournalResidualOutcome& r) {
     for (const auto& [k, x] : e.parameters) p[k] = x;
     added.push_back({{"name", e.name}, {"parameters", p}, {"evidence", e.evidence}, {"delta_bic", e.delta_bic}});
   }
-  nlohmann::json rank = nlohmann::json::array();
-  for (const auto& c : r.ranking)
-    rank.push_back({{"name", c.name}, {"testable", c.testable}, {"delta_bic", c.delta_bic}, {"evidence", c.evidence}});
+  const nlohmann::json rank = candidates_json(r.ranking);
   nlohmann::json j;
   j["event_kind"] = "journal";
   j["effects_added"] = added;
@@ -171,7 +175,7 @@ std::string journal_residual_text(const JournalResidualOutcome& r) {
   std::string s = "residual structure:\n";
   for (const auto& n : r.notes) s += "  " + n + "\n";
   s += "candidates (best first):\n";
-  for (const auto& c : r.ranking) s += "  " + c.name + " " + c.evidence + "\n";
+  for (const auto& c : r.ranking) s += "  " + candidate_text(c) + "\n";
   for (const auto& e : r.effects_added) {
     s += "added " + e.name + ":";
     for (const auto& [k, x] : e.parameters) s += " " + k + "=" + fmt("%.4g", x);

@@ -6,15 +6,15 @@
 // residual against the measured ones (journal_spectrum.hpp) is what the element must explain.
 // The candidate is the elliptical three-parameter wear of the bore (d0, gamma, beta; seed 002
 // eq. 8-13), fitted by the wear identification (DOE + NLopt BOBYQA multistart). It is added
-// only when, as for the steady loop's elements (residual_loop.hpp):
-//  - the BIC falls by more than `min_delta_bic` (Gaussian likelihood with the record's own
-//    off-bin noise per component, 3 parameters, 4 real data),
-//  - the spectral error falls by at least `min_relative_improvement` of itself, and
-//  - the fitted wear has an effect within the record: the predicted components with and
-//    without it differ by more than `min_effect_sigma` noise standard errors, and
-//  - its parameters are identified: each 1-sigma (record noise through the Jacobian at the
-//    fit) within `max_sigma_of_range` of its bound range (the steady loop's rank test in
-//    spirit: an element whose parameters the data do not fix is not named).
+// or rejected by the engine's one criterion (engine/criterion.hpp), as every element of every
+// record kind. What this record kind hands it:
+//  - delta_ic: the BIC decrease (Gaussian likelihood with the record's own off-bin noise per
+//    component, 3 parameters, 4 real data),
+//  - decision feature: the spectral error (the +1x / -1x components' misfit),
+//  - effect_sigma: the predicted components with and without the wear, in noise standard errors,
+//  - identified: each fitted parameter's 1-sigma (record noise through the Jacobian at the
+//    fit) within `max_sigma_of_range` of its bound range (an element whose parameters the
+//    data do not fix is not named).
 // The loop is never told whether or how the bearing is worn: it reads the event and the board.
 #include <string>
 #include <vector>
@@ -28,9 +28,7 @@
 namespace amb::host::residual {
 
 struct JournalResidualOptions {
-  double min_delta_bic = 10.0;             ///< BIC decrease the element must earn
-  double min_relative_improvement = 0.10;  ///< fraction of the spectral error the element must remove, 1
-  double min_effect_sigma = 3.0;           ///< predicted change (with vs without) in noise standard errors, 1
+  engine::Criterion criterion;             ///< the one keep/reject criterion (engine/criterion.hpp)
   double max_sigma_of_range = 0.25;        ///< each fitted parameter's 1-sigma must be within this fraction of its bound range, 1
   /// The wear fit (3p). Depth bounds start at 1 um so that "no wear" is nearly inside the family.
   wearid::WearIdOptions wear = [] {

@@ -20,7 +20,6 @@ constexpr double k_inf = std::numeric_limits<double>::infinity();
 // Relative change of an error figure that counts as "unchanged" when checking that no figure
 // rises with an element (the time-domain rms of a noise-dominated record moves by a few
 // tenths of a percent when only the line predictions change).
-constexpr double k_figure_tolerance = 0.01;
 // Smallest relative variation of the force per ampere over the recorded currents for which
 // magnetic saturation acts within the recorded range (below it, it is a constant gain).
 constexpr double k_min_ki_variation = 0.01;
@@ -198,6 +197,7 @@ struct Fitter {
         break;
       case EffectKind::sensor_mass: break;
       case EffectKind::aux_support_compliance: break;  // drop part only (drop_residual.cpp)
+      case EffectKind::sensor_gain: break;             // drop part only (drop_residual.cpp: contact geometry)
     }
     // Scan the starts; refine the best two (a scan alone resolves the one-parameter ones).
     std::vector<std::pair<double, size_t>> scored;
@@ -257,6 +257,7 @@ std::string evidence_for(EffectKind k, const ResidualStructure& s, double delta_
       break;
     case EffectKind::sensor_mass: e = "not applicable to displacement-sensor records"; break;
     case EffectKind::aux_support_compliance: e = "acts only in contact: a drop-part candidate"; break;
+    case EffectKind::sensor_gain: e = "read from the contact geometry: a drop-part candidate"; break;
   }
   return e + fmt("; BIC decrease %.1f", delta_bic);
 }
@@ -305,6 +306,11 @@ std::vector<std::pair<std::string, double>> effect_parameters(const EffectSet& e
     case EffectKind::aux_support_compliance:
       if (e.aux_support)
         p = {{"bearing", e.aux_support->bearing}, {"stiffness_n_per_m", e.aux_support->stiffness_n_per_m}};
+      break;
+    case EffectKind::sensor_gain:
+      if (e.sensor_gain)
+        p = {{"gain_a1", e.sensor_gain->gain[0]}, {"gain_a2", e.sensor_gain->gain[1]}, {"gain_b1", e.sensor_gain->gain[2]},
+             {"gain_b2", e.sensor_gain->gain[3]}};
       break;
   }
   return p;
@@ -573,13 +579,28 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
   const std::vector<EffectKind> kinds{EffectKind::pedestal_resonance, EffectKind::sensor_runout,
                                       EffectKind::aux_bearing_offset,  EffectKind::amplifier_lag,
                                       EffectKind::rotor_mode,          EffectKind::magnetic_saturation};
-  // Every reported error must fall (or stay, for a figure the element does not touch: a
-  // change within k_figure_tolerance counts as unchanged), and at least one by a material
-  // amount.
-  auto none_worse = [](const SteadyEvaluation& a, const SteadyEvaluation& c) {
-    const double tol = k_figure_tolerance;
-    return c.error.rms <= a.error.rms * (1.0 + tol) + 1e-12 && c.error.spectral <= a.error.spectral * (1.0 + tol) + 1e-12 &&
-           c.error.pearson >= a.error.pearson - tol * std::abs(a.error.pearson) && c.error.statics <= a.error.statics * (1.0 + tol) + 1e-12;
+  // What the steady record kind hands the engine (engine/criterion.hpp) for one candidate:
+  // the BIC decrease of its likelihood, the predicted change in noise standard errors,
+  // whether its parameters are identified, and the reported errors as decision features
+  // (all of them reproducible on a steady record: spectra, lines, statics, rest).
+  auto evidence_of = [&](const std::string& name, const SteadyEvaluation& a, const SteadyEvaluation& c, bool identified,
+                         const std::string& why_not, bool in_range) {
+    engine::CandidateEvidence ce;
+    ce.element = name;
+    ce.delta_ic = a.bic - c.bic;
+    ce.ic_basis = "BIC of the steady record: Whittle likelihood of the PSD bands, complex Gaussian speed-order lines, "
+                  "Gaussian statics and rest readings";
+    ce.effect_sigma = in_range ? effect_size_sigma(d, b, c, a) : 0.0;
+    ce.identified = identified;
+    ce.not_identified = why_not;
+    const double inf = std::numeric_limits<double>::infinity();
+    // Rest-position error counts once it exceeds 2 % of the clearance; the Pearson
+    // correlation may not fall but does not count as an improvement on its own.
+    ce.decision = {{"spectral error", "dB", a.error.spectral, c.error.spectral},
+                   {"rms error", "1", a.error.rms, c.error.rms},
+                   {"Pearson", "1", a.error.pearson, c.error.pearson, true, inf},
+                   {"rest-position error", "1", a.error.statics, c.error.statics, false, 0.02}};
+    return ce;
   };
   for (int round = 0; round < o.max_effects; ++round) {
     const ResidualStructure st = round == 0 ? out.structure : analyse_structure(d, b, now);
@@ -588,23 +609,10 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
     std::vector<CandidateScore> scores;
     std::vector<EffectSet> fitted;
     std::vector<int> material;
-    // The errors an element must not raise (and must lower materially): the current model's.
-    // (Judging the first element against the board model while the update sat on a bound let
-    // a filler through on a drop's levitated part: rotor_mode x1.045 for a 10 A saturation,
+    // Elements are judged against the current (updated) model. (Judging the first element
+    // against the board model while the update sat on a bound let a filler through on a
+    // drop's levitated part: rotor_mode x1.045 for a 10 A saturation,
     // ResidualDrop.MagneticSaturationIsNamed; the bound is reported, not used to relax the test.)
-    const SteadyEvaluation& err_ref = now;
-    auto significant = [&](const SteadyEvaluation& a, const SteadyEvaluation& c) {
-      // Rest-position error counts once it exceeds 2 % of the clearance. Overwhelming
-      // evidence (BIC decrease >= strong_delta_bic) may carry half the practical gain.
-      const double r = o.min_relative_improvement;
-      const SteadyEvaluation& ea = err_ref;
-      if (!none_worse(ea, c)) return false;
-      if (effect_size_sigma(d, b, c, a) < o.min_effect_sigma) return false;
-      if (a.bic - c.bic >= o.strong_delta_bic && c.error.spectral <= (1.0 - 0.5 * r) * ea.error.spectral) return true;
-      return c.error.spectral <= (1.0 - r) * ea.error.spectral ||
-             c.error.rms <= (1.0 - o.min_relative_improvement) * ea.error.rms ||
-             (ea.error.statics > 0.02 && c.error.statics <= (1.0 - o.min_relative_improvement) * ea.error.statics);
-    };
     for (EffectKind k : kinds) {
       if (current.has(k)) continue;
       CandidateScore c;
@@ -622,7 +630,7 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
       const SteadyEvaluation ev = evaluate_steady(d, b, e);
       c.delta_bic = now.bic - ev.bic;
       const double z = effect_size_sigma(d, b, ev, now);
-      bool bound = at_bound(e, k, fit.bd) || !fit.identified(e, k);
+      const bool bound = at_bound(e, k, fit.bd) || !fit.identified(e, k);
       // Saturation acts through the variation of the force per ampere with the current; a
       // constant ki change at the operating point is the force scale of the model update. Its
       // effect within the recorded range is the ki variation over the recorded currents.
@@ -646,41 +654,49 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
       if (out_of_range)
         c.evidence += fmt(" (no effect within the recorded range: force per ampere varies by %.2g %% over the recorded currents)",
                           100.0 * ki_variation);
-      else if (bound) c.evidence += " (a fitted parameter is at its bound or not bounded by the data: not identified)";
-      else if (z < o.min_effect_sigma) c.evidence += " (no effect within the recorded range: below the noise)";
-      else if (!none_worse(err_ref, ev)) c.evidence += " (a reported error rises)";
-      else if (!significant(now, ev)) c.evidence += " (not a material improvement)";
-      scores.push_back(c);
+      engine::CandidateEvidence ce =
+          evidence_of(c.name, now, ev, !bound, bound ? "a fitted parameter is at its bound or not bounded by the data" : "", !out_of_range);
+      ce.evidence = c.evidence;
+      const engine::Decision dec = engine::decide(ce, o.criterion);
+      scores.push_back(scored(ce, dec));
       fitted.push_back(e);
-      material.push_back(!bound && !out_of_range && significant(now, ev) ? 1 : 0);
+      material.push_back(dec.kept ? 1 : 0);
     }
     std::vector<size_t> idx(scores.size());
     for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
     std::sort(idx.begin(), idx.end(), [&](size_t a, size_t c) {
-      // Materially improving candidates first, then by BIC decrease.
+      // Candidates the criterion keeps first, then by BIC decrease.
       if (material[a] != material[c]) return material[a] > material[c];
       return scores[a].delta_bic > scores[c].delta_bic;
     });
     if (round == 0)
       for (size_t i : idx) out.ranking.push_back(scores[i]);
-    if (idx.empty() || !material[idx[0]] || !(scores[idx[0]].delta_bic > o.min_delta_bic)) break;
+    if (idx.empty() || !material[idx[0]]) break;
     // The joint refit of every nonlinear parameter (the base model's included), or the
-    // candidate's own fit if the joint one is not better (or not a material improvement).
+    // candidate's own fit if the joint one is not better (or not kept by the criterion).
+    const auto kind_added = *model::effects::effect_from_name(scores[idx[0]].name);
+    auto final_evidence = [&](const SteadyEvaluation& ev) {
+      const bool ok = !at_bound(ev.effects, kind_added, fit.bd) && fit.identified(ev.effects, kind_added);
+      engine::CandidateEvidence ce = evidence_of(scores[idx[0]].name, now, ev, ok, ok ? "" : "a fitted parameter is at its bound or not bounded by the data", true);
+      ce.evidence = scores[idx[0]].evidence;
+      return ce;
+    };
     SteadyEvaluation ev = evaluate_steady(d, b, fitted[idx[0]]);
     {
       const SteadyEvaluation joint = evaluate_steady(d, b, fit.refine(fitted[idx[0]]));
-      if (joint.bic <= ev.bic && significant(now, joint)) ev = joint;
+      if (joint.bic <= ev.bic && engine::decide(final_evidence(joint), o.criterion).kept) ev = joint;
     }
-    const double gain = now.bic - ev.bic;
-    const auto kind_added = *model::effects::effect_from_name(scores[idx[0]].name);
-    if (!(gain > o.min_delta_bic) || !significant(now, ev) || at_bound(ev.effects, kind_added, fit.bd) ||
-        !fit.identified(ev.effects, kind_added))
-      break;
+    const engine::CandidateEvidence fe = final_evidence(ev);
+    const engine::Decision fd = engine::decide(fe, o.criterion);
+    if (round == 0)
+      for (auto& r : out.ranking)
+        if (r.name == scores[idx[0]].name) r = scored(fe, fd);
+    if (!fd.kept) break;
     current = ev.effects;
     now = ev;
     EffectAdded a;
     a.name = scores[idx[0]].name;
-    a.delta_bic = gain;
+    a.delta_bic = fe.delta_ic;
     a.evidence = scores[idx[0]].evidence;
     out.effects_added.push_back(a);
   }

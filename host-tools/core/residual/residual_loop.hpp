@@ -9,27 +9,23 @@
 #include <vector>
 
 #include "firmware/board/board.hpp"
+#include "host-tools/core/residual/engine/criterion.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
 #include "host-tools/core/residual/steady_fit.hpp"
 
 namespace amb::host::residual {
 
 struct LoopOptions {
-  double min_delta_bic = 10.0;   ///< BIC decrease an element must earn ("very strong" evidence)
+  /// The one keep/reject criterion (engine/criterion.hpp): an element must lower the BIC by
+  /// more than criterion.min_delta_ic, its predicted change of the signals must exceed
+  /// criterion.min_effect_sigma standard errors of the record's noise at some band, line,
+  /// static value or rest reading (effect_size_sigma), no reported error may rise and the
+  /// spectral, rms or rest-position error must fall by criterion.min_relative_improvement
+  /// (a statistically "significant" fix of a 4 % PSD mismatch is a modelling detail, not a
+  /// missing effect; half of it with a BIC decrease >= criterion.strong_delta_ic).
+  engine::Criterion criterion;
   int max_effects = 3;           ///< elements added at most
-  int max_evaluations = 50;      ///< per Nelder-Mead refinement
-  /// Practical significance: an element must also lower the spectral or the rms error by
-  /// this fraction (a statistically "significant" fix of a 4 % PSD mismatch is a modelling
-  /// detail, not a missing effect).
-  double min_relative_improvement = 0.10;
-  /// With a BIC decrease at least this large, half of min_relative_improvement on the
-  /// spectral error suffices.
-  double strong_delta_bic = 300.0;
-  /// An element is never added when its fitted parameters have no effect within the recorded
-  /// range: its predicted change of the signals (against the model without it) must exceed
-  /// this many standard errors of the record's noise at some band, line, static value or rest
-  /// reading (effect_size_sigma).
-  double min_effect_sigma = 3.0;
+  int max_evaluations = 50;      ///< per refinement
   /// Fit the base model's own uncertain parameters (loop delay, force scale; EffectSet::update)
   /// before any element is tried.
   bool update_model = true;
@@ -79,7 +75,17 @@ struct CandidateScore {
   bool testable = true;
   double delta_bic = 0.0;        ///< BIC(current) - BIC(with it), > 0: it earns its parameters
   std::string evidence;
+  // The engine's decision (engine/criterion.hpp), when the candidate reached it.
+  bool decided = false;          ///< false: screened out before a refit (the reason is in `evidence`)
+  bool kept = false;
+  double threshold = 0.0;        ///< the criterion's threshold on delta_bic
+  std::string reason;            ///< kept or rejected, and why
+  std::vector<engine::Feature> decision_features;     ///< decided on, before -> after
+  std::vector<engine::Feature> information_features;  ///< reported only (e.g. a drop's chaotic remainder)
 };
+
+/// The candidate's score with the engine's decision on it.
+CandidateScore scored(const engine::CandidateEvidence& c, const engine::Decision& d);
 
 struct EffectAdded {
   std::string name;

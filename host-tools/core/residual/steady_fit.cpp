@@ -52,11 +52,13 @@ int element_parameters(EffectKind k) {
     case EffectKind::magnetic_saturation: return 1;
     case EffectKind::sensor_mass: return 1;
     case EffectKind::aux_support_compliance: return 1;
+    case EffectKind::sensor_gain: return 2;  // the two planes' probe gain ratios (drop part)
   }
   return 0;
 }
 
-SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& b, const model::effects::EffectSet& fx) {
+SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& b, const model::effects::EffectSet& fx,
+                                 const model::effects::SensorRunout* known_runout) {
   SteadyEvaluation ev;
   ev.effects = fx;
   const model::effects::EffectLoopModel m(b.plant, b.controller, b.rate_hz, d.spin_hz, fx);
@@ -154,13 +156,21 @@ SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& 
       const double v = 2.0 * p[static_cast<size_t>(c)] / t + std::pow(k_line_floor * std::abs(y(c)), 2) + 1e-300;
       w(c) = 1.0 / std::sqrt(v);
     }
-    Eigen::VectorXcd pred = Eigen::VectorXcd::Zero(k_channels);
+    // A runout known from elsewhere (a drop's contact geometry): its response is part of the
+    // prediction, not fitted.
+    Eigen::VectorXcd known = Eigen::VectorXcd::Zero(k_channels);
+    if (known_runout != nullptr && !fx.runout && h <= model::effects::k_runout_orders)
+      for (int plane = 0; plane < 2; ++plane)
+        known += m.forward_runout(f, plane) * known_runout->r_m[static_cast<size_t>(plane)][static_cast<size_t>(h - 1)];
+    const Eigen::VectorXcd y_meas = y;
+    y -= known;
+    Eigen::VectorXcd pred = known;
     if (!basis.empty()) {
       Eigen::MatrixXcd a(k_channels, static_cast<Eigen::Index>(basis.size()));
       for (size_t j = 0; j < basis.size(); ++j) a.col(static_cast<Eigen::Index>(j)) = basis[j];
       const Eigen::MatrixXcd aw = w.asDiagonal() * a;
       const Eigen::VectorXcd coef = aw.colPivHouseholderQr().solve(w.asDiagonal() * y);
-      pred = a * coef;
+      pred += a * coef;
       size_t j = 0;
       if (h == 1) {
         ev.unbalance_force_n = {coef(0), coef(1)};
@@ -173,7 +183,7 @@ SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& 
     for (int c = 0; c < k_channels; ++c) {
       ev.order_pred[static_cast<size_t>(c)][static_cast<size_t>(h - 1)] = pred(c);
       const double v = 1.0 / std::norm(w(c));
-      nll += std::norm(y(c) - pred(c)) / v + std::log(v);
+      nll += std::norm(y_meas(c) - pred(c)) / v + std::log(v);
       data += 2;
     }
   }

@@ -58,7 +58,11 @@ struct SteadyEvaluation {
 
 /// Evaluate the model with `effects` (linear element parameters are fitted; their given
 /// values are ignored). Throws std::invalid_argument for a model that cannot be built.
-SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& b, const model::effects::EffectSet& effects);
+/// `known_runout` (optional): a sensor runout known from elsewhere (a drop event's contact
+/// geometry, in the record's angle reference), held in the prediction of the speed-order lines
+/// instead of fitted (ignored when `effects` has a runout of its own).
+SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& b, const model::effects::EffectSet& effects,
+                                 const model::effects::SensorRunout* known_runout = nullptr);
 
 /// Number of fitted parameters an element adds.
 int element_parameters(model::effects::EffectKind k);

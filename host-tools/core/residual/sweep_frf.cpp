@@ -464,7 +464,7 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
       std::sort(tried.begin(), tried.end(), [](const Tried& a2, const Tried& c2) { return a2.dbic > c2.dbic; });
       bool added = false;
       for (auto& t1 : tried) {
-        if (!(t1.dbic > o.min_delta_bic)) break;  // the screening already shows it does not earn its parameters
+        if (!(t1.dbic > o.criterion.min_delta_ic)) break;  // the screening already shows it does not earn its parameters
         UpdateModel t = t1.t;
         const FrfFit f = update(t, t1.f.values, d, all, peak_hz, norms, tr.cur.accel_axial_m, full);
         const double dbic = bic - bic_of(t, f, d, all);
@@ -472,54 +472,49 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
         if (cands[t1.k].name == "amplifier_lag")
           for (const auto& n : bounds_of(t, f.values, 0))
             if (n == "amplifier_lag_s") own.push_back(n);
-        CandidateScore cs;
-        cs.name = cands[t1.k].name;
-        cs.delta_bic = dbic;
-        cs.evidence = cands[t1.k].what + fmt(" (round %.0f): misfit %.5g -> %.5g, BIC decrease %.1f", round, tr.cur.cost, f.cost, dbic);
         done[t1.k] = true;
-        if (!own.empty()) {
-          for (const auto& n : own) cs.evidence += "; " + n + " on its bound";
-          cs.evidence += ": not what the data show, not added";
-          tr.ranking.push_back(cs);
-          continue;
-        }
-        if (!(dbic > o.min_delta_bic)) {
-          cs.evidence += ": not added";
-          tr.ranking.push_back(cs);
-          continue;
-        }
-        if (f.cost > (1.0 - o.min_relative_improvement) * tr.cur.cost) {
-          cs.evidence += fmt("; lowers the misfit by %.1f %% only (< %.0f %%): a modelling detail, not added",
-                             100.0 * (1.0 - f.cost / tr.cur.cost), 100.0 * o.min_relative_improvement);
-          tr.ranking.push_back(cs);
-          continue;
-        }
-        // Identified: the Jacobian keeps full rank and no own parameter is interchangeable with
-        // another (|correlation| >= 0.99): else the data cannot tell it from what is there.
-        {
+        // Identified: no own parameter on its bound, the Jacobian keeps full rank and no own
+        // parameter is interchangeable with another (|correlation| >= 0.99): else the data
+        // cannot tell it from what is there.
+        std::string why;
+        for (const auto& n : own) why += (why.empty() ? "" : "; ") + n + " on its bound";
+        if (why.empty()) {
           const auto id = identifiability(t, f, d);
-          std::string why;
           // A rank deficit counts against the candidate only when its own parameters make up
           // most of the unidentified directions: a deficit carried by parameters already there
           // (e.g. a loop delay the data barely see) says nothing about the new element.
           const int deficit = static_cast<int>(id.names.size()) - id.rank;
           double own_share = 0.0;
+          const std::string name = cands[t1.k].name;
           for (size_t a2 = 0; a2 < id.names.size(); ++a2)
-            if (element_of(id.names[a2]) == cs.name || (cs.name == "amplifier_lag" && id.names[a2] == "amplifier_lag_s"))
+            if (element_of(id.names[a2]) == name || (name == "amplifier_lag" && id.names[a2] == "amplifier_lag_s"))
               own_share += id.null_share[a2];
           if (deficit > tr.rank_deficit && own_share > 0.5 * (deficit - tr.rank_deficit))
             why = fmt("Jacobian rank %.0f of %.0f", id.rank, static_cast<double>(id.names.size())) +
                   fmt(", its own parameters %.0f %% of the unidentified directions", 100.0 * own_share / deficit);
           for (size_t a2 = 0; a2 < id.names.size(); ++a2)
             for (size_t b2 = 0; b2 < id.names.size(); ++b2)
-              if (a2 != b2 && (element_of(id.names[a2]) == cs.name || (cs.name == "amplifier_lag" && id.names[a2] == "amplifier_lag_s")) &&
-                  std::abs(id.correlation[a2][b2]) >= 0.99 && element_of(id.names[b2]) != cs.name)
+              if (a2 != b2 && (element_of(id.names[a2]) == name || (name == "amplifier_lag" && id.names[a2] == "amplifier_lag_s")) &&
+                  std::abs(id.correlation[a2][b2]) >= 0.99 && element_of(id.names[b2]) != name)
                 why += (why.empty() ? "" : "; ") + id.names[a2] + " and " + id.names[b2] + fmt(" correlated %.3f", id.correlation[a2][b2]);
-          if (!why.empty()) {
-            cs.evidence += "; not identifiable (" + why + "): not added";
-            tr.ranking.push_back(cs);
-            continue;
-          }
+        }
+        // The engine's criterion (engine/criterion.hpp). The misfit is coherence-weighted
+        // (the H1 estimator's noise), so its decrease is the element's effect in noise units.
+        engine::CandidateEvidence ce;
+        ce.element = cands[t1.k].name;
+        ce.evidence = cands[t1.k].what + fmt(" (round %.0f): misfit %.5g -> %.5g", round, tr.cur.cost, f.cost);
+        ce.delta_ic = dbic;
+        ce.ic_basis = "BIC of the FRF: complex Gaussian per bin with the H1 estimator's coherence-based variance";
+        ce.effect_sigma = std::sqrt(std::max(0.0, tr.cur.cost - f.cost));
+        ce.identified = why.empty();
+        ce.not_identified = why;
+        ce.decision.push_back({"coherence-weighted FRF misfit", "1", tr.cur.cost, f.cost});
+        const engine::Decision dec = engine::decide(ce, o.criterion);
+        CandidateScore cs = scored(ce, dec);
+        if (!dec.kept) {
+          cs.evidence += ": not added (" + dec.reason + ")";
+          tr.ranking.push_back(cs);
+          continue;
         }
         cs.evidence += ": added";
         tr.rank_deficit = [&] {
@@ -600,7 +595,14 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
     out.effects_added.insert(out.effects_added.begin(), e);
   }
   for (const char* nt : {"sensor_runout", "aux_bearing_offset"})
-    out.ranking.push_back({nt, false, -k_inf, "no rotation / no rest or contact segment in a standstill sweep: not testable"});
+  {
+    CandidateScore c;
+    c.name = nt;
+    c.testable = false;
+    c.delta_bic = -k_inf;
+    c.evidence = "no rotation / no rest or contact segment in a standstill sweep: not testable";
+    out.ranking.push_back(c);
+  }
   // Final values: added elements' parameters in effects_added follow the last refit.
   for (auto& a : out.effects_added)
     for (auto& [n, v] : a.parameters)

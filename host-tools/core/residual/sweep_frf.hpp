@@ -36,6 +36,8 @@
 #include <utility>
 #include <vector>
 
+#include "host-tools/core/residual/engine/criterion.hpp"
+
 #include "firmware/board/board.hpp"
 #include "host-tools/core/residual/frf_update.hpp"
 #include "host-tools/core/residual/nonlinear_span.hpp"
@@ -71,11 +73,11 @@ struct SweepOptions {
   std::vector<std::array<double, 2>> exclude_spans_s;  ///< time spans left out of the FRF, s
   double f_min_hz = 8.0, f_max_hz = 240.0;///< compared band, Hz
   double min_coherence = 0.8;             ///< bins below this (per channel) are not compared
-  double min_delta_bic = 10.0;            ///< an element must lower the BIC by more than this
-  /// ... and the coherence-weighted misfit by at least this fraction: the weights are the FRF
-  /// estimator's noise, the misfit is mostly model error, so the BIC alone overstates small
-  /// gains (same role as LoopOptions::min_relative_improvement of the steady loop).
-  double min_relative_improvement = 0.10;
+  /// The one keep/reject criterion (engine/criterion.hpp). The decision feature is the
+  /// coherence-weighted misfit: its weights are the FRF estimator's noise, the misfit is mostly
+  /// model error, so the BIC alone overstates small gains and the misfit must also fall by
+  /// criterion.min_relative_improvement.
+  engine::Criterion criterion;
   /// Per bounded fit (NLopt BOBYQA). The fits stop on this budget, not on convergence, and the
   /// forward selection is path-dependent: docs/residual.md (TUM section) gives what another
   /// budget does. The command and the test use this default.

@@ -27,8 +27,18 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
   board::BoardConfig truth = b;
   model::effects::apply_to_params(effects, truth.plant);
   for (auto& disk : truth.plant.rotor.disks) disk.unbalance_kg_m *= o.unbalance_scale;
-  auto plant = std::make_unique<model::effects::EffectPlant>(sil::make_board_plant(truth, o.seed), truth.plant, effects);
+  for (auto& a : truth.plant.aux) {
+    if (o.friction_coefficient >= 0.0) a.friction_coefficient = o.friction_coefficient;
+    a.ring_inertia_kg_m2 *= o.ring_inertia_scale;
+  }
+  for (auto& a : truth.plant.amb) a.amplifier_bandwidth_hz *= o.amplifier_bandwidth_scale;
+  if (o.rigid_rotor) truth.plant.rotor.modes_kept = 2;  // per lateral plane: the two rigid-body modes
+  model::RotorAmbPlant::Options po;
+  po.noise_seed = o.seed;
+  po.contact_exponent = o.contact_exponent;
+  auto plant = std::make_unique<model::effects::EffectPlant>(sil::make_board_plant(truth, po), truth.plant, effects);
   b.lifecycle.spin_accel_hz_per_s = o.spin_accel_hz_per_s;
+  if (o.speed_hz > 0.0) b.lifecycle.operating_speed_hz = o.speed_hz;
   sil::SilOptions so;
   so.noise_seed = o.seed;
   so.tachometer = o.tachometer;

@@ -30,6 +30,14 @@ struct SteadyRecordOptions {
   /// Give the firmware a tachometer (the rig's true spin speed; the recorded speed channel then
   /// follows the spin through a drop instead of being lost with the tracker's lock).
   bool tachometer = false;
+  // The rig's truth beyond the elements (population studies: docs/residual.md). None of these
+  // reaches the record or the board the host reads.
+  double speed_hz = 0.0;                ///< > 0: operating speed of the run instead of the board's, Hz
+  double friction_coefficient = -1.0;   ///< >= 0: both aux bearings' friction instead of the board's, 1
+  double contact_exponent = 1.0;        ///< the plant's contact law: 1 linear penalty, 1.5 Hertz
+  bool rigid_rotor = false;             ///< the rig's rotor without bending modes (rigid-body modes only)
+  double ring_inertia_scale = 1.0;      ///< aux-bearing inner-ring inertia x this, 1
+  double amplifier_bandwidth_scale = 1.0; ///< amplifier current-loop bandwidth x this (current decay after the cut), 1
 };
 
 /// Steady run or drop event (see drop_s). Writes DIR/STEM.json + DIR/STEM.csv; returns the sidecar path. Throws on a failed run.
