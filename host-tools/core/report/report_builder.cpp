@@ -166,9 +166,9 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
     for (size_t k = 0; k < 3; ++k) {
       const std::string name = std::string(state_names[k]) + " " + ab(b) + ", measured orbit (post-trigger window)";
       t.rows.emplace_back(name, define_figure(d, name, fmt("%.3f s", t.durations_s[k]),
-                                              fmt("time in this state over the whole post-trigger window (%.3f s), "
-                                                  "classified from the measured orbit at the aux-bearing plane",
-                                                  window_s)));
+                                              "time in this state over the whole post-trigger window (" +
+                                                  fmt("%.3f s", window_s) +
+                                                  "), classified from the measured orbit at the aux-bearing plane"));
     }
     rub.push_back(std::move(t));
   }
@@ -274,9 +274,8 @@ void add_fit(ReportData& d, const fit::DropFitResult& r, const std::string& sour
     for (size_t s = 0; s < 3; ++s) {
       const std::string fit_name = std::string(state_names[s]) + " " + ab(b) + ", fitted drop model (fit window)";
       const std::string meas_name = std::string(state_names[s]) + " " + ab(b) + ", measured orbit (fit window)";
-      const std::string why = fmt("over the fit window only (the first %.3f s after the trigger, amb-host fit --window), "
-                                  "not the whole post-trigger window",
-                                  window_s);
+      const std::string why = "over the fit window only (the first " + fmt("%.3f s", window_s) +
+                              " after the trigger, amb-host fit --window), not the whole post-trigger window";
       c.rows.emplace_back(fit_name, define_figure(d, fit_name, fmt("%.3f s", fitted[s]), "time in this state in the fitted model, " + why));
       c.rows.emplace_back(meas_name, define_figure(d, meas_name, fmt("%.3f s", measured[s]), "time in this state in the measurement, " + why));
     }
@@ -344,10 +343,21 @@ void add_residual(ReportData& d, const residual::SteadyData& data, const residua
     }
     r.model_steps.emplace_back("base model", std::move(before));
     r.model_steps.emplace_back(added.empty() ? "after the loop (nothing added)" : "model " + added, std::move(after));
-    r.figures = {{"verdict", o.verdict},
-                 {"spectral error before", fmt("%.2f dB", o.before.error.spectral)},
-                 {"spectral error after", fmt("%.2f dB", o.after.error.spectral)},
-                 {"rms error before / after", fmt("%.3f", o.before.error.rms) + fmt(" / %.3f", o.after.error.rms)}};
+    // The loop's error figures are over all four sensors together: shown once (under the
+    // first sensor) and in the Figures table, not repeated as if they were per sensor.
+    if (c == 0) {
+      const std::string all = " (all four sensors)";
+      r.figures = {{"verdict", o.verdict},
+                   {"residual spectral error before" + all,
+                    define_figure(d, "residual spectral error before" + all, fmt("%.2f dB", o.before.error.spectral),
+                                  "the residual loop's spectral error of the base model against the steady record, over "
+                                  "the four sensors together")},
+                   {"residual spectral error after" + all,
+                    define_figure(d, "residual spectral error after" + all, fmt("%.2f dB", o.after.error.spectral),
+                                  "the same after the effects the loop added (" + (added.empty() ? std::string("none") : added) +
+                                      "); equal to 'before' when an added effect changes the spectra little")},
+                   {"rms error before / after" + all, fmt("%.3f", o.before.error.rms) + fmt(" / %.3f", o.after.error.rms)}};
+    }
     out.push_back(std::move(r));
   }
   d.residual.set(std::move(out), source + " (the loop reports the model before and after all added effects; "

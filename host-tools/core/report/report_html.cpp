@@ -269,8 +269,10 @@ std::string section_residual(const ReportData& d) {
     p.log_y = true;
     p.width_px = 900;
     p.series.push_back({"measured", r.f_hz, r.measured, "#000000", 1.6});
-    for (size_t k = 0; k < r.model_steps.size(); ++k)
-      p.series.push_back({r.model_steps[k].first, r.f_hz, r.model_steps[k].second, palette(k + 1), 1.3, k == 0});
+    // The last model step first, the base model (dashed) over it: where they coincide the
+    // dashes still show the base model.
+    for (size_t k = r.model_steps.size(); k-- > 0;)
+      p.series.push_back({r.model_steps[k].first, r.f_hz, r.model_steps[k].second, palette(k + 1), k == 0 ? 2.0 : 1.3, k == 0});
     s += render_line_plot(p);
     if (!r.figures.empty()) s += table(r.figures);
   }

@@ -212,7 +212,13 @@ std::string render_line_plot(const LinePlot& p) {
   Frame f{x0, x1, y0, y1, 70.0, 30.0, static_cast<double>(p.width_px) - 70.0 - 16.0,
           static_cast<double>(p.height_px) - 30.0 - 48.0, p.log_y};
   const bool has_legend = !legend.empty() || !band_legend.empty();
-  if (has_legend) f.width -= 150.0;
+  // The legend's margin fits its longest label (about 6.3 px a character at 11 px sans-serif;
+  // a fixed 150 px clipped longer labels such as "model + sensor_runout").
+  size_t longest = 0;
+  for (const LegendLine& l : legend) longest = std::max(longest, l.label.size());
+  for (const auto& [label, colour] : band_legend) longest = std::max(longest, label.size());
+  const double legend_w = std::max(150.0, 14.0 + 24.0 + 6.3 * static_cast<double>(longest) + 6.0);
+  if (has_legend) f.width -= legend_w;
   if (p.equal_aspect) {
     // Same m per px on both axes: widen the range of the axis that has room to spare.
     const double sx = (f.x1 - f.x0) / f.width, sy = (f.y1 - f.y0) / f.height;
