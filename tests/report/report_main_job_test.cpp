@@ -30,6 +30,11 @@ TEST(ReportMainJob, TheMainJobsReportAgreesWithItself) {
   const std::string chain = c["cause_chain"];
   for (const char* step : {"cut", "Phase A trigger", "fault latched", "safe state"})
     EXPECT_NE(chain.find(step), std::string::npos) << chain;
+  // The aux-plane orbit: the rigid extrapolation, the plant's and the error between them.
+  for (const char* b : {"A", "B"})
+    for (const std::string& name : {std::string("rigid-extrapolation error ") + b + " at the aux-bearing plane",
+                                    std::string("largest orbit radius ") + b + " at the aux-bearing plane, simulated plant (SIL truth)"})
+      EXPECT_TRUE(c["figures"].contains(name)) << name;
   // The figures the scenario prints are the ones on the page.
   char peak[32];
   std::snprintf(peak, sizeof peak, "%.0f N", s["max_contact_force_n"].get<double>());

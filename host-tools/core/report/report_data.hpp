@@ -42,6 +42,8 @@ struct OrbitPlane {
   std::string name;                 ///< e.g. "bearing A"
   std::vector<double> sensor_x_m, sensor_y_m;  ///< rotor centre at the sensor plane, m
   std::vector<double> aux_x_m, aux_y_m;        ///< extrapolated to the aux-bearing plane (rigid rotor), m
+  std::vector<double> t_s;                     ///< time of each sample from the trigger, s
+  std::vector<double> truth_x_m, truth_y_m;    ///< simulated runs only: the plant's rotor centre at the aux plane after the trigger, m
   double clearance_m = 0.0;         ///< radial clearance of the aux bearing, m
 };
 

@@ -115,12 +115,14 @@ std::string section_orbit(const ReportData& d) {
     p.series.push_back(sp);
     // Dashed: not measured but extrapolated (rigid rotor); the caption says so.
     if (!o.aux_x_m.empty()) p.series.push_back({"aux plane (rigid)", um(o.aux_x_m), um(o.aux_y_m), palette(1), 1.0, true, true});
+    if (!o.truth_x_m.empty()) p.series.push_back({"aux plane (plant)", um(o.truth_x_m), um(o.truth_y_m), palette(2), 1.0, false, true});
     if (o.clearance_m > 0.0) p.circles.push_back({0.0, 0.0, o.clearance_m * 1e6, "clearance " + fmt("%.0f \u00b5m", o.clearance_m * 1e6)});
     s += render_line_plot(p);
   }
   return s + "</div>\n<p class=\"caption\">The aux-plane orbit (dashed) is not measured: it is extrapolated from the two "
              "sensor planes as if the rotor were rigid. The rotor bends during the drop, so it can pass the clearance "
-             "circle although the journal cannot; its error is not estimated (see Figures).</p>\n" +
+             "circle although the journal cannot. Where the run is simulated, the plant's own aux-plane orbit is drawn "
+             "too and the extrapolation's error is in Figures; otherwise the error is not known.</p>\n" +
          source_line(d.orbit.source) + "</section>\n";
 }
 
