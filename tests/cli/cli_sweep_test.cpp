@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -38,6 +39,7 @@ struct Fixtures {
   std::map<std::string, fs::path> valid;      ///< kind -> a valid file of it
   std::map<std::string, fs::path> truncated;  ///< kind -> the valid file cut in half
   std::map<std::string, fs::path> wrong;      ///< kind -> a file of another kind
+  std::map<std::string, fs::path> garbage;    ///< kind -> random bytes under the kind's file name
   fs::path empty_file, missing, folder, empty_dir;
 };
 
@@ -81,6 +83,26 @@ const Fixtures& fixtures() {
       const fs::path t = x.dir / "truncated" / (kind + path.extension().string());
       write_bytes(t, all.substr(0, all.size() / 2));
       x.truncated[kind] = t;
+    }
+    // Random bytes under each kind's name (a damaged download, a wrong rename).
+    fs::create_directories(x.dir / "garbage");
+    uint32_t seed = 12345;
+    std::string junk;
+    for (int i = 0; i < 4096; ++i) {
+      seed = seed * 1664525u + 1013904223u;
+      junk += static_cast<char>(seed >> 24);
+    }
+    for (const auto& [kind, path] : x.valid) {
+      const fs::path g = x.dir / "garbage" / (kind + path.extension().string());
+      write_bytes(g, junk);
+      x.garbage[kind] = g;
+    }
+    // A measured event whose sidecar is whole but whose CSV is cut in the middle of a row.
+    fs::create_directories(x.dir / "truncated-csv");
+    fs::copy_file(x.dir / "drop.json", x.dir / "truncated-csv" / "drop.json", fs::copy_options::overwrite_existing);
+    {
+      const std::string csv = amb::test::read_text(x.dir / "drop.csv");
+      write_bytes(x.dir / "truncated-csv" / "drop.csv", csv.substr(0, csv.size() / 2 + 7));
     }
     // The truncated measured event keeps its CSV (so the sidecar, not the missing CSV, is what breaks).
     fs::copy_file(x.dir / "drop.csv", x.dir / "truncated" / "event.csv", fs::copy_options::overwrite_existing);
@@ -204,8 +226,9 @@ void expect_refused(const std::vector<std::string>& args, const std::vector<std:
   EXPECT_EQ(r.exit_code, 1) << ctx;
   bool mentions = false;
   for (const auto& s : named) mentions = mentions || (!s.empty() && r.err.find(s) != std::string::npos);
-  EXPECT_TRUE(mentions) << "the error names neither of '" << (named.empty() ? "" : named[0]) << "' / '"
-                        << (named.size() > 1 ? named[1] : "") << "': " << ctx;
+  std::string listed;
+  for (const auto& s : named) listed += (listed.empty() ? "'" : " / '") + s + "'";
+  EXPECT_TRUE(mentions) << "the error names none of " << listed << ": " << ctx;
   EXPECT_TRUE(r.out.empty()) << "bad input printed on stdout (a verdict?): " << r.out << "\n" << ctx;
   EXPECT_TRUE(fs::is_empty(cwd)) << "bad input wrote " << fs::directory_iterator(cwd)->path().filename() << ": " << ctx;
   if (!::testing::Test::HasFailure()) fs::remove_all(cwd);
@@ -253,13 +276,17 @@ TEST(CliSweep, EveryInputFileRefusesMissingEmptyFolderTruncatedAndWrongKind) {
       const std::string kind = o["file_kind"], name = o["name"];
       const std::vector<std::string> base = base_args(cmd, name);
       auto check = [&](const fs::path& p, const char* what) {
-        expect_refused(with(base, o, p.string()), {p.filename().string(), name}, std::string(what) + " " + kind, tally);
+        // The file, the option, or the broken CSV of a measured event's sidecar.
+        expect_refused(with(base, o, p.string()), {p.filename().string(), name, p.stem().string() + ".csv"},
+                       std::string(what) + " " + kind, tally);
       };
       check(fx.missing, "missing");
       check(fx.empty_file, "empty");
       check(fx.folder, "folder");
       check(fx.truncated.at(kind), "truncated");
       check(fx.wrong.at(kind), "wrong kind");
+      check(fx.garbage.at(kind), "random bytes");
+      if (kind == "event" || kind == "measured-event") check(fx.dir / "truncated-csv" / "drop.json", "CSV cut mid-row");
     }
   }
   EXPECT_GT(files, 15) << "the table lists fewer input files than amb-host reads";
