@@ -8,10 +8,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/bearing/bearing_check.hpp"
 #include "host-tools/core/io/mat_file.hpp"
 #include "model/bearing/catalogue.hpp"
+#include "model/bearing/geometry.hpp"
 
 namespace {
 
@@ -27,6 +29,18 @@ struct Args {
 
 nlohmann::json opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
 
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+std::string known_bearings() {
+  std::string known;
+  for (const auto& g : amb::model::bearing::bearing_catalogue()) known += (known.empty() ? "" : ", ") + std::string(g.name);
+  return known;
+}
+
 int bad_input(const std::string& what) {
   std::fprintf(stderr, "amb-host bearing-check: error: %s\n", what.c_str());
   return 1;
@@ -35,21 +49,32 @@ int bad_input(const std::string& what) {
 int run(const Args& a) {
   namespace mb = amb::model::bearing;
   namespace hb = amb::host::bearing;
-  if (!(a.fs_hz > 0)) return bad_input("--fs must be > 0 Hz (got " + std::to_string(a.fs_hz) + ")");
-  if (!(a.rpm > 0)) return bad_input("--rpm must be > 0 (got " + std::to_string(a.rpm) + ")");
+  // --fs and --rpm are finite and in range (checked at parse); the bearing is in the catalogue.
   const auto geometry = mb::find_bearing(a.bearing);
-  if (!geometry) {
-    std::string known;
-    for (const auto& g : mb::bearing_catalogue()) known += (known.empty() ? "" : ", ") + std::string(g.name);
-    return bad_input("unknown bearing '" + a.bearing + "' (known: " + known + ")");
-  }
-  if (!std::filesystem::exists(a.mat_file)) return bad_input("--mat file '" + a.mat_file + "' does not exist");
+  if (!geometry) return bad_input("--bearing: unknown bearing '" + a.bearing + "' (known: " + known_bearings() + ")");
   std::vector<double> x;
   try {
     x = amb::host::read_mat_vector(a.mat_file, a.var);
   } catch (const std::exception& e) {
-    return bad_input(std::string("--mat/--var: ") + e.what());
+    return bad_input("--mat '" + a.mat_file + "' --var '" + a.var + "': " + e.what());
   }
+  // Where the record cannot hold the defect lines, say so instead of giving a verdict: every
+  // line examined must lie below the Nyquist frequency, and the record must span enough
+  // revolutions of the cage (the slowest line) to resolve it.
+  const int harmonics = hb::BearingCheckOptions{}.harmonics;
+  const mb::DefectFrequencies defect = mb::defect_frequencies(*geometry, a.rpm / 60.0);
+  const double highest_hz = harmonics * defect.bpfi_hz + 3.0 * defect.shaft_hz;
+  if (highest_hz >= 0.5 * a.fs_hz)
+    return bad_input("--rpm " + num(a.rpm) + " with --fs " + num(a.fs_hz) + ": the defect lines examined reach " +
+                     num(highest_hz) + " Hz (" + std::to_string(harmonics) +
+                     " x BPFI + 3 x shaft), above the Nyquist frequency " + num(0.5 * a.fs_hz) +
+                     " Hz; nothing can be analysed (check --rpm and --fs)");
+  const double duration_s = static_cast<double>(x.size()) / a.fs_hz;
+  if (duration_s * defect.ftf_hz < 10.0)
+    return bad_input("--rpm " + num(a.rpm) + " with --fs " + num(a.fs_hz) + ": the record (" +
+                     std::to_string(x.size()) + " samples, " + num(duration_s) + " s) spans " +
+                     num(duration_s * defect.ftf_hz) + " cage revolutions; at least 10 are needed to resolve the lines "
+                     "(check --rpm and --fs)");
   hb::BearingCheckResult r;
   try {
     hb::BearingCheckOptions o;
@@ -139,11 +164,12 @@ const amb::host::Registration reg{
     "bearing-check", "envelope analysis of a vibration record against a bearing's defect frequencies",
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto args = std::make_shared<Args>();
-      sub.add_option("--mat", args->mat_file, "MATLAB .mat file with the vibration record")->required();
+      namespace hc = amb::host::cli;
+      hc::input_file(sub.add_option("--mat", args->mat_file, "MATLAB .mat file with the vibration record")->required(), "mat");
       sub.add_option("--var", args->var, "variable name of the record (e.g. DE_time)")->required();
-      sub.add_option("--fs", args->fs_hz, "sample rate, Hz")->required();
-      sub.add_option("--rpm", args->rpm, "nominal shaft speed, rpm")->required();
-      sub.add_option("--bearing", args->bearing, "bearing name, e.g. 'SKF 6205' or 6205")->required();
+      hc::real(sub.add_option("--fs", args->fs_hz, "sample rate, Hz")->required(), 100.0, 1e7, "Hz");
+      hc::real(sub.add_option("--rpm", args->rpm, "nominal shaft speed, rpm")->required(), 1.0, 1e6, "rpm");
+      sub.add_option("--bearing", args->bearing, "bearing name, one of: " + known_bearings())->required();
       sub.add_flag("--json", args->json, "print the figures as JSON");
       sub.add_flag("--remove-discrete", args->remove_discrete,
                    "edit discrete spectral lines (shaft harmonics, tones) out before band selection");

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/events/measured_event.hpp"
@@ -47,8 +48,9 @@ const amb::host::Registration reg{
     "export", "Convert an event (board AMBE file) to the measured-event exchange format (CSV + JSON)",
     [](CLI::App& sub, std::function<int()>& runner) {
       auto args = std::make_shared<Args>();
-      sub.add_option("EVENT", args->event, "board event file (or a measured event)")->required();
-      sub.add_option("--out", args->out, "output stem: writes STEM.csv and STEM.json")->required();
+      namespace hc = amb::host::cli;
+      hc::input_file(sub.add_option("EVENT", args->event, "board event file (or a measured event)")->required(), "event");
+      hc::output_path(sub.add_option("--out", args->out, "output stem: writes STEM.csv and STEM.json")->required());
       sub.add_flag("--json", args->json, "print what was written as JSON");
       runner = [args] { return run(*args); };
     }};

@@ -13,6 +13,7 @@
 
 #include "firmware/persistence/crc32c.hpp"
 #include "firmware/supervisory/register_addresses.hpp"
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/link/board_link.hpp"
 
@@ -124,10 +125,11 @@ int run(const Args& a) {
 
 void add_link_options(CLI::App& sub, lk::LinkOptions& o) {
   sub.add_option("--host", o.host, "board address")->capture_default_str();
-  sub.add_option("--port", o.port, "Modbus TCP port")->capture_default_str()->check(CLI::Range(1, 65535));
-  sub.add_option("--unit", o.unit_id, "Modbus unit id")->capture_default_str()->check(CLI::Range(0, 255));
-  sub.add_option("--timeout", o.response_timeout_s, "response timeout per request, s")->capture_default_str();
-  sub.add_option("--retries", o.max_retries, "reconnect attempts before giving up")->capture_default_str();
+  namespace hc = amb::host::cli;
+  hc::whole(sub.add_option("--port", o.port, "Modbus TCP port"), 1, 65535);
+  hc::whole(sub.add_option("--unit", o.unit_id, "Modbus unit id"), 0, 255);
+  hc::positive(sub.add_option("--timeout", o.response_timeout_s, "response timeout per request, s"), 600.0, "s");
+  hc::whole(sub.add_option("--retries", o.max_retries, "reconnect attempts before giving up"), 0, 1000);
 }
 
 const amb::host::Registration reg{
@@ -135,10 +137,10 @@ const amb::host::Registration reg{
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto a = std::make_shared<Args>();
       add_link_options(sub, a->link);
-      sub.add_option("--out", a->out_dir, "directory for the event files")->capture_default_str();
+      amb::host::cli::output_path(sub.add_option("--out", a->out_dir, "directory for the event files"));
       sub.add_option("--name", a->names, "fetch only these events (default: all)");
       sub.add_flag("--list", a->list_only, "only list the events on the board");
-      sub.add_option("--wear", a->wear_out, "also download the stored wear record to this file");
+      amb::host::cli::output_path(sub.add_option("--wear", a->wear_out, "also download the stored wear record to this file"));
       sub.add_flag("--json", a->json, "print figures as JSON");
       run_fn = [a] { return run(*a); };
     }};

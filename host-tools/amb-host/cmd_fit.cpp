@@ -14,11 +14,14 @@
 
 #include "firmware/board/board.hpp"
 #include "firmware/wear/wear_record.hpp"
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
+#include "host-tools/core/events/event_board_choice.hpp"
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/events/measured_event.hpp"
 #include "host-tools/core/wear/load_map.hpp"
+#include "host-tools/core/ui/progress_lines.hpp"
 #include "host-tools/core/wear/wear_update.hpp"
 
 namespace {
@@ -33,6 +36,8 @@ struct Args {
   bool fit_law_shape = false;
   bool lock_in_cost = false;
   bool friction_from_fit = false;
+  bool force = false;
+  bool quiet = false;
   std::string wear_in, wear_out;
 };
 
@@ -48,16 +53,33 @@ nlohmann::json durations(const amb::model::drop::RubbingDurations& d) {
 int run(const Args& a) {
   namespace hf = amb::host::fit;
   namespace hw = amb::host::wear;
-  if (!std::filesystem::exists(a.event)) return bad_input("event file '" + a.event + "' does not exist");
   amb::board::BoardConfig board;
   hf::DropMeasurement m;
   try {
     const amb::host::LoadedEvent ev = amb::host::load_event(a.event);
-    board = a.board.empty() ? amb::host::resolve_rig(ev.rig, std::filesystem::path(ev.source).parent_path().string(), ev.source)
-                            : amb::board::load_board(a.board);
+    board = amb::host::board_for_loaded_event(ev, a.board, a.force);
     m = hf::drop_measurement_from_event(ev);
   } catch (const std::exception& e) {
     return bad_input(e.what());
+  }
+  // The wear record is read (and the output's folder checked) before the fit: bad input there
+  // must not cost a fit.
+  amb::fw::WearRecord prev;
+  if (!a.wear_in.empty() && a.wear_out.empty()) return bad_input("--wear-in needs --wear-out (where the updated record goes)");
+  if (!a.wear_out.empty()) {
+    const std::filesystem::path parent = std::filesystem::path(a.wear_out).parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent))
+      return bad_input("--wear-out '" + a.wear_out + "': folder '" + parent.string() + "' does not exist");
+  }
+  if (!a.wear_in.empty()) {
+    std::ifstream in(a.wear_in, std::ios::binary);
+    if (!in) return bad_input("--wear-in '" + a.wear_in + "' cannot be read");
+    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string err;
+    if (!amb::fw::decode_wear_record(bytes, prev, err)) return bad_input("--wear-in '" + a.wear_in + "': " + err);
+    if (prev.board_name != board.name)
+      return bad_input("--wear-in '" + a.wear_in + "' is the wear record of board '" + prev.board_name + "', not of '" +
+                       board.name + "'");
   }
   hf::DropFitOptions o;
   o.max_window_s = a.window_s;
@@ -67,8 +89,8 @@ int run(const Args& a) {
   o.fit_contact_exponent = a.fit_law_shape;
   o.weights.lock_in_features = a.lock_in_cost;
   o.friction_from_contact_forces = !a.friction_from_fit;
-  o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-  if (const std::string e = o.check(); !e.empty()) return bad_input(e);
+  if (!a.quiet) o.progress = amb::host::ui::periodic_lines("fit");
+  if (const std::string e = o.check(); !e.empty()) return bad_input(amb::host::cli::in_option_names(e, {{"max_window_s", "--window"}}));
   hf::DropFitResult r;
   try {
     r = hf::fit_drop(m, board, o);
@@ -82,14 +104,6 @@ int run(const Args& a) {
   // Optional Phase D/E: fold the fitted event into a wear record.
   std::string wear_note;
   if (!a.wear_out.empty()) {
-    amb::fw::WearRecord prev;
-    if (!a.wear_in.empty()) {
-      std::ifstream in(a.wear_in, std::ios::binary);
-      if (!in) return bad_input("--wear-in '" + a.wear_in + "' cannot be read");
-      const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-      std::string err;
-      if (!amb::fw::decode_wear_record(bytes, prev, err)) return bad_input("--wear-in '" + a.wear_in + "': " + err);
-    }
     hw::WearEvent ev;
     ev.load = hw::event_load(r.trace.contact_steps);
     ev.rubbing = r.rubbing;
@@ -101,10 +115,20 @@ int run(const Args& a) {
     } catch (const std::invalid_argument& e) {
       return bad_input(e.what());
     }
+    // Written whole or not at all: a temporary file renamed over the target.
     const auto bytes = amb::fw::encode_wear_record(next);
-    std::ofstream out(a.wear_out, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!out) return bad_input("--wear-out '" + a.wear_out + "' cannot be written");
+    const std::string tmp = a.wear_out + ".tmp";
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+      if (!out) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        std::fprintf(stderr, "amb-host fit: error: --wear-out '%s' cannot be written\n", a.wear_out.c_str());
+        return 2;
+      }
+    }
+    std::filesystem::rename(tmp, a.wear_out);
     wear_note = "wear record sequence " + std::to_string(next.sequence) + " written to " + a.wear_out;
   }
 
@@ -241,9 +265,12 @@ const amb::host::Registration reg{
     "fit", "fit the multibody drop model to a measured drop (friction coefficient, rubbing states)",
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto args = std::make_shared<Args>();
-      sub.add_option("EVENT", args->event, "measured event (.json sidecar of amb-measured-event/1, or its .csv)")->required();
-      sub.add_option("--board", args->board, "board name or file (default: the event's rig)");
-      sub.add_option("--window", args->window_s, "longest event window compared, s (default 0.4)");
+      namespace hc = amb::host::cli;
+      hc::input_file(sub.add_option("EVENT", args->event, "measured event (.json sidecar of amb-measured-event/1, or its .csv)")->required(),
+                     "event");
+      hc::input_file(sub.add_option("--board", args->board, "board name or file (default: the event's rig)"), "board");
+      sub.add_flag("--force", args->force, "use --board even when it is a board of another rig than the event's");
+      hc::positive(sub.add_option("--window", args->window_s, "longest event window compared, s"), 60.0, "s");
       sub.add_flag("--fit-restitution", args->fit_restitution, "also fit the restitution coefficient");
       sub.add_flag("--fit-offset", args->fit_offset, "also fit an offset of the aux-bearing centres");
       sub.add_flag("--fit-law-shape", args->fit_law_shape,
@@ -252,9 +279,10 @@ const amb::host::Registration reg{
                    "backward-whirl records: compare the whirl after lock-in (speed level, spin-down, force-penetration) instead of lock-in-dependent terms");
       sub.add_flag("--friction-from-fit", args->friction_from_fit,
                    "fit the friction with the model instead of reading it from the contact forces (friction_estimate.hpp)");
-      sub.add_option("--wear-in", args->wear_in, "previous wear record (AMBW) to update");
-      sub.add_option("--wear-out", args->wear_out, "write the updated wear record here");
+      hc::input_file(sub.add_option("--wear-in", args->wear_in, "previous wear record (AMBW) to update"), "wear-record");
+      hc::output_path(sub.add_option("--wear-out", args->wear_out, "write the updated wear record here"));
       sub.add_flag("--json", args->json, "print the figures as JSON");
+      sub.add_flag("--quiet", args->quiet, "no progress lines on stderr");
       run_fn = [args] { return run(*args); };
     }};
 

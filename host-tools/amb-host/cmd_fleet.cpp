@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/fleet/fleet_report.hpp"
 #include "host-tools/core/fleet/fleet_schema.hpp"
@@ -29,6 +30,7 @@ struct Args {
   std::string machine;
   std::string out = "amb-out/fleet.html";
   bool json = false;
+  bool create = false;
   CLI::App* add = nullptr;
   CLI::App* list = nullptr;
   CLI::App* trend = nullptr;
@@ -96,6 +98,19 @@ int run(const Args& a) {
   try {
     if (url.find("://") == std::string::npos && url.rfind("postgres:", 0) != 0) {
       const std::string path = url.rfind("sqlite:", 0) == 0 ? url.substr(7) : url;
+      // A store is made only when asked: a typo must not leave an empty store and an empty
+      // listing behind. `add` may create it (it is about to fill it); the others need --create.
+      if (!fs::exists(path) && !a.create && !a.add->parsed()) {
+        std::fprintf(stderr,
+                     "amb-host fleet: error: --store '%s' does not exist; check the name, or pass --create to start an "
+                     "empty store there\n",
+                     path.c_str());
+        return 1;
+      }
+      if (fs::is_directory(path)) {
+        std::fprintf(stderr, "amb-host fleet: error: --store '%s' is a directory, not a store file\n", path.c_str());
+        return 1;
+      }
       if (fs::path(path).has_parent_path()) fs::create_directories(fs::path(path).parent_path());
     }
     store = std::make_unique<fl::FleetStore>(url);
@@ -198,6 +213,7 @@ const amb::host::Registration reg{
       auto a = std::make_shared<Args>();
       sub.add_option("--store", a->store,
                      "store: a SQLite file (default $AMB_FLEET_STORE or amb-out/fleet.sqlite) or postgresql://... / postgres:CONNINFO");
+      sub.add_flag("--create", a->create, "create the SQLite store when it does not exist (add creates it anyway)");
       sub.require_subcommand(1);
       a->add = sub.add_subcommand("add", "import .ambe events, .ambw wear records, fit/residual --json files (or directories of them)");
       a->add->add_option("files", a->files, "files or directories")->required();
@@ -209,7 +225,7 @@ const amb::host::Registration reg{
       a->trend->add_option("--machine", a->machine, "only this machine");
       a->trend->add_flag("--json", a->json, "print as JSON");
       a->report = sub.add_subcommand("report", "bearings nearest their budget and the HTML fleet page");
-      a->report->add_option("--out", a->out, "fleet page (default amb-out/fleet.html)");
+      amb::host::cli::output_path(a->report->add_option("--out", a->out, "fleet page"));
       a->report->add_flag("--json", a->json, "print as JSON");
       run_fn = [a] { return run(*a); };
     }};

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/hybrid/hybrid_model.hpp"
 
@@ -104,7 +105,8 @@ int run_train(const TrainArgs& a) {
   o.transport_env = a.transport_env;
   o.transport_log_psd = a.transport_log_psd;
   std::string why;
-  if (!o.valid(&why)) return bad_input("train", why);
+  if (!o.valid(&why))
+    return bad_input("train", amb::host::cli::in_option_names(why, {{"segment_s", "--segment-s"}, {"sim_duration_s", "--sim-s"}}));
   std::vector<hy::Record> recs;
   try {
     for (const auto& s : a.records) {
@@ -268,12 +270,13 @@ const amb::host::Registration reg{
                     "training record 'FILE.mat,state=S,rpm=R,load=L[,fs=HZ][,var=NAME]' (repeat; S: healthy, "
                     "inner_race, outer_race, ball; fs defaults to the file's 'fs', var to DE_time)")
           ->required();
-      t->add_option("--out", ta->out, "model file to write (JSON)")->required();
-      t->add_option("--seed", ta->seed, "seed of the simulated sensor noise (training is deterministic for a seed)");
-      t->add_option("--threads", ta->threads, "worker threads")->check(CLI::Range(1, 64));
-      t->add_option("--segment-s", ta->segment_s, "training segment length, s");
-      t->add_option("--sim-s", ta->sim_s, "simulated duration per case, s");
-      t->add_option("--speed-uncertainty", ta->speed_uncertainty, "relative uncertainty of a nominal speed");
+      namespace hc = amb::host::cli;
+      hc::output_path(t->add_option("--out", ta->out, "model file to write (JSON)")->required());
+      hc::whole(t->add_option("--seed", ta->seed, "seed of the simulated sensor noise (training is deterministic for a seed)"), 0, 9.0e15);
+      hc::whole(t->add_option("--threads", ta->threads, "worker threads"), 1, 64);
+      hc::positive(t->add_option("--segment-s", ta->segment_s, "training segment length, s"), 60.0, "s");
+      hc::positive(t->add_option("--sim-s", ta->sim_s, "simulated duration per case, s"), 60.0, "s");
+      hc::real(t->add_option("--speed-uncertainty", ta->speed_uncertainty, "relative uncertainty of a nominal speed"), 0.0, 0.5);
       t->add_flag("--no-calibration", ta->no_calibration, "keep the catalogue kinematics of the drive-end bearing");
       t->add_flag("--transport-env", ta->transport_env,
                   "envelope map: also take the kinematically transported training spectrum of the state as an input (docs/hybrid.md)");
@@ -281,13 +284,15 @@ const amb::host::Registration reg{
                   "log-spectrum map: also take the kinematically transported training spectrum as an input");
       t->add_flag("--json", ta->json, "print the training summary as JSON");
       CLI::App* p = sub.add_subcommand("predict", "predict the spectra of a state at an operating point (and score them)");
-      p->add_option("--model", pa->model, "model file written by 'hybrid train'")->required();
-      p->add_option("--state", pa->state, "bearing state: healthy, inner_race, outer_race, ball")->required();
-      p->add_option("--rpm", pa->rpm, "shaft speed, rpm")->required();
-      p->add_option("--load", pa->load, "motor load (the unit used in training, CWRU: hp)")->required();
+      hc::input_file(p->add_option("--model", pa->model, "model file written by 'hybrid train'")->required(), "hybrid-model");
+      p->add_option("--state", pa->state, "bearing state: healthy, inner_race, outer_race, ball")
+          ->required()
+          ->check(CLI::IsMember({"healthy", "inner_race", "outer_race", "ball"}));
+      hc::positive(p->add_option("--rpm", pa->rpm, "shaft speed, rpm")->required(), 1e5, "rpm");
+      hc::real(p->add_option("--load", pa->load, "motor load (the unit used in training, CWRU: hp)")->required(), 0.0, 1000.0);
       p->add_option("--measured", pa->measured, "measured record to score against 'FILE.mat[,fs=HZ][,var=NAME]'");
-      p->add_option("--out", pa->out_csv, "write the predicted spectra (CSV)");
-      p->add_option("--report", pa->report, "write a report section (Markdown)");
+      hc::output_path(p->add_option("--out", pa->out_csv, "write the predicted spectra (CSV)"));
+      hc::output_path(p->add_option("--report", pa->report, "write a report section (Markdown)"));
       p->add_flag("--json", pa->json, "print the figures as JSON");
       run = [&sub, t, p, ta, pa]() -> int {
         (void)sub;

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/events/event_json.hpp"
 #include "host-tools/core/events/load_event.hpp"
@@ -60,7 +61,8 @@ const amb::host::Registration reg{
     "import", "Read and validate an event (board AMBE file or amb-measured-event/1 JSON+CSV)",
     [](CLI::App& sub, std::function<int()>& runner) {
       auto args = std::make_shared<Args>();
-      sub.add_option("FILE", args->file, "board event file, or measured event .json/.csv/stem")->required();
+      amb::host::cli::input_file(sub.add_option("FILE", args->file, "board event file, or measured event .json/.csv/stem")->required(),
+                                 "event");
       sub.add_flag("--json", args->json, "print the summary as JSON");
       runner = [args] { return run(*args); };
     }};

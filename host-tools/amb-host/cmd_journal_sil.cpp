@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "firmware/board/board.hpp"
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/wearid/journal_sil_record.hpp"
 
@@ -44,12 +46,14 @@ bool parse_wear(const std::string& s, amb::model::journal::WearParams& w, std::s
   double v[3] = {0, 0, 0};
   int n = 0;
   while (std::getline(ss, item, ',') && n < 3) {
-    try {
-      v[n++] = std::stod(item);
-    } catch (const std::exception&) {
-      why = "--wear: not a number: '" + item + "'";
+    // Depth in um (0, 1000], position and span in degrees.
+    const amb::cli::NumberRange r = n == 0 ? amb::cli::NumberRange{0.0, 1000.0, true, false, "um"}
+                                           : amb::cli::NumberRange{-360.0, 360.0, false, false, "deg"};
+    if (const std::string bad = amb::cli::check_number(item, r, &v[n]); !bad.empty()) {
+      why = "--wear: " + bad;
       return false;
     }
+    ++n;
   }
   if (kind == "2p" && n == 2) {
     w = {mj::WearModel::two_parameter, v[0] * 1e-6, v[1] * M_PI / 180.0, 0.0};
@@ -69,25 +73,20 @@ int run(const Args& a) {
     std::fprintf(stderr, "amb-host journal-sil: error: %s\n", why.c_str());
     return 1;
   }
-  if (!(a.eccentricity >= 0.0 && a.eccentricity <= 0.9) || !(a.speed_hz > 1.0) || !(a.record_s > 0.2)) {
-    std::fprintf(stderr, "amb-host journal-sil: error: need 0 <= --eccentricity <= 0.9, --speed > 1 Hz, --record > 0.2 s\n");
-    return 1;
-  }
   o.board = a.board;
   o.eccentricity = a.eccentricity;
   o.speed_hz = a.speed_hz;
   o.record_s = a.record_s;
   o.noise_seed = a.seed;
-  if (!(a.full_film_s >= 0.0)) {
-    std::fprintf(stderr, "amb-host journal-sil: error: --full-film must be >= 0 s\n");
-    return 1;
-  }
   o.full_film_s = a.full_film_s;
   amb::host::wearid::JournalSilSummary s;
   try {
     s = amb::host::wearid::record_journal_sil(o, a.out);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "amb-host journal-sil: error: %s\n", e.what());
+    return 1;
+  } catch (const amb::board::BoardError& e) {
+    std::fprintf(stderr, "amb-host journal-sil: error: --board: %s\n", e.what());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "amb-host journal-sil: error: %s\n", e.what());
@@ -115,16 +114,18 @@ const amb::host::Registration reg{
     "journal-sil", "steady SIL record of the journal-bearing rig with a given wear (test data for wear-id)",
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto args = std::make_shared<Args>();
-      sub.add_option("--out", args->out, "output stem (writes STEM.csv and STEM.json)")->required();
-      sub.add_option("--board", args->board, "board with a [journal_bearing] (default unicamp-journal-rig)");
+      namespace hc = amb::host::cli;
+      hc::output_path(sub.add_option("--out", args->out, "output stem (writes STEM.csv and STEM.json)")->required());
+      hc::input_file(sub.add_option("--board", args->board, "board with a [journal_bearing]"), "board");
       sub.add_option("--wear", args->wear, "none | 2p:D0_UM,GAMMA_DEG | 3p:D0_UM,GAMMA_DEG,BETA_DEG");
-      sub.add_option("--eccentricity", args->eccentricity, "static eccentricity ratio the AMBs hold (default 0.1)");
-      sub.add_option("--speed", args->speed_hz, "steady speed, Hz (default 34)");
-      sub.add_option("--record", args->record_s, "recorded time, s (default 2)");
-      sub.add_option("--seed", args->seed, "sensor-noise seed");
-      sub.add_option("--full-film", args->full_film_s,
-                     "full (nonlinear) Reynolds film in the plant from this long before the end of the settle, s "
-                     "(default 0: linear film element only)");
+      hc::real(sub.add_option("--eccentricity", args->eccentricity, "static eccentricity ratio the AMBs hold"), 0.0, 0.9);
+      hc::number(sub.add_option("--speed", args->speed_hz, "steady speed, Hz"), {1.0, 500.0, true, false, "Hz"});
+      hc::number(sub.add_option("--record", args->record_s, "recorded time, s"), {0.2, 600.0, true, false, "s"});
+      hc::whole(sub.add_option("--seed", args->seed, "sensor-noise seed"), 0, 9.0e15);
+      hc::real(sub.add_option("--full-film", args->full_film_s,
+                              "full (nonlinear) Reynolds film in the plant from this long before the end of the settle, s "
+                              "(0: linear film element only)"),
+               0.0, 600.0, "s");
       sub.add_flag("--json", args->json, "print the figures as JSON");
       run_fn = [args] { return run(*args); };
     }};

@@ -3,9 +3,11 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/replay/event_board.hpp"
 #include "host-tools/core/replay/event_replay.hpp"
@@ -19,6 +21,7 @@ struct Options {
   std::string board;
   bool json = false;
   bool progress = false;
+  bool quiet = false;
   size_t max_differences = 20;
 };
 
@@ -33,12 +36,13 @@ int run(const Options& o) {
     std::fprintf(stderr, "amb-host replay: error: %s\n", e.what());
     return 1;
   }
-  amb::host::ui::ProgressBar bar("replay " + o.event, o.progress);
+  std::optional<amb::host::ui::ProgressBar> bar;
+  if (!o.quiet) bar.emplace("replay " + o.event, o.progress);
   ReplayOptions ro;
   ro.max_listed_differences = o.max_differences;
-  ro.progress = [&bar](double f) { bar.update(f); };
+  if (bar) ro.progress = [&bar](double f) { bar->update(f); };
   const ReplayResult r = replay_event(ev, board, ro);
-  bar.finish(std::to_string(ev.samples.size()) + " samples");
+  if (bar) bar->finish(std::to_string(ev.samples.size()) + " samples");
 
   // Success: everything that is claimed reproducible was reproduced.
   const bool outputs_ok = r.mode == "not_reproducible" || r.comparison.bit_exact;
@@ -73,11 +77,14 @@ const amb::host::Registration reg{
     "replay", "replay a recorded event through the firmware (replay HAL) and check it bit for bit",
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto o = std::make_shared<Options>();
-      sub.add_option("EVENT", o->event, "board event file (AMBE v1, e.g. event_00000001.ambe)")->required()->check(CLI::ExistingFile);
-      sub.add_option("--board", o->board, "board name or file to replay with (default: the board named in the event)");
-      sub.add_option("--max-differences", o->max_differences, "differences listed at most")->check(CLI::Range(0, 100000));
+      namespace hc = amb::host::cli;
+      hc::input_file(sub.add_option("EVENT", o->event, "board event file (AMBE v1..v3, e.g. event_00000001.ambe)")->required(), "ambe");
+      hc::input_file(sub.add_option("--board", o->board, "board name or file to replay with (default: the board named in the event)"),
+                     "board");
+      hc::whole(sub.add_option("--max-differences", o->max_differences, "differences listed at most"), 0, 100000);
       sub.add_flag("--json", o->json, "print the result as JSON on stdout");
       sub.add_flag("--progress", o->progress, "show a progress bar on stderr even when it is not a terminal");
+      sub.add_flag("--quiet", o->quiet, "no progress bar, not even on a terminal")->excludes("--progress");
       sub.footer("Exit status: 0 reproduced, 1 bad input, 2 not reproduced.");
       run_fn = [o] { return run(*o); };
     }};

@@ -7,11 +7,13 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "firmware/wear/wear_record.hpp"
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/replay/event_board.hpp"
 #include "host-tools/core/replay/event_replay.hpp"
@@ -23,7 +25,7 @@ namespace {
 
 struct Options {
   std::string event, out, board, wear;
-  bool no_replay = false, json = false, progress = false;
+  bool no_replay = false, json = false, progress = false, quiet = false;
 };
 
 int bad_input(const std::string& what) {
@@ -63,11 +65,12 @@ int run(const Options& o) {
   report::ReportData d = report::new_report_data("Drop event report: " + name);
   report::add_event(d, ev, board, name);
   if (!o.no_replay) {
-    ui::ProgressBar bar("replay " + name, o.progress);
+    std::optional<ui::ProgressBar> bar;
+    if (!o.quiet) bar.emplace("replay " + name, o.progress);
     replay::ReplayOptions ro;
-    ro.progress = [&bar](double f) { bar.update(f); };
+    if (bar) ro.progress = [&bar](double f) { bar->update(f); };
     const replay::ReplayResult r = replay::replay_event(ev, board, ro);
-    bar.finish();
+    if (bar) bar->finish();
     report::add_replay(d, r);
   }
   if (!o.wear.empty()) report::add_wear_record(d, wear, fs::path(o.wear).filename().string());
@@ -97,13 +100,15 @@ const amb::host::Registration reg{
     "report", "write one self-contained HTML report (inline SVG plots) for a board event",
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto o = std::make_shared<Options>();
-      sub.add_option("EVENT", o->event, "board event file (AMBE v1)")->required()->check(CLI::ExistingFile);
-      sub.add_option("--out", o->out, "HTML file to write (default: EVENT's name with .html, in the current directory)");
-      sub.add_option("--board", o->board, "board name or file (default: the board named in the event)");
-      sub.add_option("--wear", o->wear, "wear record (AMBW) for the wear summary and the cumulative load")->check(CLI::ExistingFile);
+      namespace hc = amb::host::cli;
+      hc::input_file(sub.add_option("EVENT", o->event, "board event file (AMBE v1..v3)")->required(), "ambe");
+      hc::output_path(sub.add_option("--out", o->out, "HTML file to write (default: EVENT's name with .html, in the current directory)"));
+      hc::input_file(sub.add_option("--board", o->board, "board name or file (default: the board named in the event)"), "board");
+      hc::input_file(sub.add_option("--wear", o->wear, "wear record (AMBW) for the wear summary and the cumulative load"), "wear-record");
       sub.add_flag("--no-replay", o->no_replay, "do not replay the event through the firmware");
       sub.add_flag("--json", o->json, "print the report path and its sections as JSON on stdout");
       sub.add_flag("--progress", o->progress, "show a progress bar on stderr even when it is not a terminal");
+      sub.add_flag("--quiet", o->quiet, "no progress bar, not even on a terminal")->excludes("--progress");
       run_fn = [o] { return run(*o); };
     }};
 

@@ -4,14 +4,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/scenario/drop_scenario.hpp"
 
 namespace {
 
-int run(const amb::host::DropScenarioOptions& opt_in, bool json) {
+int run(const amb::host::DropScenarioOptions& opt_in, bool json, bool quiet) {
   amb::host::DropScenarioOptions opt = opt_in;
-  if (!json) opt.progress = [](const std::string& s) { std::fprintf(stderr, "  .. %s\n", s.c_str()); };
+  // Stages on stderr (also with --json: stdout carries the JSON only), one line each.
+  if (!quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "scenario: %s\n", s.c_str()); };
   const auto s = amb::host::run_drop_scenario(opt);
   if (json) {
     nlohmann::json j;
@@ -146,18 +148,21 @@ const amb::host::Registration reg{
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto opt = std::make_shared<amb::host::DropScenarioOptions>();
       auto json = std::make_shared<bool>(false);
-      sub.add_option("--board", opt->board, "board name or board file (default: bath-amb-rig)");
-      sub.add_option("--hold-s", opt->hold_s, "time at speed before the AMBs are cut, s")->check(CLI::Range(0.0, 60.0));
-      sub.add_option("--after-cut-s", opt->after_cut_s, "simulated time after the cut, s")->check(CLI::Range(0.0, 60.0));
-      sub.add_option("--seed", opt->noise_seed, "sensor-noise seed");
+      auto quiet = std::make_shared<bool>(false);
+      namespace hc = amb::host::cli;
+      hc::input_file(sub.add_option("--board", opt->board, "board name or board file")->capture_default_str(), "board");
+      hc::real(sub.add_option("--hold-s", opt->hold_s, "time at speed before the AMBs are cut, s"), 0.0, 60.0, "s");
+      hc::real(sub.add_option("--after-cut-s", opt->after_cut_s, "simulated time after the cut, s"), 0.0, 60.0, "s");
+      hc::whole(sub.add_option("--seed", opt->noise_seed, "sensor-noise seed"), 0, 9.0e15);
       sub.add_option("--speed-source", opt->speed_source,
                      "board speed source: tracker (tachless, default), tach, command; empty: the board file's")
           ->check(CLI::IsMember({"tracker", "tach", "command", ""}));
-      sub.add_option("--out", opt->out_dir, "directory for the event, its export and the report (default amb-out)");
+      hc::output_path(sub.add_option("--out", opt->out_dir, "directory for the event, its export and the report"));
       sub.add_flag("!--no-fit", opt->fit, "skip the Phase C fit");
       sub.add_flag("!--no-residual", opt->residual, "skip the steady run with an undeclared effect");
       sub.add_flag("--json", *json, "print the figures as JSON");
-      run_fn = [opt, json] { return run(*opt, *json); };
+      sub.add_flag("--quiet", *quiet, "no stage lines on stderr");
+      run_fn = [opt, json, quiet] { return run(*opt, *json, *quiet); };
     }};
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/tracking/track_speed.hpp"
@@ -69,27 +70,47 @@ int run(Args& a) {
     return 1;
   }
   if (std::string v = a.opt.validate(a.fs_hz); !v.empty()) {
+    v = amb::host::cli::in_option_names(v, {{"stft.window_s * sample_rate_hz", "--window-s x the tracker rate"}, {"stft.sample_rate_hz", "the tracker rate"},
+                                 {"stft.nfft", "--nfft"}, {"stft.window_s", "--window-s"}, {"stft.overlap", "--overlap"},
+                                 {"min_speed_hz", "--min-hz"}, {"max_speed_hz", "--max-hz"}, {"initial_speed_hz", "--predict-hz"},
+                                 {"search_half_band_hz", "--band-hz"}, {"max_accel_hz_per_s", "--max-accel"},
+                                 {"n_orders", "the number of --orders"}, {"orders", "--orders"}, {"decimate", "--decimate"},
+                                 {"fs", "--fs"}});
     std::fprintf(stderr, "amb-host track-speed: error: %s\n", v.c_str());
     return 1;
+  }
+  // The profile before the record: every input is checked before any work.
+  amb::host::MachineProfile prof;
+  const bool profiled = !a.fixed || !a.profile.empty();
+  if (profiled) {
+    try {
+      prof = a.profile.empty() ? amb::host::default_machine_profile() : amb::host::load_machine_profile(a.profile);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "amb-host track-speed: error: --profile '%s': %s\n", a.profile.c_str(), e.what());
+      return 1;
+    }
   }
   std::vector<double> x;
   try {
     x = amb::host::read_mat_vector(a.mat, a.var);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "amb-host track-speed: error: %s\n", e.what());
+    std::fprintf(stderr, "amb-host track-speed: error: --mat '%s' --var '%s': %s\n", a.mat.c_str(), a.var.c_str(), e.what());
     return 1;
   }
   amb::host::TrackSpeedResult r;
   try {
-    if (!a.fixed || !a.profile.empty()) {
-      const amb::host::MachineProfile prof =
-          a.profile.empty() ? amb::host::default_machine_profile() : amb::host::load_machine_profile(a.profile);
+    if (profiled) {
       r = amb::host::track_speed_with_profile(x, a.fs_hz, prof);
     } else {
       r = amb::host::track_speed(x, a.fs_hz, a.opt);
     }
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "amb-host track-speed: error: %s\n", e.what());
+    std::fprintf(stderr, "amb-host track-speed: error: %s\n", amb::host::cli::in_option_names(e.what(), {{"stft.window_s * sample_rate_hz", "--window-s x the tracker rate"}, {"stft.sample_rate_hz", "the tracker rate"},
+                                 {"stft.nfft", "--nfft"}, {"stft.window_s", "--window-s"}, {"stft.overlap", "--overlap"},
+                                 {"min_speed_hz", "--min-hz"}, {"max_speed_hz", "--max-hz"}, {"initial_speed_hz", "--predict-hz"},
+                                 {"search_half_band_hz", "--band-hz"}, {"max_accel_hz_per_s", "--max-accel"},
+                                 {"n_orders", "the number of --orders"}, {"orders", "--orders"}, {"decimate", "--decimate"},
+                                 {"fs", "--fs"}}).c_str());
     return 1;
   }
   if (a.json) {
@@ -118,24 +139,26 @@ const amb::host::Registration reg{
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto a = std::make_shared<Args>();
       auto& t = a->opt.tracker;
-      sub.add_option("--mat", a->mat, "MATLAB .mat file")->required();
+      namespace hc = amb::host::cli;
+      hc::input_file(sub.add_option("--mat", a->mat, "MATLAB .mat file")->required(), "mat");
       sub.add_option("--var", a->var, "variable name (struct fields with dots)")->required();
-      sub.add_option("--fs", a->fs_hz, "sample rate of the variable, Hz")->required();
+      hc::real(sub.add_option("--fs", a->fs_hz, "sample rate of the variable, Hz")->required(), 1.0, 1e7, "Hz");
       sub.add_flag("--json", a->json, "print t_s, speed_hz, confidence, lost (arrays) as JSON");
       sub.add_option("--window", a->window, "window: rectangular, hann, hamming (default), blackman");
-      sub.add_option("--window-s", t.stft.window_s, "window length, s (default 0.5)");
-      sub.add_option("--overlap", t.stft.overlap, "overlap fraction [0, 0.99] (default 0.9)");
-      sub.add_option("--nfft", t.stft.nfft, "FFT length, power of two (default 8192)");
-      sub.add_option("--min-hz", t.min_speed_hz, "lowest shaft speed reported, Hz (default 8)");
-      sub.add_option("--max-hz", t.max_speed_hz, "highest shaft speed searched, Hz (default 300)");
-      sub.add_option("--predict-hz", t.initial_speed_hz, "initial speed guess, Hz (0: unknown, wide search)");
-      sub.add_option("--band-hz", t.search_half_band_hz, "narrow-band half width around the prediction, Hz (default 10)");
-      sub.add_option("--max-accel", t.max_accel_hz_per_s, "largest |d speed/dt| followed, Hz/s (default 150)");
+      hc::positive(sub.add_option("--window-s", t.stft.window_s, "window length, s"), 60.0, "s");
+      hc::real(sub.add_option("--overlap", t.stft.overlap, "overlap fraction"), 0.0, 0.99);
+      hc::whole(sub.add_option("--nfft", t.stft.nfft, "FFT length, power of two"), 64, 1048576);
+      hc::real(sub.add_option("--min-hz", t.min_speed_hz, "lowest shaft speed reported, Hz"), 0.0, 1e5, "Hz");
+      hc::positive(sub.add_option("--max-hz", t.max_speed_hz, "highest shaft speed searched, Hz"), 1e5, "Hz");
+      hc::real(sub.add_option("--predict-hz", t.initial_speed_hz, "initial speed guess, Hz (0: unknown, wide search)"), 0.0, 1e5, "Hz");
+      hc::positive(sub.add_option("--band-hz", t.search_half_band_hz, "narrow-band half width around the prediction, Hz"), 1000.0, "Hz");
+      hc::positive(sub.add_option("--max-accel", t.max_accel_hz_per_s, "largest |d speed/dt| followed, Hz/s"), 1e5, "Hz/s");
       sub.add_option("--orders", a->orders, "comb orders, e.g. 1,2,3,4 (default) or 3.568,7.136 for ball-pass lines");
-      sub.add_option("--decimate", a->opt.decimate, "decimation factor: 0 auto (default), 1 none");
-      sub.add_option("--profile", a->profile,
+      hc::whole(sub.add_option("--decimate", a->opt.decimate, "decimation factor: 0 auto, 1 none"), 0, 4096);
+      hc::input_file(sub.add_option("--profile", a->profile,
                      "machine profile (TOML: speed range, acceleration limit, order comb or \"discover\"; "
-                     "docs/tracking.md). Without it and without tracker flags the built-in default profile is used");
+                     "docs/tracking.md). Without it and without tracker flags the built-in default profile is used"),
+                     "profile");
       run_fn = [a, &sub]() {
         for (const char* f : {"--window", "--window-s", "--overlap", "--nfft", "--min-hz", "--max-hz", "--predict-hz",
                               "--band-hz", "--max-accel", "--orders", "--decimate"})

@@ -10,9 +10,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/events/event_board_choice.hpp"
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/events/measured_event.hpp"
+#include "host-tools/core/ui/progress_lines.hpp"
 #include "host-tools/core/wearid/journal_spectrum.hpp"
 #include "host-tools/core/wearid/wear_identification.hpp"
 
@@ -37,6 +40,8 @@ struct Args {
   int threads = 2;
   double window_s = 2.0;
   bool json = false;
+  bool force = false;
+  bool quiet = false;
   std::vector<std::string> with;  // further records of the same bearing fitted together
 };
 
@@ -69,28 +74,42 @@ int run(const Args& a) {
   o.model_error_1x = a.model_error_1x;
   o.film_samples = a.film_samples;
   o.film_harmonics = a.film_harmonics;
+  if (!a.quiet) o.progress = amb::host::ui::periodic_lines("wear-id", 5.0);
   if (const std::string why = o.check(); !why.empty()) {
-    std::fprintf(stderr, "amb-host wear-id: error: %s\n", why.c_str());
+    std::fprintf(stderr, "amb-host wear-id: error: %s\n", amb::host::cli::in_option_names(why, {{"doe_points", "--doe"}, {"polished_starts", "--starts"}, {"threads", "--threads"}, {"window_s", "--window"},
+                                  {"film_samples", "--film-samples"}, {"film_harmonics", "--film-harmonics"},
+                                  {"model_error_1x", "--model-error"}, {"full_film", "--full-film"}}).c_str());
     return 1;
   }
   wi::WearIdResult r;
   try {
+    // Every record is read before any is analysed: a bad file is named whatever else is wrong.
     const amb::host::LoadedEvent ev = amb::host::load_event(a.event);
-    const std::string dir = std::filesystem::path(a.event).parent_path().string();
-    const amb::board::BoardConfig b =
-        a.board.empty() ? amb::host::resolve_rig(ev.rig, dir, a.event) : amb::board::load_board(a.board);
+    std::vector<amb::host::LoadedEvent> others;
+    for (const auto& w : a.with) others.push_back(amb::host::load_event(w));
+    const amb::board::BoardConfig b = amb::host::board_for_loaded_event(ev, a.board, a.force);
     const wi::JournalMeasurement m = wi::measure_journal(ev, b, o.window_s);
-    std::fprintf(stderr, "wear-id: %s, %.3f Hz, static eccentricity %.3f, %d revolutions (the last %.2f s of %.2f s; --window), model %s\n",
+    if (!a.quiet) std::fprintf(stderr, "wear-id: %s, %.3f Hz, static eccentricity %.3f, %d revolutions (the last %.2f s of %.2f s; --window), model %s\n",
                  a.event.c_str(), m.speed_hz, m.eccentricity, m.revolutions, m.window_s, m.available_s, a.model.c_str());
     std::vector<wi::JournalMeasurement> ms{m};
-    for (const auto& w : a.with) {
-      ms.push_back(wi::measure_journal(amb::host::load_event(w), b, o.window_s));
-      std::fprintf(stderr, "wear-id: with %s, %.3f Hz, static eccentricity %.3f\n", w.c_str(), ms.back().speed_hz,
+    for (size_t k = 0; k < others.size(); ++k) {
+      const amb::host::LoadedEvent& other = others[k];
+      const std::string& w = a.with[k];
+      amb::host::check_board_matches_event_rig(amb::host::event_rig_name(other), b.plant.rig_name,
+                                               a.board.empty() ? b.name : a.board, a.force);
+      ms.push_back(wi::measure_journal(other, b, o.window_s));
+      if (!a.quiet) std::fprintf(stderr, "wear-id: with %s, %.3f Hz, static eccentricity %.3f\n", w.c_str(), ms.back().speed_hz,
                    ms.back().eccentricity);
     }
     r = wi::identify_wear(b, ms, o);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "amb-host wear-id: error: %s\n", e.what());
+    return 1;
+  } catch (const amb::host::EventLoadError& e) {
+    std::fprintf(stderr, "amb-host wear-id: error: %s\n", e.what());
+    return 1;
+  } catch (const amb::board::BoardError& e) {
+    std::fprintf(stderr, "amb-host wear-id: error: --board: %s\n", e.what());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "amb-host wear-id: error: %s\n", e.what());
@@ -165,16 +184,23 @@ const amb::host::Registration reg{
     "wear-id", "identify journal-bearing wear (d0, gamma, beta) from one steady speed (seed 002)",
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto args = std::make_shared<Args>();
-      sub.add_option("event", args->event, "steady record (measured event .json/.csv or stem) with journal probes and key phasor")
-          ->required();
-      sub.add_option("--model", args->model, "wear model: 2p (depth, position; span tied to depth) or 3p (elliptical)");
-      sub.add_option("--board", args->board, "board to use instead of the one the event's rig names");
-      sub.add_option("--doe", args->doe, "design-of-experiments grid points per parameter (default 9)");
-      sub.add_option("--starts", args->starts, "best DOE points polished by the local optimiser (default 8)");
-      sub.add_option("--threads", args->threads, "threads (default 2)");
-      sub.add_option("--window", args->window_s, "analysed time at the end of the record, s (default 2)");
-      sub.add_option("--with", args->with,
-                     "further records of the same bearing (e.g. the other static eccentricity) fitted together");
+      namespace hc = amb::host::cli;
+      hc::input_file(sub.add_option("event", args->event,
+                                    "steady record (measured event .json/.csv or stem) with journal probes and key phasor")
+                         ->required(),
+                     "measured-event");
+      sub.add_option("--model", args->model, "wear model: 2p (depth, position; span tied to depth) or 3p (elliptical)")
+          ->capture_default_str()
+          ->check(CLI::IsMember({"2p", "3p"}));
+      hc::input_file(sub.add_option("--board", args->board, "board to use instead of the one the event's rig names"), "board");
+      sub.add_flag("--force", args->force, "use --board even when it is a board of another rig than the event's");
+      hc::whole(sub.add_option("--doe", args->doe, "design-of-experiments grid points per parameter"), 2, 50);
+      hc::whole(sub.add_option("--starts", args->starts, "best DOE points polished by the local optimiser"), 1, 1000);
+      hc::whole(sub.add_option("--threads", args->threads, "threads"), 1, 64);
+      hc::positive(sub.add_option("--window", args->window_s, "analysed time at the end of the record, s"), 3600.0, "s");
+      hc::input_file(sub.add_option("--with", args->with,
+                                    "further records of the same bearing (e.g. the other static eccentricity) fitted together"),
+                     "measured-event");
       sub.add_flag("--amb-planes", args->amb_planes,
                    "also fit the +1x/-1x at the AMB sensor planes (default: journal probes only, as the seed)");
       sub.add_flag("--full-film", args->full_film,
@@ -186,14 +212,16 @@ const amb::host::Registration reg{
                    "full film: the AMBs' force law in the harmonic balance too (its own 2x; the default)");
       sub.add_flag("--amb-linear", args->amb_linear,
                    "full film: the AMBs linearised at their operating point (no 2x of their own)");
-      sub.add_option("--film-samples", args->film_samples,
-                     "full film: Reynolds solves per revolution of the orbit (default 32)");
-      sub.add_option("--film-harmonics", args->film_harmonics,
-                     "full film: highest harmonic of the spin in the harmonic balance, 2..6 (default 3: the "
-                     "orbit's 3x feeds the film's 2x)");
-      sub.add_option("--model-error", args->model_error_1x,
-                     "relative model-error floor of the 1x residuals, e.g. 0.0025 (default 0: the seed's equal weights)");
+      hc::whole(sub.add_option("--film-samples", args->film_samples, "full film: Reynolds solves per revolution of the orbit"), 8, 512);
+      hc::whole(sub.add_option("--film-harmonics", args->film_harmonics,
+                               "full film: highest harmonic of the spin in the harmonic balance (3: the orbit's 3x feeds "
+                               "the film's 2x)"),
+                2, 6);
+      hc::real(sub.add_option("--model-error", args->model_error_1x,
+                              "relative model-error floor of the 1x residuals, e.g. 0.0025 (0: the seed's equal weights)"),
+               0.0, 0.49);
       sub.add_flag("--json", args->json, "print the figures as JSON");
+      sub.add_flag("--quiet", args->quiet, "no progress lines on stderr");
       run_fn = [args] { return run(*args); };
     }};
 

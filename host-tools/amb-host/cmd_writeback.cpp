@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "firmware/persistence/crc32c.hpp"
 #include "firmware/persistence/wear_store.hpp"
 #include "firmware/wear/wear_record.hpp"
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/link/board_link.hpp"
 
@@ -37,23 +39,23 @@ uint32_t arm_key_of(const Args& a) {
     char* end = nullptr;
     const unsigned long long v = std::strtoull(text.c_str(), &end, 0);
     if (text.empty() || *end != '\0' || v == 0 || v > 0xFFFFFFFFull)
-      throw std::runtime_error(std::string("arm key from ") + from + " must be an integer in [1, 2^32-1], got '" + text + "'");
+      throw std::invalid_argument(std::string("arm key from ") + from + " must be an integer in [1, 2^32-1], got '" + text + "'");
     return static_cast<uint32_t>(v);
   };
   if (!a.arm_key.empty()) return parse(a.arm_key, "--arm-key");
   if (!a.board.empty()) {
     const amb::board::BoardConfig b = amb::board::load_board(a.board);
     if (b.comms.modbus.arm_key == 0)
-      throw std::runtime_error("board " + b.name + " has no [comms.modbus] arm_key: it takes no commands over Modbus");
+      throw std::invalid_argument("board " + b.name + " has no [comms.modbus] arm_key: it takes no commands over Modbus");
     return b.comms.modbus.arm_key;
   }
   if (const char* env = std::getenv("AMB_ARM_KEY"); env && *env) return parse(env, "AMB_ARM_KEY");
-  throw std::runtime_error("the commit needs the board's arm key: --board NAME|FILE (its [comms.modbus] arm_key), "
+  throw std::invalid_argument("the commit needs the board's arm key: --board NAME|FILE (its [comms.modbus] arm_key), "
                            "--arm-key KEY or AMB_ARM_KEY");
 }
 
 int run(const Args& a) {
-  const uint32_t key = arm_key_of(a);
+  // The record first: a bad file is named as such, whatever else is missing.
   std::ifstream in(a.record_path, std::ios::binary);
   if (!in) {
     std::fprintf(stderr, "amb-host writeback: error: cannot open %s\n", a.record_path.c_str());
@@ -63,9 +65,11 @@ int run(const Args& a) {
   amb::fw::WearRecord rec;
   std::string err;
   if (!amb::fw::decode_wear_record(bytes, rec, err)) {
-    std::fprintf(stderr, "amb-host writeback: error: %s: %s\n", a.record_path.c_str(), err.c_str());
+    std::fprintf(stderr, "amb-host writeback: error: '%s' is not a usable wear record (AMBW v1): %s\n", a.record_path.c_str(),
+                 err.c_str());
     return 1;
   }
+  const uint32_t key = arm_key_of(a);
   lk::ModbusLink link(a.link);
   const lk::BoardIdentity id = lk::read_identity(link);
   const lk::WearSummary before = lk::read_wear_summary(link);
@@ -113,14 +117,15 @@ const amb::host::Registration reg{
     "writeback", "write a wear record back to a board over Modbus TCP (validated and persisted there)",
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto a = std::make_shared<Args>();
-      sub.add_option("record", a->record_path, "encoded wear record (AMBW v1)")->required();
+      namespace hc = amb::host::cli;
+      hc::input_file(sub.add_option("record", a->record_path, "encoded wear record (AMBW v1)")->required(), "wear-record");
       sub.add_option("--host", a->link.host, "board address")->capture_default_str();
-      sub.add_option("--port", a->link.port, "Modbus TCP port")->capture_default_str()->check(CLI::Range(1, 65535));
-      sub.add_option("--unit", a->link.unit_id, "Modbus unit id")->capture_default_str()->check(CLI::Range(0, 255));
-      sub.add_option("--timeout", a->link.response_timeout_s, "response timeout per request, s")->capture_default_str();
-      sub.add_option("--retries", a->link.max_retries, "reconnect attempts before giving up")->capture_default_str();
+      hc::whole(sub.add_option("--port", a->link.port, "Modbus TCP port"), 1, 65535);
+      hc::whole(sub.add_option("--unit", a->link.unit_id, "Modbus unit id"), 0, 255);
+      hc::positive(sub.add_option("--timeout", a->link.response_timeout_s, "response timeout per request, s"), 600.0, "s");
+      hc::whole(sub.add_option("--retries", a->link.max_retries, "reconnect attempts before giving up"), 0, 1000);
       sub.add_flag("--renumber", a->renumber, "set the record's sequence to the one the board expects");
-      sub.add_option("--board", a->board, "board name or file whose [comms.modbus] arm_key arms the commit");
+      hc::input_file(sub.add_option("--board", a->board, "board name or file whose [comms.modbus] arm_key arms the commit"), "board");
       sub.add_option("--arm-key", a->arm_key, "the board's arm key (decimal or 0x hex; default: --board, then AMB_ARM_KEY)");
       sub.add_flag("--json", a->json, "print figures as JSON");
       run_fn = [a] { return run(*a); };

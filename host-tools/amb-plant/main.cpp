@@ -10,6 +10,7 @@
 #include <string>
 
 #include "firmware/board/board.hpp"
+#include "firmware/common/cli_number.hpp"
 #include "firmware/sil/sil_rig.hpp"
 #include "hal/linux/linux_clock.hpp"
 #include "hal/linux/socketcan_bus.hpp"
@@ -24,14 +25,18 @@ void on_report(int) { g_report.store(true); }
 
 void usage() {
   std::printf(
-      "usage: amb-plant --board NAME|PATH [--can IFACE] [--seed N] [--levitated] [--duration-s S]\n"
+      "usage: amb-plant --board NAME|PATH [--can IFACE] [--seed N] [--levitated] [--duration-s S] [--version]\n"
       "  HIL plant emulator: the board's sensor and amplifier nodes on the CAN field bus.\n"
       "  --can IFACE     SocketCAN interface (default: the board file's comms.can.interface)\n"
-      "  --seed N        sensor-noise seed (default 1)\n"
+      "  --seed N        sensor-noise seed, whole number in [0, 9.0e15] (default 1)\n"
       "  --levitated     start with the rotor centred instead of on the touchdown bearings\n"
-      "  --duration-s S  stop after S seconds (default: until SIGTERM)\n"
+      "  --duration-s S  stop after S seconds, (0, 3.15e7] (default: until SIGTERM)\n"
+      "  --version       print the version\n"
       "  SIGUSR1 prints the plant's true rotor speed and its time (the HIL reference for the\n"
-      "  board's tracked speed).\n");
+      "  board's tracked speed).\n"
+      "example:\n"
+      "  amb-plant --board arm-virt-hil --can vcan0 --duration-s 60\n"
+      "exit status: 0 success, 1 bad input (the option or file is named), 2 the run failed\n");
 }
 
 }  // namespace
@@ -45,33 +50,50 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
       if (i + 1 >= argc) {
-        std::fprintf(stderr, "amb-plant: %s needs a value\n", a.c_str());
+        std::fprintf(stderr, "amb-plant: error: %s needs a value (see --help)\n", a.c_str());
         std::exit(1);
       }
       return argv[++i];
     };
     if (a == "--board") board_name = value();
     else if (a == "--can") iface = value();
-    else if (a == "--seed") seed = std::strtoull(value().c_str(), nullptr, 10);
+    else if (a == "--seed" || a == "--duration-s") {
+      // One rule for every number (firmware/common/cli_number.hpp): finite, in range, the
+      // option named in the error.
+      const bool is_seed = a == "--seed";
+      const amb::cli::NumberRange r = is_seed ? amb::cli::NumberRange{0.0, 9.0e15, false, true, ""}
+                                              : amb::cli::NumberRange{0.0, 3.15e7, true, false, "s"};
+      double v = 0.0;
+      const std::string why = amb::cli::check_number(value(), r, &v);
+      if (!why.empty()) {
+        std::fprintf(stderr, "amb-plant: error: %s: %s\n", a.c_str(), why.c_str());
+        return 1;
+      }
+      if (is_seed) seed = static_cast<uint64_t>(v);
+      else duration_s = v;
+    }
     else if (a == "--levitated") levitated = true;
-    else if (a == "--duration-s") duration_s = std::atof(value().c_str());
-    else if (a == "--help" || a == "-h") {
+    else if (a == "--version") {
+      std::printf("amb-plant %s\n", AMB_VERSION);
+      return 0;
+    } else if (a == "--help" || a == "-h") {
       usage();
       return 0;
     } else {
-      std::fprintf(stderr, "amb-plant: unknown option '%s' (see --help)\n", a.c_str());
+      std::fprintf(stderr, "amb-plant: error: unknown option '%s' (see --help)\n", a.c_str());
       return 1;
     }
   }
   if (board_name.empty()) {
     usage();
+    std::fprintf(stderr, "amb-plant: error: --board is required\n");
     return 1;
   }
   amb::board::BoardConfig board;
   try {
     board = amb::board::load_board(board_name);
   } catch (const amb::board::BoardError& e) {
-    std::fprintf(stderr, "amb-plant: %s\n", e.what());
+    std::fprintf(stderr, "amb-plant: error: --board: %s\n", e.what());
     return 1;
   }
   if (iface.empty()) iface = board.comms.can.interface;
@@ -88,8 +110,8 @@ int main(int argc, char** argv) {
   o.filters.push_back({static_cast<uint32_t>(fb::k_heartbeat + c.board_node_id), 0x7FF, false});
   std::string err;
   if (!bus.open(o, err)) {
-    std::fprintf(stderr, "amb-plant: %s\n", err.c_str());
-    return 1;
+    std::fprintf(stderr, "amb-plant: error: --can %s: %s\n", iface.c_str(), err.c_str());
+    return 2;
   }
   amb::plant::BenchNodes nodes(*plant, board, bus);
   struct sigaction sa{};

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 
 #include "firmware/app/supervisor.hpp"
 #include "host-tools/core/wear/load_map.hpp"
@@ -21,7 +22,30 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 std::string yes_no(bool b) { return b ? "yes" : "no"; }
+
+/// A Unix time as UTC, ISO 8601 ("2026-11-27 16:20:05 UTC").
+std::string utc(int64_t unix_s) {
+  const std::time_t t = static_cast<std::time_t>(unix_s);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char b[40];
+  std::strftime(b, sizeof b, "%Y-%m-%d %H:%M:%S UTC", &tm);
+  return b;
+}
+
+const char* ab(size_t b) { return b ? "B" : "A"; }
 }  // namespace
+
+const std::string& define_figure(ReportData& d, const std::string& name, const std::string& value, const std::string& definition) {
+  for (Figure& f : d.figures)
+    if (f.name == name) {
+      f.value = value;
+      f.definition = definition;
+      return f.value;
+    }
+  d.figures.push_back({name, value, definition});
+  return d.figures.back().value;
+}
 
 ReportData new_report_data(const std::string& title) {
   ReportData d;
@@ -78,7 +102,12 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
         q.bearing[b] = {{"quick-look", "not computed"}};
         continue;
       }
-      q.bearing[b] = {{"peak force", fmt("%.0f N", x.peak_force_n)},
+      const std::string peak = define_figure(
+          d, std::string("peak contact force ") + ab(b) + ", board quick-look", fmt("%.0f N", x.peak_force_n),
+          "computed on the board right after the drop: rigid-rotor momentum balance on the orbit extrapolated to the "
+          "aux-bearing plane, plus the Hertz impact peak at each new contact; post-trigger window. Quick and "
+          "model-free, it overstates impacts the real (flexible) rotor cushions");
+      q.bearing[b] = {{std::string("peak contact force ") + ab(b) + ", board quick-look", peak},
                       {"peak angle", fmt("%.1f deg from +x towards +y", x.peak_angle_deg)},
                       {"life fraction", fmt("%.3g", x.life_fraction)},
                       {"contact time", fmt("%.3f s", x.contact_time_s)}};
@@ -111,6 +140,7 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
       const std::array<double, 4> r{s.displacement_m[0], s.displacement_m[1], s.displacement_m[2], s.displacement_m[3]};
       const auto xy = view.at_sensor_plane(r, b);
       const auto aux = view.at_aux_plane(r, b);
+      p.t_s.push_back(t_of(static_cast<size_t>(&s - e.samples.data())));
       p.sensor_x_m.push_back(xy[0]);
       p.sensor_y_m.push_back(xy[1]);
       p.aux_x_m.push_back(aux[0] - board.plant.aux[static_cast<size_t>(b)].centre_offset_x_m);
@@ -134,6 +164,15 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
       t.state.push_back(i < r.state.size() ? static_cast<int>(r.state[i]) : 0);
     }
     t.durations_s = {r.durations.swing_s, r.durations.forward_s, r.durations.backward_s};
+    const double window_s = static_cast<double>(n - trig) / rate;
+    const char* state_names[3] = {"swinging", "forward rub", "backward rub"};
+    for (size_t k = 0; k < 3; ++k) {
+      const std::string name = std::string(state_names[k]) + " " + ab(b) + ", measured orbit (post-trigger window)";
+      t.rows.emplace_back(name, define_figure(d, name, fmt("%.3f s", t.durations_s[k]),
+                                              "time in this state over the whole post-trigger window (" +
+                                                  fmt("%.3f s", window_s) +
+                                                  "), classified from the measured orbit at the aux-bearing plane"));
+    }
     rub.push_back(std::move(t));
   }
 
@@ -142,6 +181,19 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
     sp.t_s.push_back(t_of(i));
     sp.speed_hz.push_back(e.samples[i].speed_hz);
     sp.speed_command_hz.push_back(e.samples[i].speed_command_hz);
+  }
+  for (size_t b = 0; b < 2; ++b) {
+    double r_max = 0.0;
+    for (size_t i = trig; i < planes[b].aux_x_m.size(); ++i) r_max = std::max(r_max, std::hypot(planes[b].aux_x_m[i], planes[b].aux_y_m[i]));
+    define_figure(d, std::string("largest orbit radius ") + ab(b) + " at the aux-bearing plane, rigid extrapolation",
+                  fmt("%.0f \u00b5m", r_max * 1e6) + fmt(" (clearance %.0f \u00b5m)", planes[b].clearance_m * 1e6),
+                  "not measured: extrapolated from the two sensor planes as if the rotor were rigid, after the trigger. "
+                  "The rotor bends in the drop, so the extrapolation can pass the clearance circle the journal cannot; "
+                  "its error is given below where the run is simulated (rigid-extrapolation error), and unknown otherwise");
+  }
+  if (d.cause_chain.empty()) {
+    d.cause_chain.push_back("Phase A trigger: " + std::string(fw::to_string(m.cause)));
+    if (e.has_diagnosis) d.cause_chain.push_back("Phase B: " + std::string(fw::diag::to_string(e.diagnosis.type)));
   }
   d.orbit.set(std::move(planes), source + ": sensors [A1, A2, B1, B2] through the sensor view (aux plane: rigid-rotor extrapolation)");
   d.rubbing.set(std::move(rub), source + ": measured orbit at the aux planes, model/drop/rubbing_states (contact at " +
@@ -215,9 +267,21 @@ void add_fit(ReportData& d, const fit::DropFitResult& r, const std::string& sour
     // Whirl per aux bearing (measured orbit): the direction is in the label, the value is its
     // mean whirl frequency (0 for none / bouncing without a rub).
     c.figures.emplace_back("whirl Hz, " + r.whirl[b].direction + k, r.whirl[b].frequency_hz);
-    c.figures.emplace_back("swing s (fit)" + k, r.rubbing[b].swing_s);
-    c.figures.emplace_back("forward rub s (fit)" + k, r.rubbing[b].forward_s);
-    c.figures.emplace_back("backward rub s (fit)" + k, r.rubbing[b].backward_s);
+    // The fit compares a shorter window than the event's: its rubbing times are over that
+    // window, for the model and for the measurement alike (so they can be compared).
+    const double window_s = r.trace.samples.empty() ? 0.0 : r.trace.samples.back().t_s - r.trace.samples.front().t_s;
+    const char* state_names[3] = {"swinging", "forward rub", "backward rub"};
+    const std::array<double, 3> fitted{r.rubbing[b].swing_s, r.rubbing[b].forward_s, r.rubbing[b].backward_s};
+    const std::array<double, 3> measured{r.measured_rubbing[b].swing_s, r.measured_rubbing[b].forward_s,
+                                         r.measured_rubbing[b].backward_s};
+    for (size_t s = 0; s < 3; ++s) {
+      const std::string fit_name = std::string(state_names[s]) + " " + ab(b) + ", fitted drop model (fit window)";
+      const std::string meas_name = std::string(state_names[s]) + " " + ab(b) + ", measured orbit (fit window)";
+      const std::string why = "over the fit window only (the first " + fmt("%.3f s", window_s) +
+                              " after the trigger, amb-host fit --window), not the whole post-trigger window";
+      c.rows.emplace_back(fit_name, define_figure(d, fit_name, fmt("%.3f s", fitted[s]), "time in this state in the fitted model, " + why));
+      c.rows.emplace_back(meas_name, define_figure(d, meas_name, fmt("%.3f s", measured[s]), "time in this state in the measurement, " + why));
+    }
   }
   d.fit.set(std::move(c), source);
   if (!r.trace.samples.empty()) add_drop_trace(d, r.trace, "fitted drop model");
@@ -230,15 +294,24 @@ void add_wear_record(ReportData& d, const fw::WearRecord& w, const std::string& 
             {"events accounted", std::to_string(w.event_count)},
             {"life model", w.life_model},
             {"last friction coefficient", fmt("%.4f", w.last_friction_coefficient)},
-            {"updated (unix s)", std::to_string(w.updated_unix_s)}};
+            {"updated", utc(w.updated_unix_s)}};
   LoadMap m = d.load.data.value_or(LoadMap{});
   for (size_t b = 0; b < 2; ++b) {
     const fw::AuxBearingWear& x = w.bearing[b];
-    s.bearing[b] = {{"swinging", fmt("%.3f s", x.swing_s)},
-                    {"forward rub", fmt("%.3f s", x.forward_rub_s)},
-                    {"backward rub", fmt("%.3f s", x.backward_rub_s)},
+    // Named by bearing and by what they sum (every event of the record, each over its fit
+    // window), apart from one event's measured or fitted times.
+    const std::string all = std::string(" ") + ab(b) + ", wear record (all events)";
+    s.bearing[b] = {{"swinging" + all, fmt("%.3f s", x.swing_s)},
+                    {"forward rub" + all, fmt("%.3f s", x.forward_rub_s)},
+                    {"backward rub" + all, fmt("%.3f s", x.backward_rub_s)},
                     {"friction energy", fmt("%.2f J", x.friction_energy_j)},
-                    {"peak force", fmt("%.0f N", x.peak_force_n)},
+                    {std::string("peak contact force ") + ab(b) + ", fitted drop model (wear record)",
+                     define_figure(d, std::string("peak contact force ") + ab(b) + ", fitted drop model (wear record)",
+                                   fmt("%.0f N", x.peak_force_n),
+                                   "largest step-mean normal contact force of the fitted drop model (Phase C/D, the host's "
+                                   "fit) over the events in the wear record; it is the estimate of record for the wear, "
+                                   "and differs from the quick-look by the model (flexible rotor, fitted contact) and by "
+                                   "the averaging over each integration step")},
                     {"life used", fmt("%.3f %%", 100.0 * x.life_used_fraction)}};
     m.cumulative_n[b].assign(x.cumulative_load_n.begin(), x.cumulative_load_n.end());
     if (m.event_n[b].empty()) {
@@ -273,10 +346,21 @@ void add_residual(ReportData& d, const residual::SteadyData& data, const residua
     }
     r.model_steps.emplace_back("base model", std::move(before));
     r.model_steps.emplace_back(added.empty() ? "after the loop (nothing added)" : "model " + added, std::move(after));
-    r.figures = {{"verdict", o.verdict},
-                 {"spectral error before", fmt("%.2f dB", o.before.error.spectral)},
-                 {"spectral error after", fmt("%.2f dB", o.after.error.spectral)},
-                 {"rms error before / after", fmt("%.3f", o.before.error.rms) + fmt(" / %.3f", o.after.error.rms)}};
+    // The loop's error figures are over all four sensors together: shown once (under the
+    // first sensor) and in the Figures table, not repeated as if they were per sensor.
+    if (c == 0) {
+      const std::string all = " (all four sensors)";
+      r.figures = {{"verdict", o.verdict},
+                   {"residual spectral error before" + all,
+                    define_figure(d, "residual spectral error before" + all, fmt("%.2f dB", o.before.error.spectral),
+                                  "the residual loop's spectral error of the base model against the steady record, over "
+                                  "the four sensors together")},
+                   {"residual spectral error after" + all,
+                    define_figure(d, "residual spectral error after" + all, fmt("%.2f dB", o.after.error.spectral),
+                                  "the same after the effects the loop added (" + (added.empty() ? std::string("none") : added) +
+                                      "); equal to 'before' when an added effect changes the spectra little")},
+                   {"rms error before / after" + all, fmt("%.3f", o.before.error.rms) + fmt(" / %.3f", o.after.error.rms)}};
+    }
     out.push_back(std::move(r));
   }
   d.residual.set(std::move(out), source + " (the loop reports the model before and after all added effects; "
@@ -333,6 +417,37 @@ void add_scenario_trace(ReportData& d, const DropScenarioSummary& s) {
     for (size_t b = 0; b < 2; ++b) f.normal_n[b].push_back(i < t.contact_force_n.size() ? t.contact_force_n[i][b] : NAN);
   }
   d.forces.set(std::move(f), "SIL drop scenario (simulated plant truth, time from the AMB cut)");
+  // The aux-plane orbit of the plant (truth) beside the rigid extrapolation of the event:
+  // the extrapolation's error, measured where the truth is known.
+  if (d.orbit.available()) {
+    const double t_trigger = s.cut_time_s + 1e-3 * s.trigger_delay_ms;
+    for (size_t b = 0; b < d.orbit.data->size() && b < 2; ++b) {
+      OrbitPlane& p = (*d.orbit.data)[b];
+      if (p.t_s.size() < 2) continue;
+      const double dt = p.t_s[1] - p.t_s[0];
+      double err_max = 0.0, truth_max = 0.0;
+      for (size_t i = 0; i < t.t_s.size() && i < t.aux_x_m.size(); ++i) {
+        const double rel = t.t_s[i] - t_trigger;
+        if (rel < 0.0 || rel > p.t_s.back()) continue;
+        const double x = t.aux_x_m[i][b], y = t.aux_y_m[i][b];
+        p.truth_x_m.push_back(x);
+        p.truth_y_m.push_back(y);
+        truth_max = std::max(truth_max, std::hypot(x, y));
+        const long k = std::lround((rel - p.t_s.front()) / dt);
+        if (k >= 0 && static_cast<size_t>(k) < p.aux_x_m.size())
+          err_max = std::max(err_max, std::hypot(p.aux_x_m[static_cast<size_t>(k)] - x, p.aux_y_m[static_cast<size_t>(k)] - y));
+      }
+      if (p.truth_x_m.empty()) continue;
+      define_figure(d, std::string("largest orbit radius ") + ab(b) + " at the aux-bearing plane, simulated plant (SIL truth)",
+                    fmt("%.0f \u00b5m", truth_max * 1e6),
+                    "the plant's rotor centre at the aux-bearing plane after the trigger (flexible rotor; the journal "
+                    "stops at the clearance plus the contact's penetration)");
+      define_figure(d, std::string("rigid-extrapolation error ") + ab(b) + " at the aux-bearing plane",
+                    fmt("%.0f \u00b5m", err_max * 1e6),
+                    "largest distance, after the trigger, between the rigid-rotor extrapolation of the recorded sensors "
+                    "and the plant's rotor centre at the aux-bearing plane (the error of the dashed orbit)");
+    }
+  }
   if (!d.speed.available()) {
     for (size_t i = 0; i < t.t_s.size() && i < t.speed_hz.size(); ++i) {
       sp.t_s.push_back(t.t_s[i] - s.cut_time_s);
@@ -340,8 +455,18 @@ void add_scenario_trace(ReportData& d, const DropScenarioSummary& s) {
     }
     d.speed.set(std::move(sp), "SIL drop scenario (simulated rotor speed, time from the AMB cut)");
   }
-  d.notes.push_back("scenario: " + s.board + ", fault " + s.fault_reason + fmt(" detected after %.1f ms", s.detection_delay_ms) +
-                    fmt(", peak contact force %.0f N", s.max_contact_force_n) + ", levitated " + yes_no(s.levitated));
+  const std::string peak_name = "peak contact force, simulated plant (SIL truth)";
+  define_figure(d, peak_name, fmt("%.0f N", s.max_contact_force_n),
+                "largest instantaneous contact force of either aux bearing in the simulated plant (the scenario's ground "
+                "truth, at the plant's integration sub-steps; no rig has it). Higher than the step-mean and quick-look "
+                "figures: impacts last less than one loop period");
+  // The cause chain: what was injected, what the board saw first, what latched, where it ended.
+  d.cause_chain = {"all AMB channels cut in the plant (injected; the firmware is not told)",
+                   "Phase A trigger: " + s.trigger_cause + fmt(" (%.1f ms after the cut)", s.trigger_delay_ms),
+                   "fault latched: " + s.fault_reason + fmt(" (%.1f ms after the cut)", s.detection_delay_ms),
+                   "safe state: " + s.final_state};
+  d.notes.push_back("scenario: " + s.board + ", levitated " + yes_no(s.levitated) + "; the cause chain and the peak contact "
+                    "forces (with their definitions) are in the Figures section");
 }
 
 }  // namespace amb::host::report

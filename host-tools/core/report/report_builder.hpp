@@ -28,6 +28,9 @@ namespace amb::host::report {
 /// Every section "not available" with the default reason; `title` for the page.
 ReportData new_report_data(const std::string& title);
 
+/// Defines (or redefines) the figure `name`; returns the value, for the section quoting it.
+const std::string& define_figure(ReportData& d, const std::string& name, const std::string& value, const std::string& definition);
+
 /// Facts, orbits at both bearing planes (sensor plane and extrapolated aux plane, with the
 /// clearance circle), contact angle/slope/rubbing states from the measured orbit after the
 /// trigger (model/drop/rubbing_states), speed. `source`: file name shown in the report.

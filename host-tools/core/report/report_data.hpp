@@ -42,6 +42,8 @@ struct OrbitPlane {
   std::string name;                 ///< e.g. "bearing A"
   std::vector<double> sensor_x_m, sensor_y_m;  ///< rotor centre at the sensor plane, m
   std::vector<double> aux_x_m, aux_y_m;        ///< extrapolated to the aux-bearing plane (rigid rotor), m
+  std::vector<double> t_s;                     ///< time of each sample from the trigger, s
+  std::vector<double> truth_x_m, truth_y_m;    ///< simulated runs only: the plant's rotor centre at the aux plane after the trigger, m
   double clearance_m = 0.0;         ///< radial clearance of the aux bearing, m
 };
 
@@ -53,6 +55,7 @@ struct RubbingTrace {
   std::vector<double> slope_hz;     ///< its slope, rev/s (= rad/s / 2 pi)
   std::vector<int> state;           ///< 0 none, 1 swing, 2 forward rub, 3 backward rub
   std::array<double, 3> durations_s{};  ///< swing, forward, backward, s
+  std::vector<std::pair<std::string, std::string>> rows;  ///< the durations as quoted figures (name, value)
 };
 
 struct SpeedTrace {
@@ -81,6 +84,7 @@ struct FitConvergence {
   double wall_s = 0.0;
   std::string stop_reason;
   std::vector<std::pair<std::string, double>> figures;  ///< extra label/value rows
+  std::vector<std::pair<std::string, std::string>> rows;  ///< formatted rows (figures quoted from ReportData::figures)
 };
 
 /// Residual spectra of one channel: measured and the model after each step of the loop.
@@ -117,6 +121,16 @@ struct ReplayVerdict {
   bool reproduced = false;
 };
 
+/// A figure the page quotes (a peak force, a rubbing time): defined once, in the page's
+/// "Figures" table with its definition, and quoted elsewhere under the same name with the same
+/// value. Two definitions of one quantity (the board's quick-look vs the fitted model) are two
+/// figures with two names, and the definition says why they differ.
+struct Figure {
+  std::string name;        ///< e.g. "peak contact force A, board quick-look"
+  std::string value;       ///< formatted with its unit, e.g. "4182 N"
+  std::string definition;  ///< what it is, from what, over which window
+};
+
 struct ReportData {
   std::string title;                     ///< page title
   std::string subtitle;                  ///< e.g. the event file
@@ -133,6 +147,8 @@ struct ReportData {
   Section<WearSummary> wear;
   Section<QuickLookSummary> quick_look;  ///< board quick-look load (AMBE v2 events)
   Section<ReplayVerdict> replay;
+  std::vector<Figure> figures;           ///< each figure once (define_figure in report_builder.hpp)
+  std::vector<std::string> cause_chain;  ///< what led to the event, in order (e.g. cut -> trigger -> fault -> safe state)
   std::vector<std::string> notes;        ///< shown at the end
 };
 

@@ -113,11 +113,33 @@ std::string section_orbit(const ReportData& d) {
     };
     Series sp{"sensor plane", um(o.sensor_x_m), um(o.sensor_y_m), palette(0), 1.0, false, true};
     p.series.push_back(sp);
-    if (!o.aux_x_m.empty()) p.series.push_back({"aux-bearing plane", um(o.aux_x_m), um(o.aux_y_m), palette(1), 1.0, false, true});
+    // Dashed: not measured but extrapolated (rigid rotor); the caption says so.
+    if (!o.aux_x_m.empty()) p.series.push_back({"aux plane (rigid)", um(o.aux_x_m), um(o.aux_y_m), palette(1), 1.0, true, true});
+    if (!o.truth_x_m.empty()) p.series.push_back({"aux plane (plant)", um(o.truth_x_m), um(o.truth_y_m), palette(2), 1.0, false, true});
     if (o.clearance_m > 0.0) p.circles.push_back({0.0, 0.0, o.clearance_m * 1e6, "clearance " + fmt("%.0f \u00b5m", o.clearance_m * 1e6)});
     s += render_line_plot(p);
   }
-  return s + "</div>\n" + source_line(d.orbit.source) + "</section>\n";
+  return s + "</div>\n<p class=\"caption\">The aux-plane orbit (dashed) is not measured: it is extrapolated from the two "
+             "sensor planes as if the rotor were rigid. The rotor bends during the drop, so it can pass the clearance "
+             "circle although the journal cannot. Where the run is simulated, the plant's own aux-plane orbit is drawn "
+             "too and the extrapolation's error is in Figures; otherwise the error is not known.</p>\n" +
+         source_line(d.orbit.source) + "</section>\n";
+}
+
+std::string section_figures(const ReportData& d) {
+  std::string s = "<section id=\"figures\"><h2>Figures and their definitions</h2>\n";
+  if (!d.cause_chain.empty()) {
+    s += "<p id=\"cause-chain\"><b>Cause chain:</b> ";
+    for (size_t i = 0; i < d.cause_chain.size(); ++i) s += (i ? " &rarr; " : "") + escape_xml(d.cause_chain[i]);
+    s += "</p>\n";
+  }
+  if (d.figures.empty()) return s + "</section>\n";
+  s += "<p class=\"caption\">Each figure is defined once here; the sections quote it under the same name.</p>\n";
+  s += "<table class=\"facts figures\">\n<tr><th>figure</th><td>value</td><td class=\"def\">definition</td></tr>\n";
+  for (const Figure& f : d.figures)
+    s += "<tr><th>" + escape_xml(f.name) + "</th><td>" + escape_xml(f.value) + "</td><td class=\"def\">" + escape_xml(f.definition) +
+         "</td></tr>\n";
+  return s + "</table>\n</section>\n";
 }
 
 std::string section_rubbing(const ReportData& d) {
@@ -146,8 +168,10 @@ std::string section_rubbing(const ReportData& d) {
     b.width_px = 600;
     s += render_line_plot(b);
     s += "</div>\n";
-    s += "<p>" + escape_xml(r.name) + ": swinging " + fmt("%.3f s", r.durations_s[0]) + ", forward rub " +
-         fmt("%.3f s", r.durations_s[1]) + ", backward rub " + fmt("%.3f s", r.durations_s[2]) + "</p>\n";
+    if (!r.rows.empty()) s += table(r.rows);
+    else
+      s += "<p>" + escape_xml(r.name) + ": swinging " + fmt("%.3f s", r.durations_s[0]) + ", forward rub " +
+           fmt("%.3f s", r.durations_s[1]) + ", backward rub " + fmt("%.3f s", r.durations_s[2]) + "</p>\n";
   }
   return s + source_line(d.rubbing.source) + "</section>\n";
 }
@@ -178,9 +202,9 @@ std::string section_forces(const ReportData& d) {
   p.width_px = 900;
   const ForceTrace& f = *d.forces.data;
   for (size_t b = 0; b < 2; ++b) {
-    if (!f.normal_n[b].empty()) p.series.push_back({"normal, bearing " + std::string(b ? "B" : "A"), f.t_s, f.normal_n[b], palette(b)});
+    if (!f.normal_n[b].empty()) p.series.push_back({"normal " + std::string(b ? "B" : "A"), f.t_s, f.normal_n[b], palette(b)});
     if (!f.friction_n[b].empty())
-      p.series.push_back({"friction, bearing " + std::string(b ? "B" : "A"), f.t_s, f.friction_n[b], palette(b), 1.0, true});
+      p.series.push_back({"friction " + std::string(b ? "B" : "A"), f.t_s, f.friction_n[b], palette(b), 1.0, true});
   }
   return s + render_line_plot(p) + source_line(d.forces.source) + "</section>\n";
 }
@@ -202,7 +226,9 @@ std::string section_load(const ReportData& d) {
       return a;
     };
     if (!m.cumulative_n[b].empty()) p.series.push_back({"cumulative", polar(m.cumulative_n[b]), m.cumulative_n[b], palette(7)});
-    if (!m.event_n[b].empty()) p.series.push_back({"this event", polar(m.event_n[b]), m.event_n[b], palette(1)});
+    // This event as an outline over the filled cumulative load: overlapping fills would make
+    // a colour that is in neither legend entry.
+    if (!m.event_n[b].empty()) p.series.push_back({"this event", polar(m.event_n[b]), m.event_n[b], palette(1), false});
     s += render_polar_plot(p);
   }
   return s + "</div>\n" + source_line(d.load.source) + "</section>\n";
@@ -228,6 +254,7 @@ std::string section_fit(const ReportData& d) {
       {"wall time", fmt("%.2f s", f.wall_s)},
       {"stop reason", f.stop_reason}};
   for (const auto& [k, v] : f.figures) rows.emplace_back(k, fmt("%.6g", v));
+  rows.insert(rows.end(), f.rows.begin(), f.rows.end());
   return s + "<div class=\"row\">" + render_line_plot(p) + table(rows) + "</div>\n" + source_line(d.fit.source) + "</section>\n";
 }
 
@@ -244,8 +271,10 @@ std::string section_residual(const ReportData& d) {
     p.log_y = true;
     p.width_px = 900;
     p.series.push_back({"measured", r.f_hz, r.measured, "#000000", 1.6});
-    for (size_t k = 0; k < r.model_steps.size(); ++k)
-      p.series.push_back({r.model_steps[k].first, r.f_hz, r.model_steps[k].second, palette(k + 1), 1.3, k == 0});
+    // The last model step first, the base model (dashed) over it: where they coincide the
+    // dashes still show the base model.
+    for (size_t k = r.model_steps.size(); k-- > 0;)
+      p.series.push_back({r.model_steps[k].first, r.f_hz, r.model_steps[k].second, palette(k + 1), k == 0 ? 2.0 : 1.3, k == 0});
     s += render_line_plot(p);
     if (!r.figures.empty()) s += table(r.figures);
   }
@@ -297,7 +326,8 @@ h1{margin-bottom:4px}h2{border-bottom:1px solid #ccc;padding-bottom:4px;margin-t
 .sub{color:#555;margin-top:0}.row{display:flex;flex-wrap:wrap;gap:16px;align-items:flex-start}
 svg.plot{border:1px solid #ddd;margin:6px 0}table.facts{border-collapse:collapse;margin:8px 0}
 table.facts th{text-align:left;padding:2px 14px 2px 0;color:#444;font-weight:normal}
-table.facts td{padding:2px 8px;font-family:monospace}
+table.facts td{padding:2px 8px;font-family:monospace}table.figures td.def{font-family:sans-serif;font-size:12px;color:#555}
+.caption{color:#444;font-size:13px;max-width:1100px}
 .na{background:#fff6e0;border:1px solid #e0b050;padding:10px 14px;margin:8px 0;border-radius:4px}
 .src{color:#666;font-size:12px}.verdict{font-weight:bold;font-size:18px}.ok{color:#1a7f1a}.bad{color:#b00}
 footer{margin-top:40px;color:#777;font-size:12px})";
@@ -311,6 +341,7 @@ std::string render_event_report(const ReportData& d) {
                   "</title>\n<style>" + k_css + "</style>\n</head>\n<body>\n";
   s += "<h1>" + escape_xml(d.title) + "</h1>\n<p class=\"sub\">" + escape_xml(d.subtitle) + "</p>\n";
   s += "<section id=\"facts\"><h2>Event</h2>\n" + table(d.facts.rows) + "</section>\n";
+  s += section_figures(d);
   s += section_replay(d);
   s += section_orbit(d);
   s += section_rubbing(d);

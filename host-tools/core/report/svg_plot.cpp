@@ -193,22 +193,32 @@ std::string render_line_plot(const LinePlot& p) {
   }
 
   // Legend entries decide the right margin.
-  std::vector<std::pair<std::string, std::string>> legend;  // label, colour
+  struct LegendLine {
+    std::string label, colour;
+    bool dashed = false;  ///< drawn as the series is (a dashed series gets a dashed legend line)
+  };
+  std::vector<LegendLine> legend;
   std::vector<std::string> colours;
   for (size_t i = 0; i < p.series.size(); ++i) {
     colours.push_back(p.series[i].color.empty() ? palette(i) : p.series[i].color);
-    if (!p.series[i].label.empty()) legend.emplace_back(p.series[i].label, colours.back());
+    if (!p.series[i].label.empty()) legend.push_back({p.series[i].label, colours.back(), p.series[i].dashed});
   }
   std::map<std::string, std::string> band_legend;
   for (const Interval& iv : p.intervals)
     if (!iv.label.empty()) band_legend.emplace(iv.label, iv.color);
   for (const Circle& c : p.circles)
-    if (!c.label.empty()) legend.emplace_back(c.label, c.color);
+    if (!c.label.empty()) legend.push_back({c.label, c.color, c.dashed});
 
   Frame f{x0, x1, y0, y1, 70.0, 30.0, static_cast<double>(p.width_px) - 70.0 - 16.0,
           static_cast<double>(p.height_px) - 30.0 - 48.0, p.log_y};
   const bool has_legend = !legend.empty() || !band_legend.empty();
-  if (has_legend) f.width -= 150.0;
+  // The legend's margin fits its longest label (about 6.3 px a character at 11 px sans-serif;
+  // a fixed 150 px clipped longer labels such as "model + sensor_runout").
+  size_t longest = 0;
+  for (const LegendLine& l : legend) longest = std::max(longest, l.label.size());
+  for (const auto& [label, colour] : band_legend) longest = std::max(longest, label.size());
+  const double legend_w = std::max(150.0, 14.0 + 24.0 + 6.3 * static_cast<double>(longest) + 6.0);
+  if (has_legend) f.width -= legend_w;
   if (p.equal_aspect) {
     // Same m per px on both axes: widen the range of the axis that has room to spare.
     const double sx = (f.x1 - f.x0) / f.width, sy = (f.y1 - f.y0) / f.height;
@@ -224,8 +234,9 @@ std::string render_line_plot(const LinePlot& p) {
   }
 
   std::string s;
-  s += "<svg id=\"" + escape_xml(p.id) + "\" class=\"plot\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
-       std::to_string(p.width_px) + "\" height=\"" + std::to_string(p.height_px) + "\" viewBox=\"0 0 " +
+  s += "<svg id=\"" + escape_xml(p.id) + "\" class=\"plot\"" + (p.log_y ? " data-log-y=\"1\"" : "") +
+       " xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(p.width_px) + "\" height=\"" +
+       std::to_string(p.height_px) + "\" viewBox=\"0 0 " +
        std::to_string(p.width_px) + " " + std::to_string(p.height_px) + "\" font-family=\"sans-serif\">\n";
   s += "<title>" + escape_xml(p.title) + "</title>\n";
   s += "<rect x=\"0\" y=\"0\" width=\"" + std::to_string(p.width_px) + "\" height=\"" + std::to_string(p.height_px) +
@@ -247,6 +258,21 @@ std::string render_line_plot(const LinePlot& p) {
   std::vector<double> yt;
   if (p.log_y) {
     for (double e = std::ceil(f.y0 - 1e-9); e <= f.y1 + 1e-9; e += std::max(1.0, std::ceil((f.y1 - f.y0) / 6))) yt.push_back(e);
+    // Less than about a decade shown: 2 and 5 times the decades too, and if that is still too
+    // few, round values of the linear range (a log axis without tick values reads as nothing).
+    if (yt.size() < 3) {
+      yt.clear();
+      for (double e = std::floor(f.y0) - 1; e <= std::ceil(f.y1) + 1; ++e)
+        for (double m : {1.0, 2.0, 5.0}) {
+          const double v = e + std::log10(m);
+          if (v >= f.y0 - 1e-9 && v <= f.y1 + 1e-9) yt.push_back(v);
+        }
+    }
+    if (yt.size() < 3) {
+      yt.clear();
+      for (double v : nice_ticks(std::pow(10.0, f.y0), std::pow(10.0, f.y1), 4))
+        if (v > 0.0) yt.push_back(std::log10(v));
+    }
   } else {
     yt = nice_ticks(f.y0, f.y1, std::max(3, static_cast<int>(f.height / 50)));
   }
@@ -258,12 +284,15 @@ std::string render_line_plot(const LinePlot& p) {
     std::string label;
     if (p.log_y) {
       char b[32];
-      std::snprintf(b, sizeof b, "1e%d", static_cast<int>(std::lround(v)));
+      if (std::fabs(v - std::round(v)) < 1e-9)
+        std::snprintf(b, sizeof b, "1e%d", static_cast<int>(std::lround(v)));
+      else
+        std::snprintf(b, sizeof b, "%.3g", std::pow(10.0, v));
       label = b;
     } else {
       label = format_tick(v, ystep);
     }
-    s += text(f.left - 6, y + 4, label, "end", 11);
+    s += text(f.left - 6, y + 4, label, "end", 11, " class=\"ytick\"");
   }
 
   s += "<g clip-path=\"url(#" + escape_xml(p.id) + "-clip)\">\n";
@@ -294,10 +323,10 @@ std::string render_line_plot(const LinePlot& p) {
     double y = f.top + 8;
     const double x = f.left + f.width + 14;
     s += "<g class=\"legend\">\n";
-    for (const auto& [label, colour] : legend) {
+    for (const LegendLine& l : legend) {
       s += "<line x1=\"" + num(x) + "\" y1=\"" + num(y) + "\" x2=\"" + num(x + 18) + "\" y2=\"" + num(y) + "\" stroke=\"" +
-           escape_xml(colour) + "\" stroke-width=\"2.5\"/>\n";
-      s += text(x + 24, y + 4, label, "start", 11);
+           escape_xml(l.colour) + "\" stroke-width=\"2.5\"" + (l.dashed ? " stroke-dasharray=\"5 3\"" : "") + "/>\n";
+      s += text(x + 24, y + 4, l.label, "start", 11);
       y += 17;
     }
     for (const auto& [label, colour] : band_legend) {
@@ -362,14 +391,31 @@ std::string render_polar_plot(const PolarPlot& p) {
     s += "<polygon points=\"" + pts + "\" fill=\"" + escape_xml(colour) + "\" fill-opacity=\"" + (ps.fill ? "0.25" : "0") +
          "\" stroke=\"" + escape_xml(colour) + "\" stroke-width=\"1.5\"/>\n";
     if (!ps.label.empty()) {
+      // The swatch is drawn as the series is: filled, or an outline.
       s += "<rect x=\"" + num(p.size_px + 6.0) + "\" y=\"" + num(ly - 8) + "\" width=\"16\" height=\"10\" fill=\"" +
-           escape_xml(colour) + "\" fill-opacity=\"0.5\"/>\n";
+           escape_xml(colour) + "\" fill-opacity=\"" + (ps.fill ? "0.25" : "0") + "\" stroke=\"" + escape_xml(colour) +
+           "\" stroke-width=\"1.5\"/>\n";
       s += text(p.size_px + 28.0, ly + 1, ps.label, "start", 11);
       ly += 17;
     }
   }
-  s += text(p.size_px + 6.0, ly + 12, p.r_label, "start", 11, " fill=\"#444\"");
-  s += text(p.size_px + 6.0, ly + 28, "0\u00b0 = up, 180\u00b0 = bottom", "start", 10, " fill=\"#666\"");
+  // The radius unit, wrapped to the legend's width (it used to run off the picture).
+  std::vector<std::string> lines{""};
+  std::string word;
+  for (char c : p.r_label + " ") {
+    if (c != ' ') {
+      word += c;
+      continue;
+    }
+    if (!lines.back().empty() && lines.back().size() + 1 + word.size() > 24) lines.emplace_back();
+    lines.back() += (lines.back().empty() ? "" : " ") + word;
+    word.clear();
+  }
+  for (const std::string& l : lines) {
+    s += text(p.size_px + 6.0, ly + 12, l, "start", 11, " fill=\"#444\"");
+    ly += 14;
+  }
+  s += text(p.size_px + 6.0, ly + 14, "0\u00b0 = up, 180\u00b0 = bottom", "start", 10, " fill=\"#666\"");
   s += "</svg>\n";
   return s;
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <nlopt.hpp>
 #include <stdexcept>
 #include <thread>
@@ -242,6 +243,16 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   r.measured = meas.front();
   r.records = static_cast<int>(meas.size());
 
+  // Progress from the worker threads, one line at a time.
+  std::mutex progress_mutex;
+  int progress_done = 0;
+  auto report = [&](const char* stage, int total_items) {
+    if (!o.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    ++progress_done;
+    o.progress(std::string(stage) + " " + std::to_string(progress_done) + "/" + std::to_string(total_items));
+  };
+
   // Design of experiments: full grid over the scaled box [0, 1]^n, split over threads.
   const int n = o.model == mj::WearModel::two_parameter ? 2 : 3;
   int total = 1;
@@ -262,7 +273,10 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
     for (int t = 0; t < nt; ++t)
       pool.emplace_back([&, t] {
         Evaluator e(board, meas, o);
-        for (int k = t; k < total; k += nt) costs[static_cast<size_t>(k)] = e.cost(points[static_cast<size_t>(k)]);
+        for (int k = t; k < total; k += nt) {
+          costs[static_cast<size_t>(k)] = e.cost(points[static_cast<size_t>(k)]);
+          report("design of experiments", total);
+        }
         evals[static_cast<size_t>(t)] = e.evaluations;
       });
     for (auto& th : pool) th.join();
@@ -343,6 +357,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   auto polish_all = [&](const std::vector<int>& from) {
     const size_t first = best_x.size();
     const int count = static_cast<int>(from.size());
+    progress_done = 0;
     best_x.resize(first + from.size());
     best_f.resize(first + from.size(), 1e300);
     reasons.resize(first + from.size());
@@ -388,6 +403,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
           best_x[slot] = x;
           best_f[slot] = f;
           pevals[slot] = e.evaluations;
+          report("local polish, starts done", count);
         }
       });
     for (auto& th : pool) th.join();

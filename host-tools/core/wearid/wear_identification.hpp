@@ -13,6 +13,7 @@
 //
 // The identification is given the event and the board only: never the wear it is after.
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,9 @@ struct WearIdOptions {
   /// orbit's 3x is neglected, and with it the film's 2x from the product of the 3x and the 1x
   /// (5 % of the 2x at e = 0.1, docs/journal-bearing.md "The 3x").
   int film_harmonics = 3;
+  /// Progress lines ("design of experiments 120/729", "polish 3/8 starts done"); called from
+  /// the worker threads one at a time (serialised here). Empty: silent.
+  std::function<void(const std::string&)> progress;
   /// Empty when valid, else the reason.
   std::string check() const;
 };
