@@ -19,6 +19,7 @@
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/residual/candidate_report.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
+#include "host-tools/core/residual/engine/elements.hpp"
 #include "host-tools/core/residual/journal_residual.hpp"
 #include "host-tools/core/residual/learned_correction.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
@@ -349,6 +350,18 @@ const amb::host::Registration reg{
                    "measured ones on one part of the record, score it on the other, and report how much of the "
                    "unexplained error it absorbs (not a physical explanation; the verdict is unchanged)");
       sub.add_option("--plot", a->plot, "sweep only: write the measured vs modelled FRF overlay (SVG) to this file");
+      // The element catalogue and the one criterion, in the help (engine/elements.hpp, engine/criterion.hpp).
+      std::string footer = "Elements the loop can add (record kinds that test them):\n";
+      for (const auto& e : hr::engine::element_catalogue()) {
+        std::string kinds;
+        for (auto k : e.kinds) kinds += std::string(kinds.empty() ? "" : ", ") + hr::engine::record_kind_name(k);
+        footer += "  " + e.name + " (" + kinds + "): " + e.what + "\n";
+      }
+      footer += "An element is kept when its information-criterion (BIC) decrease on the record's reproducible features "
+                "exceeds the threshold (10), its predicted change exceeds 3 noise standard errors, its parameters are "
+                "identified, no decision feature rises and one falls by 10 % (docs/residual.md).\n"
+                "Example: amb-host residual ../shared/data/synthetic/bath_drop_example_3.json --json";
+      sub.footer(footer);
       run = [a]() {
         try {
           if (std::filesystem::is_directory(a->event)) return run_sweep(*a);

@@ -275,8 +275,12 @@ int main(int argc, char** argv) {
     walls.push_back(r.wall_s);
     if (r.c.kind != "clean") continue;
     ++n_clean;
-    if (!r.named.empty()) ++clean_alarm;
-    for (const auto& n : r.named) ++alarms[n];
+    // A rig whose amplifiers are slower than the board's (bandwidth x0.8) has an extra
+    // amplifier lag: naming it is right, not a false alarm.
+    std::set<std::string> wrong = r.named;
+    if (r.c.gen.amplifier_bandwidth_scale < 1.0) wrong.erase("amplifier_lag");
+    if (!wrong.empty()) ++clean_alarm;
+    for (const auto& n : wrong) ++alarms[n];
   }
   std::sort(walls.begin(), walls.end());
   std::printf("# residual population: %zu cases (%d errors), median wall %.1f s per case\n", results.size(), errors,
