@@ -1,6 +1,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "firmware/budget/board_budget.hpp"
+#include "firmware/budget/print_budget.hpp"
 #include "firmware/main/run_modes.hpp"
 #include "firmware/sil/sil_rig.hpp"
 
@@ -15,6 +17,12 @@ int run_sim(const board::BoardConfig& board, const RunOptions& opt) {
   const double hold_s = opt.duration_s >= 0.0 ? opt.duration_s : 1.0;
   std::printf("amb-firmware: board %s (%s), backend sim, loop %.0f Hz%s\n", board.name.c_str(),
               board.source.c_str(), board.rate_hz, opt.paced ? ", paced" : "");
+  {
+    // The buffers and storage this board needs on the board (the linux backend's set-up).
+    fw::BudgetOptions bo;
+    bo.analysis_thread = opt.analysis && board.tracker.enabled;
+    fw::print_budget(stdout, fw::buffer_budget(board, bo), fw::storage_budget(board));
+  }
   auto phase_is = [](fw::Phase p) { return [p](const fw::Status& s) { return s.phase == p || s.state == fw::State::fault; }; };
 
   sup.post(fw::Command::levitate);
