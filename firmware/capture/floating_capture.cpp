@@ -9,14 +9,6 @@
 
 namespace amb::fw {
 
-CaptureSizes capture_sizes(const CaptureParams& p, double rate_hz) {
-  CaptureSizes s;
-  s.pre_samples = static_cast<uint32_t>(std::llround(p.pre_trigger_s * rate_hz));
-  s.post_samples = std::max<uint32_t>(1, static_cast<uint32_t>(std::llround(p.post_trigger_s * rate_hz)));
-  s.ring_samples = std::bit_ceil(static_cast<uint64_t>(s.pre_samples) + s.post_samples + 1);
-  return s;
-}
-
 FloatingCapture::FloatingCapture() = default;
 FloatingCapture::~FloatingCapture() = default;
 

@@ -38,15 +38,6 @@ struct CaptureCounters {
   uint64_t seq_gaps = 0;          ///< discontinuities of LoopSample::seq seen by the capture
 };
 
-/// Sample counts of a capture window at a loop rate (what configure() allocates from).
-struct CaptureSizes {
-  uint32_t pre_samples = 0;   ///< pre-trigger samples: round(pre_trigger_s x rate)
-  uint32_t post_samples = 1;  ///< post-trigger samples (trigger sample included), >= 1
-  uint64_t ring_samples = 0;  ///< ring length: the power of two >= pre + post + 1
-  uint32_t window_samples() const { return pre_samples + post_samples; }
-};
-CaptureSizes capture_sizes(const CaptureParams& p, double rate_hz);
-
 class FloatingCapture final : public SampleSink {
  public:
   enum class Mode : uint8_t { armed = 0, capturing = 1, holdoff = 2 };
