@@ -88,7 +88,7 @@ set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION TRUE)
 set(CPACK_DEBIAN_FIRMWARE_PACKAGE_NAME amb-firmware)
 set(CPACK_DEBIAN_FIRMWARE_PACKAGE_SECTION misc)
 set(CPACK_DEBIAN_FIRMWARE_PACKAGE_DEPENDS
-    "libc6 (>= 2.34), libgcc-s1 (>= 3.0), libstdc++6 (>= 12), libfftw3-double3 (>= 3.3.5), libgpiod2 (>= 1.6), libmodbus5 (>= 3.1.6), libsystemd0 (>= 243), init-system-helpers (>= 1.54~)")
+    "libc6 (>= 2.34), libgcc-s1 (>= 3.0), libstdc++6 (>= 12), libfftw3-double3 (>= 3.3.5), libgpiod2 (>= 1.6), libmodbus5 (>= 3.1.6), init-system-helpers (>= 1.54~)")
 set(CPACK_DEBIAN_FIRMWARE_PACKAGE_CONTROL_EXTRA
     ${AMB_PKG_DIR}/amb-firmware/conffiles ${AMB_PKG_DIR}/amb-firmware/postinst
     ${AMB_PKG_DIR}/amb-firmware/prerm ${AMB_PKG_DIR}/amb-firmware/postrm)

@@ -32,7 +32,6 @@ HOST_PKGS=(
   g++-aarch64-linux-gnu    # cross toolchain for the Linux/ARM board
   qemu-user qemu-system-arm qemu-utils   # run aarch64 binaries / boot the ARM board
   cpio e2fsprogs kmod                    # initramfs and virtual disk for the target test
-  libsystemd-dev           # amb-firmware's sd_notify (service readiness, watchdog)
   lintian                  # Debian package checks (scripts/package.sh)
   chromium chromium-driver               # headless report rendering test
   libsqlite3-dev libpq-dev               # fleet store: SQLite (default) and PostgreSQL client (amb-host fleet)
@@ -43,7 +42,6 @@ ARM_PKGS=(
   libc6-dev:arm64 libstdc++-12-dev:arm64
   libgpiod-dev:arm64 libmodbus-dev:arm64 libfftw3-dev:arm64
   libgtest-dev:arm64 libtomlplusplus-dev:arm64
-  libsystemd-dev:arm64
 )
 
 need_update=1

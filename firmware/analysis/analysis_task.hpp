@@ -73,6 +73,8 @@ class AnalysisTask final : public SampleSink {
 
   /// [any thread] Newest results (lock-free).
   AnalysisStatus status() const { return published_.load(); }
+  /// [any thread] Samples handed over by the loop and not yet analysed.
+  size_t queued_samples() const { return tracker_.queued(); }
   /// [any thread] Samples dropped because the ring was full.
   uint64_t ring_drops() const { return tracker_.ring_drops(); }
   const SpeedTrackerTask& tracker_task() const { return tracker_; }

@@ -26,6 +26,8 @@ class AnalysisThread {
   /// Stop and join (drains once more).
   void stop();
   bool running() const { return running_.load(std::memory_order_relaxed); }
+  /// The thread's handle (for its CPU clock, read by a supervision thread); valid while running.
+  std::thread::native_handle_type native_handle() { return thread_.native_handle(); }
 
  private:
   std::atomic<bool> running_{false};

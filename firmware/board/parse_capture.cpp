@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "firmware/events/event_codec.hpp"
+
 namespace amb::board {
 namespace {
 
@@ -31,6 +33,13 @@ void parse_capture(TableReader r, fw::CaptureParams& c, double rate_hz) {
   c.storage_capacity_bytes = static_cast<uint64_t>(r.integer_or(
       "storage_capacity_bytes", static_cast<long long>(c.storage_capacity_bytes), 1 << 16, 1ll << 40));
   c.max_events = static_cast<int>(r.integer_or("max_events", c.max_events, 1, 100000));
+  // The byte budget must hold at least one event of this window, or every event is refused.
+  const uint64_t per_event = fw::event_file_bytes(fw::capture_sizes(c, rate_hz).window_samples(), true);
+  if (c.storage_capacity_bytes < per_event)
+    r.fail("storage_capacity_bytes", "value " + std::to_string(c.storage_capacity_bytes) +
+                                         " holds no event: one event file of this capture window (pre_trigger_s + post_trigger_s at " +
+                                         std::to_string(static_cast<long long>(rate_hz)) + " Hz) is " + std::to_string(per_event) +
+                                         " bytes; allowed at least that");
   c.match_axial_tolerance_m = r.number_or("match_axial_tolerance_m", c.match_axial_tolerance_m, 0.0, 1.0);
   c.match_angle_tolerance_deg = r.number_or("match_angle_tolerance_deg", c.match_angle_tolerance_deg, 0.0, 45.0);
   r.finish();

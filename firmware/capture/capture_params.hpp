@@ -2,6 +2,9 @@
 // Settings of the floating capture, its Phase A triggers and the event store, as the board
 // file's [capture] and [triggers] tables give them (parser: firmware/board/parse_capture.cpp).
 // Pure data with defaults: a board file without these tables gets exactly these values.
+#include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstdint>
 
 namespace amb::fw {
@@ -71,5 +74,22 @@ struct CaptureParams {
   double match_angle_tolerance_deg = 5.0;   ///< importer: channel-to-rig match in direction, deg
   TriggerParams triggers;
 };
+
+/// Sample counts of a capture window at a loop rate (what FloatingCapture::configure allocates
+/// from, what an event file holds, what the board file's storage budget is checked against).
+struct CaptureSizes {
+  uint32_t pre_samples = 0;   ///< pre-trigger samples: round(pre_trigger_s x rate)
+  uint32_t post_samples = 1;  ///< post-trigger samples (trigger sample included), >= 1
+  uint64_t ring_samples = 0;  ///< ring length: the power of two >= pre + post + 1
+  uint32_t window_samples() const { return pre_samples + post_samples; }
+};
+/// `rate_hz`: loop rate, Hz.
+inline CaptureSizes capture_sizes(const CaptureParams& p, double rate_hz) {
+  CaptureSizes s;
+  s.pre_samples = static_cast<uint32_t>(std::llround(p.pre_trigger_s * rate_hz));
+  s.post_samples = std::max<uint32_t>(1, static_cast<uint32_t>(std::llround(p.post_trigger_s * rate_hz)));
+  s.ring_samples = std::bit_ceil(static_cast<uint64_t>(s.pre_samples) + s.post_samples + 1);
+  return s;
+}
 
 }  // namespace amb::fw

@@ -18,13 +18,14 @@ void FloatingCapture::configure(const CaptureParams& p, const std::array<double,
   if (p.event_buffers < 1 || p.event_buffers > k_max_buffers)
     throw std::invalid_argument("capture: event_buffers must be 1..8");
   p_ = p;
-  pre_n_ = static_cast<uint32_t>(std::llround(p.pre_trigger_s * rate_hz));
-  post_n_ = std::max<uint32_t>(1, static_cast<uint32_t>(std::llround(p.post_trigger_s * rate_hz)));
+  const CaptureSizes sz = capture_sizes(p, rate_hz);
+  pre_n_ = sz.pre_samples;
+  post_n_ = sz.post_samples;
   // Enough pre-trigger copies per period to finish before the post window ends, which is
   // before the ring can overwrite the oldest pre-trigger sample (ring >= pre + post + 1).
   pre_per_sample_ = std::max<uint32_t>(1, (pre_n_ + post_n_ - 1) / post_n_);
   hold_n_ = std::max<uint32_t>(1, static_cast<uint32_t>(std::ceil(p.rearm_hold_s * rate_hz - 1e-9)));
-  const uint64_t ring_n = std::bit_ceil(static_cast<uint64_t>(pre_n_) + post_n_ + 1);
+  const uint64_t ring_n = sz.ring_samples;
   ring_.assign(ring_n, LoopSample{});
   ring_mask_ = ring_n - 1;
   events_.clear();

@@ -23,6 +23,14 @@ inline constexpr size_t k_event_sample_bytes_v3 = 84;      ///< + f32 tach_hz
 inline constexpr size_t k_event_diagnosis_bytes_v1 = 392;
 inline constexpr size_t k_event_analysis_bytes_v2 = 120;
 
+/// Bytes of a version-3 event file of `samples` samples, with or without the diagnosis
+/// section (the analysis section is always written): preamble, metadata, samples,
+/// diagnosis, analysis, CRC.
+constexpr uint64_t event_file_bytes(uint64_t samples, bool with_diagnosis) {
+  return k_event_preamble_bytes + k_event_meta_bytes_v1 + samples * k_event_sample_bytes_v3 +
+         (with_diagnosis ? k_event_diagnosis_bytes_v1 : 0) + k_event_analysis_bytes_v2 + 4;
+}
+
 /// Encode `r` (with its diagnosis if has_diagnosis) into a complete version-3 file image
 /// (the analysis section is always written; zeros when has_analysis is false).
 std::vector<uint8_t> encode_event(const EventRecord& r);

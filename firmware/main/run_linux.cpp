@@ -23,13 +23,13 @@
 #include <cstring>
 #include <memory>
 #include <thread>
-#ifdef AMB_HAVE_SYSTEMD
-#include <systemd/sd-daemon.h>
-#endif
 
 #include "firmware/analysis/analysis_thread.hpp"
 #include "firmware/app/loop_runner.hpp"
 #include "firmware/app/sample_fanout.hpp"
+#include "firmware/budget/board_budget.hpp"
+#include "firmware/budget/print_budget.hpp"
+#include "firmware/budget/runtime_budget.hpp"
 #include "firmware/capture/floating_capture.hpp"
 #include "firmware/events/event_writer.hpp"
 #include "firmware/fieldbus/field_bus_front_end.hpp"
@@ -40,6 +40,9 @@
 #include "hal/linux/gpiod_discrete_io.hpp"
 #include "hal/linux/linux_clock.hpp"
 #include "hal/linux/modbus_tcp_server.hpp"
+#include "hal/linux/process_memory.hpp"
+#include "hal/linux/rt_thread.hpp"
+#include "hal/linux/service_notify.hpp"
 #include "hal/linux/socketcan_bus.hpp"
 
 namespace amb::fwmain {
@@ -51,25 +54,10 @@ namespace lx = hal::linux_hw;
 std::atomic<bool> g_stop{false};
 void on_signal(int) { g_stop.store(true); }
 
-/// Tells the service manager (systemd, Type=notify) something; a no-op without libsystemd or
-/// when not started by systemd (no NOTIFY_SOCKET). Called from the main thread only, never
-/// from the loop: sd_notify is a system call.
-void notify_service_manager(const char* state) {
-#ifdef AMB_HAVE_SYSTEMD
-  ::sd_notify(0, state);
-#else
-  (void)state;
-#endif
-}
-
-/// The watchdog interval systemd asks for (WatchdogSec= sets WATCHDOG_USEC), in ns; 0 = none.
-int64_t service_watchdog_ns() {
-#ifdef AMB_HAVE_SYSTEMD
-  uint64_t usec = 0;
-  if (::sd_watchdog_enabled(0, &usec) > 0) return static_cast<int64_t>(usec) * 1000;
-#endif
-  return 0;
-}
+/// Tells the service manager (systemd, Type=notify) something; a no-op when not started by
+/// one (no NOTIFY_SOCKET). Called from the main thread only, never from the loop: a system call.
+void notify_service_manager(const char* state) { (void)lx::notify_service_manager(state); }
+using lx::service_watchdog_ns;
 
 /// Discrete inputs from the GPIO lines, with the amplifier node's fault report (field bus)
 /// OR-ed into the amplifier fault. [RT]
@@ -90,26 +78,24 @@ class BoardDiscreteIo final : public hal::DiscreteIo {
   const fieldbus::FieldBusFrontEnd& fe_;
 };
 
-/// Real-time setup of the calling (loop) thread; failures are reported, not fatal, so the
-/// firmware also runs unprivileged (tests, emulation).
-void make_realtime(bool& locked, bool& fifo) {
-  locked = ::mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
-  sched_param sp{};
-  sp.sched_priority = 80;
-  fifo = ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &sp) == 0;
-  // The loop takes the highest CPU the process may use: the service's CPUAffinity= (systemd)
-  // or taskset chooses the set, e.g. the isolated CPUs; the other threads share the rest.
-  cpu_set_t allowed;
-  CPU_ZERO(&allowed);
-  if (::sched_getaffinity(0, sizeof allowed, &allowed) != 0 || CPU_COUNT(&allowed) < 2) return;
-  for (int c = CPU_SETSIZE - 1; c >= 0; --c) {
-    if (!CPU_ISSET(c, &allowed)) continue;
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    CPU_SET(c, &set);
-    ::pthread_setaffinity_np(::pthread_self(), sizeof set, &set);
-    break;
-  }
+/// The process's memory set-up (before any thread exists): one malloc arena, fixed mmap and
+/// trim thresholds, and every thread's stack (std::thread included) sized here.
+const lx::ProcessMemoryOptions k_memory{};
+
+/// Real-time setup of the loop thread, called in it once every other thread runs and every
+/// buffer is allocated: its stack pre-faulted, then mlockall(MCL_CURRENT) -- all the loop
+/// touches exists by then, so MCL_FUTURE (which would lock and populate every later mapping
+/// of the non-real-time threads too) is not needed; SCHED_FIFO 80; the highest CPU of the
+/// service's set (CPUAffinity= or taskset; the other threads share the rest). Failures are
+/// reported, not fatal, so the firmware also runs unprivileged (tests, emulation).
+lx::RtOptions loop_rt_options() {
+  lx::RtOptions o;
+  o.fifo_priority = 80;
+  o.pin_highest_allowed = true;
+  o.lock_memory = true;
+  o.lock_future = false;
+  o.prefault_stack_bytes = k_memory.thread_stack_bytes / 2;
+  return o;
 }
 
 std::vector<lx::CanFilter> board_filters(const comms::CanParams& c) {
@@ -131,6 +117,8 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     return 1;
   }
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // a service log: one line at a time
+  if (const lx::ProcessMemoryReport pm = lx::configure_process_memory(k_memory); !pm.warnings.empty())
+    std::printf("amb-firmware: memory set-up: %s\n", pm.warnings.c_str());
   const char* env_dir = std::getenv("AMB_DATA_DIR");
   const std::string data_dir = env_dir && *env_dir ? env_dir : cm.data_dir;
   std::string err;
@@ -199,6 +187,14 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     return 1;
   }
   const bool run_analysis = opt.analysis && analysis->enabled();
+  fw::BudgetOptions bo;
+  bo.analysis_thread = run_analysis;
+  bo.thread_stack_bytes = k_memory.thread_stack_bytes;
+  const std::vector<fw::BufferBudget> buffer_table = fw::buffer_budget(board, bo);
+  const fw::StorageBudget storage_budget = fw::storage_budget(board);
+  fw::print_budget(stdout, buffer_table, storage_budget);
+  fw::SeqLock<fw::RuntimeBudget> runtime_budget;
+  runtime_budget.store(fw::RuntimeBudget{});
   fw::SampleFanout sinks;
   sinks.add(&capture);
   if (run_analysis) sinks.add(analysis.get());
@@ -233,6 +229,9 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     return fw::LinkCounters{s.requests, s.exceptions, s.bad_frames, s.wrong_unit, s.connections, s.refused_connections};
   };
   src.storage = [&] { return writer.store_counters(); };
+  src.runtime_budget = [&] { return runtime_budget.load(); };
+  for (const fw::BufferBudget& e : buffer_table) src.buffer_bytes.push_back(e.bytes);
+  src.storage_budget = storage_budget;
   src.manual_capture = [&] { return capture.request_manual_trigger(); };
   src.now_ns = [] { return lx::monotonic_ns(); };
   src.arm_key = cm.modbus.arm_key;
@@ -285,10 +284,10 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
   ::signal(SIGPIPE, SIG_IGN);
 
   // ---- active: the loop ---------------------------------------------------------------
-  bool locked = false, fifo = false;
+  lx::RtReport rt;
   std::atomic<bool> loop_done{false};
   std::thread loop_thread([&] {
-    make_realtime(locked, fifo);
+    rt = lx::configure_realtime_thread(loop_rt_options());
     const int64_t stop_ns = opt.duration_s > 0 ? static_cast<int64_t>(opt.duration_s * 1e9) : -1;
     int64_t deadline = clock.now_ns() + loop.period_ns();
     uint64_t n = 0;
@@ -321,15 +320,40 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
   bool ready_sent = false;
   uint64_t last_periods = 0, missed_pets = 0;
   int64_t next_pet = lx::monotonic_ns() + pet_ns;
+  // The budget as measured: memory from /proc and the CPU clocks of the loop and analysis
+  // threads, once a second here (never in the loop), shares over the last 20 s.
+  fw::CpuShareWindow<21> loop_cpu, analysis_cpu;
+  fw::RuntimeBudget rb;
+  int64_t next_measure = lx::monotonic_ns();
+  auto measure = [&] {
+    const int64_t now = lx::monotonic_ns();
+    const lx::ProcessMemory pm = lx::read_process_memory();
+    rb.locked_kb = pm.locked_kb;
+    rb.resident_kb = pm.resident_kb;
+    rb.peak_resident_kb = pm.peak_resident_kb;
+    if (const int64_t c = lx::thread_cpu_ns(loop_thread.native_handle()); c >= 0) loop_cpu.add(now, c);
+    if (run_analysis)
+      if (const int64_t c = lx::thread_cpu_ns(analysis_thread.native_handle()); c >= 0) analysis_cpu.add(now, c);
+    rb.loop_cpu_share = loop_cpu.share();
+    rb.analysis_cpu_share = run_analysis ? analysis_cpu.share() : -1.0;
+    rb.window_s = loop_cpu.window_s();
+    runtime_budget.store(rb);
+  };
   while (!loop_done.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const uint64_t periods = loop_stats.load().periods;
     if (!ready_sent && periods > 0) {
+      rb.start_to_ready_ns = lx::ns_since_process_start();
       notify_service_manager("READY=1\nSTATUS=loop running");
-      std::printf("amb-firmware: service: READY=1 sent (loop running)%s\n",
+      std::printf("amb-firmware: service: READY=1 sent (loop running) %.2f s after the process started%s\n",
+                  static_cast<double>(rb.start_to_ready_ns) * 1e-9,
                   watchdog_ns > 0 ? ", watchdog petted while the loop's period count advances" : "");
       std::fflush(stdout);
       ready_sent = true;
+    }
+    if (lx::monotonic_ns() >= next_measure) {
+      measure();
+      next_measure += 1'000'000'000;
     }
     if (pet_ns <= 0 || lx::monotonic_ns() < next_pet) continue;
     next_pet += pet_ns;
@@ -343,7 +367,13 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     }
   }
   notify_service_manager("STOPPING=1");
+  measure();
   loop_thread.join();
+  std::printf("amb-firmware: budget: VmLck %llu kB, VmRSS %llu kB (peak %llu kB); CPU over the last %.0f s: loop thread %.2f %%, "
+              "analysis thread %s\n",
+              static_cast<unsigned long long>(rb.locked_kb), static_cast<unsigned long long>(rb.resident_kb),
+              static_cast<unsigned long long>(rb.peak_resident_kb), rb.window_s, 100.0 * rb.loop_cpu_share,
+              run_analysis ? (std::to_string(100.0 * rb.analysis_cpu_share).substr(0, 5) + " %").c_str() : "off");
   analysis_thread.stop();
   writer.stop();
   server.stop();
@@ -356,8 +386,8 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
               "memory %s, SCHED_FIFO %s\n",
               static_cast<unsigned long long>(ls.periods), static_cast<unsigned long long>(ls.overruns),
               ls.mean_latency_ns() * 1e-3, static_cast<double>(ls.latency_quantile_ns(0.99)) * 1e-3,
-              static_cast<double>(ls.max_latency_ns) * 1e-3, locked ? "locked" : "not locked",
-              fifo ? "yes" : "no (not permitted)");
+              static_cast<double>(ls.max_latency_ns) * 1e-3, rt.memory_locked ? "locked" : "not locked",
+              rt.fifo ? "yes" : "no (not permitted)");
   std::printf("amb-firmware: CAN tx %llu rx %llu tx_dropped %llu rx_dropped %llu error_frames %llu bus_off %llu; "
               "field bus samples %llu malformed %llu node_timeouts %llu; state %s, fault %s\n",
               static_cast<unsigned long long>(cs.tx_frames), static_cast<unsigned long long>(cs.rx_frames),

@@ -1,6 +1,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "firmware/budget/board_budget.hpp"
+#include "firmware/budget/print_budget.hpp"
 #include "firmware/main/run_modes.hpp"
 #include "firmware/sil/sil_rig.hpp"
 
@@ -15,6 +17,12 @@ int run_sim(const board::BoardConfig& board, const RunOptions& opt) {
   const double hold_s = opt.duration_s >= 0.0 ? opt.duration_s : 1.0;
   std::printf("amb-firmware: board %s (%s), backend sim, loop %.0f Hz%s\n", board.name.c_str(),
               board.source.c_str(), board.rate_hz, opt.paced ? ", paced" : "");
+  {
+    // The buffers and storage this board needs on the board (the linux backend's set-up).
+    fw::BudgetOptions bo;
+    bo.analysis_thread = opt.analysis && board.tracker.enabled;
+    fw::print_budget(stdout, fw::buffer_budget(board, bo), fw::storage_budget(board));
+  }
   auto phase_is = [](fw::Phase p) { return [p](const fw::Status& s) { return s.phase == p || s.state == fw::State::fault; }; };
 
   sup.post(fw::Command::levitate);
@@ -32,6 +40,15 @@ int run_sim(const board::BoardConfig& board, const RunOptions& opt) {
     std::printf("  t=%6.3f s  at speed %.1f Hz\n", rig.time_s(), sup.status().speed_command_hz);
   }
   rig.run_for(hold_s);
+  if (rig.analysis() != nullptr && opt.analysis && !opt.paced) {
+    // Unpaced, the simulation outruns the analysis thread (it polls in wall time): let it
+    // analyse what the loop handed over before its result is read, and say how far behind it was.
+    const sil::SilRig::AnalysisDrain d = rig.drain_analysis(30.0);
+    std::printf("  analysis thread: %llu samples (%.2f s simulated) not yet analysed at t=%.3f s; caught up in %.3f s wall%s\n",
+                static_cast<unsigned long long>(d.queued_before), d.behind_s, rig.time_s(), d.waited_s,
+                d.queued_after == 0 ? "" : " -- FELL BEHIND: still not done after 30 s");
+    rig.run_for(1.0 / board.rate_hz);  // one period: the loop takes the newest update
+  }
   if (const fw::AnalysisTask* a = rig.analysis()) {
     const fw::Status s = sup.status();
     const fw::AnalysisStatus as = a->status();

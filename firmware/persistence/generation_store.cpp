@@ -10,7 +10,7 @@ namespace amb::fw {
 namespace {
 constexpr uint32_t k_magic = 0x47424D41u;  // "AMBG"
 constexpr uint16_t k_version = 1;
-constexpr size_t k_header_bytes = 4 + 2 + 2 + 8 + 4 + 4 + 4;
+constexpr size_t k_header_bytes = k_generation_header_bytes;
 constexpr uint32_t k_max_payload = 64u << 20;
 }  // namespace
 

@@ -6,6 +6,7 @@
 // storage whose write_atomic is not atomic) leaves the newest good record untouched. At open
 // the valid slot with the highest generation wins; torn or corrupt slots are reported.
 // Not real-time: called from the supervisory / storage thread.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -14,6 +15,10 @@
 #include "hal/interfaces.hpp"
 
 namespace amb::fw {
+
+/// Bytes of a slot's container header (magic, version, generation, payload size, payload
+/// CRC-32C, header CRC-32C, reserved) in front of the payload.
+inline constexpr size_t k_generation_header_bytes = 4 + 2 + 2 + 8 + 4 + 4 + 4;
 
 /// What open() found.
 struct GenerationReport {

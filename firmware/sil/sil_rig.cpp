@@ -1,5 +1,8 @@
 #include "firmware/sil/sil_rig.hpp"
 
+#include <chrono>
+#include <thread>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -38,6 +41,23 @@ void SilRig::rebind() {
   fanout_.add(analysis_.get());
   fw::SampleSink* s = fanout_.size() == 0 ? nullptr : (fanout_.size() == 1 && !analysis_ ? sink_ : &fanout_);
   loop_ = std::make_unique<fw::LoopRunner>(sim_->clock(), sim_->analog(), sim_->discrete(), sup_, s);
+}
+
+SilRig::AnalysisDrain SilRig::drain_analysis(double timeout_s) {
+  AnalysisDrain d;
+  if (!analysis_ || options_.analysis != SilAnalysis::thread) return d;
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
+  const auto until = t0 + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(timeout_s));
+  d.queued_before = analysis_->queued_samples();
+  d.behind_s = static_cast<double>(d.queued_before) / board_.rate_hz;
+  // Empty ring, then one more completed poll: the sample popped last has been analysed too.
+  while (analysis_->queued_samples() > 0 && clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  const uint64_t polls = analysis_->status().polls;
+  while (analysis_->status().polls == polls && clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  d.queued_after = analysis_->queued_samples();
+  d.waited_s = std::chrono::duration<double>(clock::now() - t0).count();
+  return d;
 }
 
 void SilRig::set_sink(fw::SampleSink* sink) {

@@ -48,6 +48,17 @@ class SilRig {
   const board::BoardConfig& board() const { return board_; }
   /// The analysis task (nullptr with SilAnalysis::off).
   fw::AnalysisTask* analysis() { return analysis_.get(); }
+  /// SilAnalysis::thread: wait (wall time, at most `timeout_s`) until the analysis thread has
+  /// analysed every sample the loop handed over so far. An unpaced simulation runs many times
+  /// faster than real time, so the thread (which polls in wall time) is behind whenever the
+  /// simulation is read; this is where it catches up. What it took is returned.
+  struct AnalysisDrain {
+    double waited_s = 0.0;        ///< wall time waited, s
+    uint64_t queued_before = 0;   ///< samples not yet analysed when the wait began
+    uint64_t queued_after = 0;    ///< samples still not analysed at the end (0: caught up)
+    double behind_s = 0.0;        ///< queued_before in simulated time, s
+  };
+  AnalysisDrain drain_analysis(double timeout_s);
   /// Route every loop sample to `sink` (nullptr: none).
   void set_sink(fw::SampleSink* sink);
   /// Called after every period (for scenario recording); may be empty.

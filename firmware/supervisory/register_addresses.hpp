@@ -102,6 +102,25 @@ inline constexpr uint16_t defect_bpfi_mhz = 0x060E;    ///< i32, inner-race line
 inline constexpr uint16_t defect_bsf_mhz = 0x0610;     ///< i32, ball-spin line, mHz
 inline constexpr uint16_t analysis_end = 0x0612;
 
+// ---- board budget (RO): measured by the running board, and its storage budget ----------------
+inline constexpr uint16_t budget = 0x0700;
+inline constexpr uint16_t budget_locked_kb = 0x0700;      ///< u32, VmLck, kB
+inline constexpr uint16_t budget_resident_kb = 0x0702;    ///< u32, VmRSS, kB
+inline constexpr uint16_t budget_peak_resident_kb = 0x0704;///< u32, VmHWM, kB
+inline constexpr uint16_t budget_loop_cpu = 0x0706;       ///< u16, loop thread CPU share, 1/10000 of one CPU (0xFFFF: not measured)
+inline constexpr uint16_t budget_analysis_cpu = 0x0707;   ///< u16, analysis thread CPU share, 1/10000 (0xFFFF: not running)
+inline constexpr uint16_t budget_cpu_window_s = 0x0708;   ///< u16, wall time the shares cover, s
+inline constexpr uint16_t budget_start_to_ready_ms = 0x0709;///< u32, process start to READY, ms (0xFFFFFFFF: not yet)
+inline constexpr uint16_t budget_event_bytes = 0x070B;    ///< u32, bytes of one event file at the board's capture window (worst case)
+inline constexpr uint16_t budget_capacity_kib = 0x070D;   ///< u32, [capture] storage_capacity_bytes / 1024
+inline constexpr uint16_t budget_max_events = 0x070F;     ///< u16, [capture] max_events (saturates)
+inline constexpr uint16_t budget_events_kept = 0x0710;    ///< u16, events the store keeps at the worst case
+inline constexpr uint16_t budget_end = 0x0711;
+/// Buffer table (fw::buffer_budget, in its fixed order): [count, bytes of entry 0 (u32), ...].
+inline constexpr uint16_t buffers = 0x0720;
+inline constexpr uint16_t k_max_buffer_entries = 16;
+inline constexpr uint16_t buffers_end = buffers + 1 + 2 * k_max_buffer_entries;
+
 // ---- arm (write access) --------------------------------------------------------------------
 /// Write [key hi, key lo, operation] (3 registers, key = [comms.modbus] arm_key): arms that one
 /// operation for arm_window_ms; the next write to a command register consumes it (accepted or

@@ -25,7 +25,8 @@ constexpr Range k_readable[] = {
     {regs::dl_status, regs::dl_end},            {regs::wear_present, regs::wear_end},
     {regs::wb_control, regs::wb_status_end},    {regs::analysis, regs::analysis_end},
     {regs::access_stats, regs::access_end},     {regs::storage_stats, regs::storage_end},
-    {regs::arm, regs::arm_end},
+    {regs::arm, regs::arm_end},                 {regs::budget, regs::budget_end},
+    {regs::buffers, regs::buffers_end},
 };
 
 void put16(std::vector<uint16_t>& b, size_t at, uint16_t v) { b[at] = v; }
@@ -209,6 +210,29 @@ bool RegisterMap::render(uint16_t start, uint16_t end, Block& b) {
       put_speed(b, 12, a.bpfo_hz, d);
       put_speed(b, 14, a.bpfi_hz, d);
       put_speed(b, 16, a.bsf_hz, d);
+      return true;
+    }
+    case regs::budget: {
+      const RuntimeBudget r = src_.runtime_budget ? src_.runtime_budget() : RuntimeBudget{};
+      put32(b, 0, r.locked_kb);
+      put32(b, 2, r.resident_kb);
+      put32(b, 4, r.peak_resident_kb);
+      auto share = [](double x) { return x < 0.0 ? uint16_t{0xFFFF} : static_cast<uint16_t>(std::min(65534.0, std::round(x * 1e4))); };
+      put16(b, 6, share(r.loop_cpu_share));
+      put16(b, 7, share(r.analysis_cpu_share));
+      put16(b, 8, static_cast<uint16_t>(std::min(65535.0, std::round(r.window_s))));
+      put32(b, 9, r.start_to_ready_ns < 0 ? 0xFFFFFFFFu : static_cast<uint64_t>(r.start_to_ready_ns / 1'000'000));
+      const StorageBudget& sb = src_.storage_budget;
+      put32(b, 11, sb.event_bytes_worst);
+      put32(b, 13, sb.capacity_bytes / 1024);
+      put16(b, 15, static_cast<uint16_t>(std::min<uint64_t>(sb.max_events, 0xFFFF)));
+      put16(b, 16, static_cast<uint16_t>(std::min<uint64_t>(sb.events_kept, 0xFFFF)));
+      return true;
+    }
+    case regs::buffers: {
+      const size_t n = std::min<size_t>(src_.buffer_bytes.size(), regs::k_max_buffer_entries);
+      put16(b, 0, static_cast<uint16_t>(n));
+      for (size_t i = 0; i < n; ++i) put32(b, 1 + 2 * i, src_.buffer_bytes[i]);
       return true;
     }
     case regs::orbit_radius_nm:

@@ -18,6 +18,8 @@
 #include "firmware/analysis/analysis_task.hpp"
 #include "firmware/app/loop_runner.hpp"
 #include "firmware/app/supervisor.hpp"
+#include "firmware/budget/board_budget.hpp"
+#include "firmware/budget/runtime_budget.hpp"
 #include "firmware/events/event_store.hpp"
 #include "firmware/fieldbus/field_bus_front_end.hpp"
 #include "firmware/persistence/wear_store.hpp"
@@ -54,6 +56,9 @@ struct RegisterSources {
   std::function<bool()> nodes_alive;                      ///< field-bus nodes heard within the timeout
   std::function<AnalysisStatus()> analysis;               ///< analysis task results (absent: tracker not running)
   std::function<StoreCounters()> storage;                 ///< event-store counters (the event writer's)
+  std::function<RuntimeBudget()> runtime_budget;          ///< measured memory, CPU shares, start-up time (absent: not measured)
+  std::vector<uint64_t> buffer_bytes;                     ///< fw::buffer_budget sizes, bytes, in its order (at most regs::k_max_buffer_entries)
+  StorageBudget storage_budget;                           ///< fw::storage_budget of the board
   std::function<bool()> manual_capture;                   ///< request a manual capture trigger (absent: command 6 refused, exception 4)
   /// Time for the arm window, ns, any monotonic clock that may be read from the server thread
   /// (the linux backend passes CLOCK_MONOTONIC). Absent: std::chrono::steady_clock.

@@ -65,6 +65,8 @@ class SpeedTrackerTask {
   TrackedSpeed latest() const { return published_.load(); }
 
   const SpeedTrackerTaskCounters& counters() const { return counters_; }
+  /// [any thread] Samples offered and not yet taken by poll() (approximate from other threads).
+  size_t queued() const { return ring_.size(); }
   /// [any thread] Samples the producer could not offer because the ring was full.
   uint64_t ring_drops() const { return ring_.dropped(); }
   const model::signal::SpeedRidgeTracker& tracker() const { return tracker_; }

@@ -564,4 +564,12 @@ void SpeedRidgeTracker::process_frame() {
   latest_ = e;
 }
 
+size_t SpeedRidgeTracker::heap_bytes() const {
+  size_t doubles = 0;
+  for (const std::vector<double>* v : {&level_db_, &floor_db_, &prom_db_, &scratch_, &medians_, &score_, &best_score_,
+                                       &best_level_db_, &best_prom_db_, &delta_, &delta_next_})
+    doubles += v->capacity();
+  return stft_.heap_bytes() + sizeof(double) * doubles;
+}
+
 }  // namespace amb::model::signal

@@ -173,6 +173,9 @@ class SpeedRidgeTracker {
   /// Lowest speed the tracker will report, Hz:
   /// max(min_speed_hz, 2 * main-lobe half-width / (window_s * smallest order)).
   double stated_min_speed_hz() const { return stated_min_hz_; }
+  /// Heap bytes held after configure(): the STFT's buffers and the ridge search's (spectrum
+  /// levels, floor, candidate scores, Viterbi state), bytes.
+  size_t heap_bytes() const;
 
  private:
   void process_frame();

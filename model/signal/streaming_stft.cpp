@@ -177,4 +177,11 @@ void StreamingStft::compute_frame() {
   frame_centre_s_ = centre_index / options_.sample_rate_hz;
 }
 
+size_t StreamingStft::heap_bytes() const {
+  const size_t vectors = sizeof(double) * (window_.capacity() + history_.capacity() + power_.capacity());
+  const size_t n = options_.nfft;
+  const size_t fft = fft_in_ != nullptr ? sizeof(double) * n + 2 * sizeof(double) * (n / 2 + 1) : 0;
+  return vectors + fft;
+}
+
 }  // namespace amb::model::signal

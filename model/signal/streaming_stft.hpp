@@ -59,6 +59,9 @@ class StreamingStft {
   /// Bounded time, no allocation.
   bool recompute(double kappa_per_s);
   double warp_rate() const { return warp_kappa_; }
+  /// Heap bytes this STFT holds after configure(): window, history, power spectrum and the
+  /// FFTW input/output buffers (the plan's own memory is FFTW's and not counted).
+  size_t heap_bytes() const;
 
   /// Push one sample (input units, e.g. g or m). Returns true if this sample completed a
   /// frame; power() then holds that frame. Bounded time, no allocation.

@@ -2,7 +2,9 @@
 // sleeps on CLOCK_MONOTONIC, SCHED_FIFO when permitted) runs for a few seconds of wall time
 // with the analysis thread off (/0) and on (/1); a synthetic front end puts a 45 Hz line on
 // the tracker channel so the tracker does its full work. Reported per case: wake-up latency
-// p99 / mean / max, overruns, ring drops, the tracked speed. One run gives both side by side:
+// p99 / mean / max, overruns, ring drops, the tracked speed, and the CPU share (CPU time / wall
+// time, 1 = one CPU) of the loop thread and of the analysis thread, read from their thread CPU
+// clocks before and after the run (never inside the loop step). One run gives both side by side:
 //   build/tests/bench/amb-bench --benchmark_filter=LoopWakeLatency
 // AMB_BENCH_LOOP_S sets the seconds per case (default 3).
 #include <benchmark/benchmark.h>
@@ -24,6 +26,14 @@
 namespace {
 
 using namespace amb;
+
+/// CPU time of a thread so far, ns (its CLOCK_THREAD_CPUTIME clock); -1 if unreadable.
+int64_t thread_cpu_ns(pthread_t t) {
+  clockid_t cid;
+  timespec ts{};
+  if (::pthread_getcpuclockid(t, &cid) != 0 || ::clock_gettime(cid, &ts) != 0) return -1;
+  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
 
 int64_t mono_ns() {
   timespec ts{};
@@ -88,15 +98,21 @@ void BM_LoopWakeLatency(benchmark::State& state) {
   if (with_analysis) thread.start(*task, b.tracker.poll_period_s);
   const auto periods = static_cast<uint64_t>(seconds * b.rate_hz);
   bool fifo = false;
+  int64_t loop_cpu_ns = 0, loop_wall_ns = 0, analysis_cpu_ns = 0;
   for (auto _ : state) {
+    const int64_t a0 = with_analysis ? thread_cpu_ns(thread.native_handle()) : 0;
     // The loop in its own thread, SCHED_FIFO 80 when permitted (as amb-firmware does).
     std::thread t([&] {
       sched_param sp{};
       sp.sched_priority = 80;
       fifo = ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &sp) == 0;
+      const int64_t c0 = thread_cpu_ns(::pthread_self()), w0 = mono_ns();
       loop.run_periods(periods);
+      loop_cpu_ns = thread_cpu_ns(::pthread_self()) - c0;
+      loop_wall_ns = mono_ns() - w0;
     });
     t.join();
+    if (with_analysis) analysis_cpu_ns = thread_cpu_ns(thread.native_handle()) - a0;
     state.SetIterationTime(seconds);
   }
   thread.stop();
@@ -111,6 +127,9 @@ void BM_LoopWakeLatency(benchmark::State& state) {
   state.counters["tracker_updates"] = static_cast<double>(a.tracker_updates);
   state.counters["tracked_hz"] = with_analysis && !a.lost ? a.tracked_speed_hz : 0.0;
   state.counters["sched_fifo"] = fifo ? 1.0 : 0.0;
+  state.counters["loop_cpu_pct"] = loop_wall_ns > 0 ? 100.0 * static_cast<double>(loop_cpu_ns) / static_cast<double>(loop_wall_ns) : -1.0;
+  state.counters["analysis_cpu_pct"] =
+      with_analysis && loop_wall_ns > 0 ? 100.0 * static_cast<double>(analysis_cpu_ns) / static_cast<double>(loop_wall_ns) : 0.0;
   state.SetLabel(with_analysis ? "analysis thread on" : "analysis thread off");
 }
 BENCHMARK(BM_LoopWakeLatency)->ArgName("analysis")->Arg(0)->Arg(1)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);

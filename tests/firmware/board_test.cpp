@@ -198,3 +198,11 @@ TEST(Board, SpeedSourceAndBearingTableAreChecked) {
   const std::string k = set_key(text, "[bearing]", "aux_contact_constant_n_per_m1p5", "-1.0");
   EXPECT_NE(error_of(k).find("aux_contact_constant_n_per_m1p5"), std::string::npos) << error_of(k);
 }
+
+TEST(Board, EventStoreThatHoldsNoEventIsRefused) {
+  // The bath board's window: 25000 samples, 2101164 B per event file (docs/board-budget.md).
+  const std::string e = error_of(set_key(bath_text(), "[capture]", "storage_capacity_bytes", "2101163"));
+  EXPECT_NE(e.find("capture.storage_capacity_bytes"), std::string::npos) << e;
+  EXPECT_NE(e.find("2101164 bytes"), std::string::npos) << e;
+  EXPECT_TRUE(error_of(set_key(bath_text(), "[capture]", "storage_capacity_bytes", "2101164")).empty());
+}

@@ -54,3 +54,27 @@ TEST(RtThread, LoopOnAbsoluteDeadlinesFillsTheLatencyHistogram) {
               b.rate_hz, s.mean_latency_ns() * 1e-3, static_cast<double>(s.latency_quantile_ns(0.99)) * 1e-3,
               static_cast<double>(s.max_latency_ns) * 1e-3, static_cast<unsigned long long>(s.overruns));
 }
+
+TEST(RtThread, PinsToTheHighestAllowedCpu) {
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  ASSERT_EQ(sched_getaffinity(0, sizeof allowed, &allowed), 0);
+  int highest = -1;
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &allowed)) highest = c;
+  std::thread t([&] {
+    hal::linux_hw::RtOptions o;
+    o.fifo_priority = 0;
+    o.lock_memory = false;
+    o.pin_highest_allowed = true;
+    const auto r = hal::linux_hw::configure_realtime_thread(o);
+    if (CPU_COUNT(&allowed) < 2) {
+      EXPECT_FALSE(r.pinned);  // a one-CPU set is left alone
+      return;
+    }
+    EXPECT_TRUE(r.pinned) << r.warnings;
+    EXPECT_EQ(r.cpu, highest);
+    EXPECT_EQ(sched_getcpu(), highest);
+  });
+  t.join();
+}

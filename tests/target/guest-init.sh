@@ -61,6 +61,7 @@ start_service() {
   i=0; while [ ! -S /run/amb-notify ] && [ $i -lt 50 ]; do sleep 0.1; i=$((i+1)); done
   export NOTIFY_SOCKET=/run/amb-notify WATCHDOG_USEC=$((WDSEC * 1000000))
   FW_T0=$(cut -d. -f1 /proc/uptime)
+  FW_T0_CS=$(cut -d' ' -f1 /proc/uptime | tr -d .)   # centiseconds since boot
   echo "GUEST-UNIT: LimitRTPRIO=$RTPRIO LimitMEMLOCK=$MEMLOCK CPUAffinity=$AFF ExecStart=$EXEC (AMB_BOARD=$AMB_BOARD AMB_DATA_DIR=$AMB_DATA_DIR AMB_OPTIONS=$AMB_OPTIONS)"
   ( ulimit -r "$RTPRIO" && ulimit -l "$MEMLOCK" || echo "GUEST-UNIT: ulimit failed"
     eval "exec taskset -c $AFF $EXEC" ) > /tmp/firmware.log 2>&1 &
@@ -70,6 +71,7 @@ start_service() {
 # (stat field 41: 0 other, 1 FIFO) and priority (field 40) and the CPUs allowed; VmLck; limits.
 rt_report() {
   echo "GUEST-RT: pid $FW comm $(cat /proc/$FW/comm) VmLck $(sed -n 's/^VmLck:[[:space:]]*//p' /proc/$FW/status)"
+  echo "GUEST-RT: memory VmLck $(sed -n 's/^VmLck:[[:space:]]*//p' /proc/$FW/status) VmRSS $(sed -n 's/^VmRSS:[[:space:]]*//p' /proc/$FW/status) VmHWM $(sed -n 's/^VmHWM:[[:space:]]*//p' /proc/$FW/status) threads $(ls /proc/$FW/task | wc -l)"
   for t in /proc/$FW/task/*; do
     echo "GUEST-RT: tid ${t##*/} $(sed 's/^.*) //' $t/stat | awk '{print "policy", $39, "rtprio", $38}') cpus $(sed -n 's/^Cpus_allowed_list:[[:space:]]*//p' $t/status)"
   done
@@ -83,7 +85,9 @@ PLANT=$!
 start_service
 i=0
 while ! grep -q "READY=1" /tmp/firmware.log && [ $i -lt 1200 ] && kill -0 $FW 2>/dev/null; do sleep 0.1; i=$((i+1)); done
+FW_T1_CS=$(cut -d' ' -f1 /proc/uptime | tr -d .)
 echo "GUEST: firmware start took $((i / 10)) s"
+echo "GUEST: service start to READY=1 in the log: $(( (FW_T1_CS - FW_T0_CS) * 10 )) ms (polled every 0.1 s)"
 sed 's/^/GUEST-FW: /' /tmp/firmware.log
 kill -0 $FW 2>/dev/null && rt_report
 echo "GUEST_READY"
