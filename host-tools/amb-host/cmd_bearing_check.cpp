@@ -142,6 +142,7 @@ int run(Args a) {
     j["speed"] = {{"nominal_hz", r.speed.nominal_hz},
                   {"refined_hz", r.speed.speed_hz},
                   {"refined", r.speed.refined},
+                  {"source", r.speed_source},
                   {"log10_p", r.speed.log10_p},
                   {"harmonics_present", r.speed.harmonics_present}};
     j["whitening"] = r.whitening;
@@ -180,9 +181,9 @@ int run(Args a) {
   for (const auto& b : r.bands)
     std::printf(" %s %.0f-%.0f Hz (SK %.2f);", b.name.c_str(), b.band.low_hz, b.band.high_hz, b.band.kurtosis);
   std::printf("\n3 envelope spectrum of each band\n");
-  std::printf("5 speed: %s %.4f Hz (comb log10 p %.1f, %d harmonics present)\n",
-              r.speed.refined ? "refined to" : "not refined, nominal", r.speed.speed_hz, r.speed.log10_p,
-              r.speed.harmonics_present);
+  std::printf("5 speed: %s %.4f Hz (from the %s; comb log10 p %.1f, %d harmonics present)\n",
+              r.speed.refined ? "refined to" : "not refined, nominal", r.speed.speed_hz, r.speed_source.c_str(),
+              r.speed.log10_p, r.speed.harmonics_present);
   std::printf("4/6 families (detected if log10 P_null < %.2f and the fundamental is present):\n", r.threshold_log10_p);
   std::printf("  %-5s %10s %10s %8s %10s %-13s %s\n", "family", "pred_Hz", "found_Hz", "score", "log10P", "band",
               "decision");

@@ -7,6 +7,7 @@
 // seen through a transfer path (none, or one/two housing resonances in parallel with a weak
 // direct path) with white Gaussian noise relative to the path's output rms. The checker never
 // sees any of these settings.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -73,7 +74,11 @@ struct RecordSpec {
   double duration_s = 10.0;          ///< record length, s
   double noise_rel = 0.5;            ///< noise rms / path output rms
   int path = 0;                      ///< transfer path (through_path)
-  uint64_t seed = 1;                 ///< noise seed
+  uint64_t seed = 1;                 ///< noise (and speed fluctuation) seed
+  /// Relative rms of a random speed fluctuation (Ornstein-Uhlenbeck, correlation time 0.1 s):
+  /// without it the model's impacts are strictly periodic (no slip), i.e. discrete spectral
+  /// lines, which no real bearing produces (rolling elements slip 1-2 %, Smith & Randall 2015).
+  double speed_fluctuation = 0.002;
   std::string label() const {
     return defect == mb::DefectLocation::outer_race ? "outer_race"
            : defect == mb::DefectLocation::inner_race ? "inner_race" : "healthy";
@@ -83,7 +88,20 @@ struct RecordSpec {
 inline std::vector<double> make_record(const RecordSpec& s) {
   const auto g = *mb::find_bearing(s.bearing);
   std::vector<double> clean;
-  auto speed = [&](double) { return s.speed_hz; };
+  // Speed fluctuation: OU process on a 1 ms grid, interpolated.
+  std::vector<double> eps(static_cast<size_t>((s.duration_s + 1.0) / 1e-3) + 2, 0.0);
+  if (s.speed_fluctuation > 0) {
+    std::mt19937_64 rng(s.seed ^ 0x5eedULL);
+    std::normal_distribution<double> n(0.0, 1.0);
+    const double a = std::exp(-1e-3 / 0.1), b = s.speed_fluctuation * std::sqrt(1.0 - a * a);
+    for (size_t i = 1; i < eps.size(); ++i) eps[i] = a * eps[i - 1] + b * n(rng);
+  }
+  auto speed = [&](double t) {
+    const double u = std::clamp(t, 0.0, s.duration_s + 0.5) / 1e-3;
+    const auto i = static_cast<size_t>(u);
+    const double f = u - static_cast<double>(i);
+    return s.speed_hz * (1.0 + (1.0 - f) * eps[i] + f * eps[i + 1]);
+  };
   if (s.model == "4dof") {
     mb::Hertz4DofParams p;
     p.bearing = g;

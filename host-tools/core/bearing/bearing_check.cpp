@@ -18,10 +18,10 @@ std::array<NullFit, 4> BearingCheckOptions::default_nulls() {
   // Measured: tests/bearing/null_calibration.cpp (docs/bearing.md "Calibration").
   std::array<NullFit, 4> n;
   // {draws, median, q90, q99, scale} of each family's score (bpfo, bpfi, ball, ftf).
-  n[0] = {498, 1.709, 2.942, 4.799, 0.790};
-  n[1] = {284, 1.851, 3.239, 4.137, 0.862};
-  n[2] = {240, 1.254, 2.578, 4.302, 0.823};
-  n[3] = {1544, 0.705, 1.854, 2.625, 0.714};
+  n[0] = {498, 1.710, 3.013, 5.712, 1.023};
+  n[1] = {284, 1.852, 3.150, 4.077, 0.806};
+  n[2] = {240, 1.288, 2.578, 4.302, 0.802};
+  n[3] = {1544, 0.709, 1.701, 2.960, 0.753};
   return n;
 }
 
@@ -146,27 +146,38 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     throw std::invalid_argument(buf);
   }
 
-  // 5. speed, from the raw spectrum's shaft-harmonic comb.
+  // 1-2. pre-whitening and band selection (band widths from the nominal speed).
   BandAnalyser raw(x, fs_hz);
   const double df = fs_hz / static_cast<double>(raw.length());
-  r.speed = refine_speed(raw.magnitude(), df, shaft_speed_hz, o.speed_range);
-  r.refined = model::bearing::defect_frequencies(g, r.speed.speed_hz);
-  const auto& p = r.refined;
-  // Not refined: the nominal speed's uncertainty adds to the slip.
-  const double tol = o.slip_tolerance + (r.speed.refined ? 0.0 : o.speed_range);
-
-  // 1-2. pre-whitening and band selection.
   BandAnalyser white = raw;
   white.prewhiten();
   r.whitening = "cepstrum pre-whitening (unit spectral magnitude, phase kept)";
   BandSelectionOptions bo = o.band;
-  bo.min_bandwidth_hz = std::max(bo.min_bandwidth_hz, (o.harmonics + 2) * p.bpfi_hz);
+  const double bpfi_max = r.predicted.bpfi_hz * (1.0 + o.speed_range);
+  bo.min_bandwidth_hz = std::max(bo.min_bandwidth_hz, (o.harmonics + 2) * bpfi_max);
   // A demodulation band must lie above the lines it is to reveal: a band that holds them holds
   // the (whitened) lines themselves, not a resonance they modulate.
-  bo.min_low_edge_hz = std::max(bo.min_low_edge_hz, o.harmonics * p.bpfi_hz + p.shaft_hz);
+  bo.min_low_edge_hz = std::max(bo.min_low_edge_hz, o.harmonics * bpfi_max + r.predicted.shaft_hz);
   r.bands.push_back({"whitened_full", Band{0.0, top_hz, white.band_kurtosis(0.0, top_hz), 0}});
   r.bands.push_back({"whitened_sk", white.select_band(bo)});
   if (o.raw_sk_band) r.bands.push_back({"raw_sk", raw.select_band(bo)});
+
+  // 5. speed: the shaft-harmonic comb of the spectrum, else of the whitened envelope spectrum
+  // (an inner-race defect or an unbalance modulates at f_r even where the spectrum has no comb).
+  r.speed = refine_speed(raw.magnitude(), df, shaft_speed_hz, o.speed_range);
+  r.speed_source = r.speed.refined ? "spectrum" : "nominal";
+  if (!r.speed.refined) {
+    const EnvelopeSpectrum e = white.envelope_spectrum(r.bands[0].band);
+    const SpeedRefinement se = refine_speed(e.amplitude, e.df_hz, shaft_speed_hz, o.speed_range);
+    if (se.refined) {
+      r.speed = se;
+      r.speed_source = "envelope spectrum";
+    }
+  }
+  r.refined = model::bearing::defect_frequencies(g, r.speed.speed_hz);
+  const auto& p = r.refined;
+  // Not refined: the nominal speed's uncertainty adds to the slip.
+  const double tol = o.slip_tolerance + (r.speed.refined ? 0.0 : o.speed_range);
 
   // 3-4. envelope spectra, family scores and their surrogate nulls.
   const auto tmpl = templates(p, df, o);

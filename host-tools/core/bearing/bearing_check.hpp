@@ -11,7 +11,8 @@
 //      (3 harmonics, 1x and 2x with +-f_r sidebands); ball (BSF, 2 BSF, 4 BSF, 2 BSF +- FTF);
 //      cage (3 harmonics of FTF); bins on shaft harmonics of the refined speed are set aside;
 //   5. the shaft speed refined from the record's shaft-harmonic comb within +-2 % of nominal
-//      (speed_refine.hpp); family bases move jointly by +-slip_tolerance;
+//      (speed_refine.hpp), in the spectrum or else in the whitened envelope spectrum; family
+//      bases move jointly by +-slip_tolerance (+ speed_range when the speed is not refined);
 //   6. decision: each family's score against its null distribution, measured on healthy records
 //      (scores of the family's template at surrogate bases, fitted tail; family_score.hpp and
 //      docs/bearing.md "Calibration"); detected if P_null < record_false_alarm / (bands x
@@ -97,6 +98,7 @@ struct BearingCheckResult {
   model::bearing::DefectFrequencies predicted;  ///< kinematic frequencies at the nominal speed
   model::bearing::DefectFrequencies refined;    ///< at the refined speed
   SpeedRefinement speed;                        ///< step 5
+  std::string speed_source;                     ///< "spectrum", "envelope spectrum" or "nominal"
   std::string whitening;                        ///< step 1, what was done
   std::vector<AnalysisBand> bands;              ///< steps 2-3
   std::array<FamilyResult, 4> families;         ///< bpfo, bpfi, ball, ftf
