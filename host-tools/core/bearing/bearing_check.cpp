@@ -1,5 +1,7 @@
 #include "host-tools/core/bearing/bearing_check.hpp"
 
+#include "host-tools/core/bearing/line_family.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -217,6 +219,43 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     }
   }
 
+  // Without a refined speed the shaft harmonics cannot be set aside bin by bin. A fundamental
+  // line that sits on a shaft comb instead - k f_s with f_s within speed_range of nominal and
+  // the comb's neighbours (k-1) f_s and (k+1) f_s (2 f_s, 3 f_s for k = 1) present on their own
+  // in the same band - is the comb's, not the family's (6200: BSF = 1.98 f_r next to 2 f_r).
+  std::array<bool, kFamilies> comb_member{};
+  if (!r.speed.refined) {
+    for (int f = 0; f < kFamilies; ++f) {
+      auto& fr = r.families[static_cast<size_t>(f)];
+      if (!fr.lines.fundamental_present) continue;
+      const auto& band = r.bands[fr.band_index];
+      const BandAnalyser& a = band.name == "raw_sk" ? raw : white;
+      const NormalisedSpectrum ns = normalise_spectrum(a.envelope_spectrum(band.band), f_max, o.floor_halfwidth_hz, 0.0, 0);
+      auto present = [&](double hz) {
+        const long c = std::lround(hz / df);
+        double m = 0.0;
+        for (long k = c - 1; k <= c + 1; ++k)
+          if (k > 0 && k < static_cast<long>(ns.ratio.size())) m = std::max(m, ns.ratio[static_cast<size_t>(k)]);
+        return -std::expm1(3.0 * std::log1p(-std::exp2(-m * m))) < o.line_p;
+      };
+      bool any_own = false;
+      const auto& tl = tmpl[static_cast<size_t>(f)].lines;
+      for (size_t i = 0; i < tl.size(); ++i) {
+        const auto& l = fr.lines.lines[i];
+        if (!tl[i].fundamental || !(l.p_value < o.line_p)) continue;
+        const double k = std::round(l.hz / shaft_speed_hz);
+        const double comb_hz = k >= 1 ? l.hz / k : 0.0;
+        const bool on_comb = k >= 1 && std::abs(comb_hz - shaft_speed_hz) <= o.speed_range * shaft_speed_hz &&
+                             (k >= 2 ? present((k - 1) * comb_hz) : present(3 * comb_hz)) && present((k + 1) * comb_hz);
+        if (!on_comb) any_own = true;
+      }
+      if (!any_own) {
+        fr.lines.fundamental_present = false;
+        comb_member[static_cast<size_t>(f)] = true;
+      }
+    }
+  }
+
   // 6. decision.
   for (int f = 0; f < kFamilies; ++f) {
     auto& fr = r.families[static_cast<size_t>(f)];
@@ -233,6 +272,9 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     if (!significant)
       fr.reason = "not significant: score " + fmt_p(fr.score) + " <= " + fmt_p(fr.threshold_score) + " (log10 P_null " +
                   fmt_p(fr.log10_p) + " >= " + fmt_p(r.threshold_log10_p) + ")";
+    else if (!fr.detected && comb_member[static_cast<size_t>(f)])
+      fr.reason = "lines significant (log10 P_null " + fmt_p(fr.log10_p) +
+                  ") but the fundamental sits on a shaft-harmonic comb (speed not refined)";
     else if (!fr.detected)
       fr.reason = "lines significant (log10 P_null " + fmt_p(fr.log10_p) + ") but the fundamental is absent";
   }
@@ -274,10 +316,55 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
       }
     }
   }
+  // Shared lines: where two detected families' lines coincide (6200: 2 BSF = BPFI - f_r; 6205:
+  // 3 BPFO ~ 2 BPFI), a line is evidence for neither. Each detected family is ranked by its
+  // score on the lines no other detected family also found; a family with no such evidence above
+  // the threshold cannot be named.
+  int n_detected = 0;
+  for (const auto& fr : r.families) n_detected += fr.detected ? 1 : 0;
+  if (n_detected >= 2) {
+    for (int f = 0; f < kFamilies; ++f) {
+      auto& fr = r.families[static_cast<size_t>(f)];
+      if (!fr.detected) continue;
+      double chi2 = 0.0;
+      int m = 0;
+      for (const auto& l : fr.lines.lines) {
+        if (!(l.hz > 0)) continue;
+        bool shared = false;
+        for (int e = 0; e < kFamilies && !shared; ++e) {
+          if (e == f || !r.families[static_cast<size_t>(e)].detected) continue;
+          for (const auto& q : r.families[static_cast<size_t>(e)].lines.lines)
+            if (q.hz > 0 && q.p_value < o.line_p && std::abs(q.hz - l.hz) <= std::max(2.0 * df, tol * l.hz)) shared = true;
+        }
+        if (shared) continue;
+        chi2 += -2.0 * std::log(std::max(l.p_value, 1e-300));
+        ++m;
+      }
+      fr.unique_score = m > 0 ? -log_chi2_sf_even(chi2, m) / std::log(10.0) : 0.0;
+      fr.unique_log10_p = o.null[static_cast<size_t>(f)].log10_p(fr.unique_score);
+    }
+  } else {
+    for (auto& fr : r.families) {
+      fr.unique_score = fr.score;
+      fr.unique_log10_p = fr.log10_p;
+    }
+  }
   int best = -1;
   for (int f = 0; f < kFamilies; ++f) {
     const auto& fr = r.families[static_cast<size_t>(f)];
-    if (fr.detected && (best < 0 || fr.log10_p < r.families[static_cast<size_t>(best)].log10_p)) best = f;
+    if (fr.detected && fr.unique_log10_p < r.threshold_log10_p &&
+        (best < 0 || fr.unique_log10_p < r.families[static_cast<size_t>(best)].unique_log10_p))
+      best = f;
+  }
+  if (best < 0 && n_detected >= 2) {
+    r.verdict = "unclear";
+    r.reason = "several families are detected but none on lines of its own (their evidence is shared lines):";
+    for (auto& fr : r.families)
+      if (fr.detected) {
+        fr.reason = "detected on shared lines only (score on its own lines " + fmt_p(fr.unique_score) + ")";
+        r.reason += " " + fr.name;
+      }
+    return r;
   }
   if (best < 0 && fo.reason.rfind("significant, but a tooth", 0) == 0) {
     r.verdict = "unclear";
@@ -302,8 +389,8 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
       fr.reason = "named: strongest detected family (log10 P_null " + fmt_p(fr.log10_p) + ", score " + fmt_p(fr.score) +
                   ", band " + r.bands[fr.band_index].name + ")";
     } else if (fr.detected) {
-      fr.reason = std::string("detected but weaker than ") + k_names[best] + " (log10 P_null " + fmt_p(fr.log10_p) +
-                  " vs " + fmt_p(w.log10_p) + ")";
+      fr.reason = std::string("detected but weaker than ") + k_names[best] + " on lines of its own (log10 P_null " +
+                  fmt_p(fr.unique_log10_p) + " vs " + fmt_p(w.unique_log10_p) + ")";
     }
   }
   const auto& band = r.bands[w.band_index];

@@ -16,8 +16,9 @@
 //   6. decision: each family's score against its null distribution, measured on healthy records
 //      (scores of the family's template at surrogate bases, fitted tail; family_score.hpp and
 //      docs/bearing.md "Calibration"); detected if P_null < record_false_alarm / (bands x
-//      families) and its fundamental is present on its own; the detected family with the
-//      smallest P_null is named, the others carry the reason they were not.
+//      families) and its fundamental is present on its own; of several detected families the
+//      one with the smallest P_null on lines no other detected family found is named; the
+//      others carry the reason they were not.
 #include <array>
 #include <optional>
 #include <string>
@@ -89,6 +90,8 @@ struct FamilyResult {
   std::vector<double> log10_p_per_band;  ///< the same in every band
   TemplateScore lines;             ///< per line at the best slip, in that band
   bool detected = false;
+  double unique_score = 0.0;       ///< score on the lines no other detected family also found
+  double unique_log10_p = 0.0;     ///< log10 P_null of unique_score (ranks detected families)
   std::vector<double> surrogates;  ///< surrogate scores of every band (collect_surrogates only)
   std::string reason;              ///< why it is named, or why it is not
 };

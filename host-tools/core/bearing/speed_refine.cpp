@@ -65,9 +65,9 @@ SpeedRefinement refine_speed(const std::vector<double>& magnitude, double df_hz,
     r.harmonics_present += present ? 1 : 0;
     if (h == 1) first_present = present;
   }
-  // A shaft comb has its 1x line and most harmonics; a comb of another line family that
-  // happens to align with a few multiples (ball-pass harmonics) does not.
-  if (r.log10_p < std::log10(false_alarm) && first_present && 2 * r.harmonics_present > h_max) {
+  // A shaft comb has its 1x line and at least one harmonic; a comb of another line family that
+  // happens to align with a few multiples (ball-pass harmonics) lacks the 1x.
+  if (r.log10_p < std::log10(false_alarm) && first_present && r.harmonics_present >= 2) {
     r.refined = true;
     r.speed_hz = best_f;
   }

@@ -6,7 +6,7 @@
 // Gaussian noise: P(ratio > r) = 2^(-r^2)); the harmonics are Fisher-combined and the comb with
 // the smallest p over the search grid wins. The refinement is used when that p, Bonferroni-
 // corrected for the independent comb positions tried, is below `false_alarm` and the comb has its
-// 1x line and more than half of its harmonics present on their own (p < 0.01); otherwise the
+// 1x line and at least one more harmonic present on their own (p < 0.01); otherwise the
 // nominal speed is kept and the caller must allow for its uncertainty.
 #include <vector>
 
