@@ -167,6 +167,7 @@ int run(Args a) {
                       {"slip", f.lines.delta},
                       {"fundamental_present", f.lines.fundamental_present},
                       {"detected", f.detected},
+                      {"unique_score", f.unique_score},
                       {"reason", f.reason},
                       {"lines", lines}};
     }
