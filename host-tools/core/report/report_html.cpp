@@ -167,7 +167,7 @@ std::string section_speed(const ReportData& d) {
   const auto& sp = *d.speed.data;
   bool any_plant = false;
   for (double v : sp.plant_speed_hz) any_plant |= std::isfinite(v);
-  if (any_plant) p.series.push_back({"rotor speed (tachometer)", sp.t_s, sp.plant_speed_hz, palette(2), 1.2});
+  if (any_plant) p.series.push_back({"tachometer", sp.t_s, sp.plant_speed_hz, palette(2), 1.2});
   // Spans where the board had no valid speed: shaded, one band per run of lost samples.
   for (size_t i = 0; i < sp.not_tracked.size() && i < sp.t_s.size();) {
     if (!sp.not_tracked[i]) {
