@@ -22,7 +22,7 @@ std::array<NullFit, 4> BearingCheckOptions::default_nulls() {
   // {draws, median, q90, q99, scale} of each family's score (bpfo, bpfi, ball, ftf).
   n[0] = {498, 1.710, 3.013, 5.712, 1.023};
   n[1] = {284, 1.852, 3.150, 4.077, 0.806};
-  n[2] = {240, 1.288, 2.578, 4.302, 0.802};
+  n[2] = {394, 1.248, 2.578, 4.252, 0.826};
   n[3] = {1544, 0.709, 1.701, 2.960, 0.753};
   return n;
 }
@@ -90,7 +90,9 @@ std::array<Template, kFamilies> templates(const model::bearing::DefectFrequencie
     for (int sgn : {-1, 1})
       t[kInner].lines.push_back({double(h), sgn * p.shaft_hz, 1, false, std::to_string(h) + (sgn < 0 ? "x-fr" : "x+fr")});
   t[kBall].base_hz = p.bsf_hz;
-  for (int h : {1, 2, 4}) t[kBall].lines.push_back({double(h), 0.0, 1, h <= 2, std::to_string(h) + "x"});
+  // The ball defect strikes both races once per ball spin: 2 BSF is its fundamental (Smith &
+  // Randall); BSF itself is scored but does not stand for the family (6200/6203: BSF ~ 2 f_r).
+  for (int h : {1, 2, 4}) t[kBall].lines.push_back({double(h), 0.0, 1, h == 2, std::to_string(h) + "x"});
   const int cage_jitter = 1 + static_cast<int>(std::lround(o.slip_tolerance * p.ftf_hz / df_hz));
   for (int sgn : {-1, 1})
     t[kBall].lines.push_back({2.0, sgn * p.ftf_hz, cage_jitter, false, sgn < 0 ? "2x-ftf" : "2x+ftf"});
@@ -265,7 +267,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     if (fr.lines.fundamental_present) {
       const auto& l = fr.lines.lines;
       if (f == kBall)
-        fr.found_hz = l[1].p_value < o.line_p ? l[1].hz / 2.0 : l[0].hz;
+        fr.found_hz = l[1].hz / 2.0;  // the 2 BSF line (the fundamental) / 2
       else
         fr.found_hz = l[0].hz;
     }

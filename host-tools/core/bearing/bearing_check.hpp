@@ -8,7 +8,8 @@
 //      whitened kurtogram maximum, the raw kurtogram maximum;
 //   3. envelope spectrum of each band (squared envelope, Hann);
 //   4. harmonic + sideband scoring per family (family_score.hpp): BPFO (3 harmonics); BPFI
-//      (3 harmonics, 1x and 2x with +-f_r sidebands); ball (BSF, 2 BSF, 4 BSF, 2 BSF +- FTF);
+//      (3 harmonics, 1x and 2x with +-f_r sidebands); ball (2 BSF as fundamental, BSF, 4 BSF,
+//      2 BSF +- FTF);
 //      cage (3 harmonics of FTF); bins on shaft harmonics of the refined speed are set aside;
 //   5. the shaft speed refined from the record's shaft-harmonic comb within +-2 % of nominal
 //      (speed_refine.hpp), in the spectrum or else in the whitened envelope spectrum; family
@@ -82,7 +83,7 @@ struct AnalysisBand {
 struct FamilyResult {
   std::string name;                ///< "bpfo", "bpfi", "ball", "ftf"
   double predicted_hz = 0.0;       ///< base at the refined speed, Hz (ball: BSF)
-  std::optional<double> found_hz;  ///< fitted fundamental if present (ball: BSF = 2 BSF line / 2 or the BSF line), Hz
+  std::optional<double> found_hz;  ///< fitted fundamental if present (ball: BSF = 2 BSF line / 2), Hz
   size_t band_index = 0;           ///< the band where P_null is smallest (index into bands)
   double score = 0.0;              ///< -log10 Fisher p of the lines in that band (uncorrected)
   double threshold_score = 0.0;    ///< score at which log10 P_null reaches the threshold
