@@ -67,8 +67,12 @@ std::string AnalysisTask::configure(const board::BoardConfig& b, Supervisor* sup
   published_.store(st_);
   if (b.bearing.present && !bearing_.configure(bearing_task_config(b)))
     return "[bearing]: the bearing task refused the configuration (check the monitored bearing and the aux constants)";
+  coast_start_ns_.store(-1, std::memory_order_relaxed);
+  drive_on_ = false;
+  last_driven_speed_hz_ = 0.0;
   if (!b.tracker.enabled) return {};
   model::signal::SpeedTrackerOptions o = b.tracker.options;
+  half_window_ns_ = static_cast<int64_t>(0.5 * o.stft.window_s * 1e9);
   o.stft.sample_rate_hz = b.rate_hz;
   if (std::string err = tracker_.configure(o, b.tracker.max_gap_samples); !err.empty()) return "[tracker]: " + err;
   enabled_ = true;
@@ -76,7 +80,13 @@ std::string AnalysisTask::configure(const board::BoardConfig& b, Supervisor* sup
 }
 
 void AnalysisTask::on_sample(const LoopSample& s) {
-  if (!enabled_ || !feeding_.load(std::memory_order_relaxed)) return;
+  if (!enabled_) return;
+  const bool drive_on = s.speed_command_hz > 0.0f;
+  if (drive_on != drive_on_) {
+    coast_start_ns_.store(drive_on ? -1 : s.t_ns, std::memory_order_relaxed);
+    drive_on_ = drive_on;
+  }
+  if (!feeding_.load(std::memory_order_relaxed)) return;
   if ((s.flags & flag_read_failed) != 0) return;
   TrackerSample t;
   t.seq = s.seq;
@@ -99,15 +109,42 @@ size_t AnalysisTask::poll() {
     seen_updates_ = t.update_seq;
     // Lost: the tracker says so, or has nothing, or is not sure enough (coasting on noise
     // once the line has left its range): never a guess presented as a speed.
-    const bool lost = t.lost != 0 || !std::isfinite(t.speed_hz) || !(t.confidence >= min_confidence_);
+    bool lost = t.lost != 0 || !std::isfinite(t.speed_hz) || !(t.confidence >= min_confidence_);
+    bool rejected = false;
+    // Coasting (see k_coast_rise_fraction): the window reaches past the drive's stop.
+    const int64_t coast = coast_start_ns_.load(std::memory_order_relaxed);
+    st_.coasting = coast >= 0 && t.t_ns + half_window_ns_ > coast ? 1 : 0;
+    if (!st_.coasting) {
+      st_.coast_ceiling_hz = 0.0;
+      if (!lost) last_driven_speed_hz_ = t.speed_hz;
+    } else {
+      if (st_.coast_ceiling_hz == 0.0 && last_driven_speed_hz_ > 0.0)
+        st_.coast_ceiling_hz = last_driven_speed_hz_ * (1.0 + k_coast_rise_fraction);
+      // A window that straddles the stop mixes the driven and the coasting spin: refused.
+      if (!lost && t.t_ns - half_window_ns_ < coast) {
+        lost = true;
+        rejected = true;
+        ++st_.coast_rejections;
+      } else if (!lost && st_.coast_ceiling_hz > 0.0) {
+        if (t.speed_hz > st_.coast_ceiling_hz) {
+          lost = true;
+          rejected = true;
+          ++st_.coast_rejections;
+        } else {
+          st_.coast_ceiling_hz = std::min(st_.coast_ceiling_hz, t.speed_hz * (1.0 + k_coast_rise_fraction));
+        }
+      }
+    }
     st_.update_t_ns = t.t_ns;
     st_.tracked_speed_hz = lost ? std::numeric_limits<double>::quiet_NaN() : t.speed_hz;
-    st_.confidence = t.confidence;
+    // A refused update is "not tracked": its confidence is published as 0 (below the threshold).
+    const double confidence = rejected ? 0.0 : t.confidence;
+    st_.confidence = confidence;
     st_.lost = lost ? 1 : 0;
     st_.below_min = t.below_min;
     st_.mode = t.mode;
     st_.tracker_updates = t.update_seq;
-    if (sup_) sup_->publish_tracked_speed(t.speed_hz, t.confidence, lost);
+    if (sup_) sup_->publish_tracked_speed(t.speed_hz, confidence, lost);
     // Defect lines at the tracked speed; none (not the previous ones) while lost.
     st_.defects_valid = 0;
     if (!lost && bearing_.configured()) {

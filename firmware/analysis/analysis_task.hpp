@@ -38,7 +38,18 @@ struct AnalysisStatus {
   uint64_t resets = 0;            ///< tracker restarts after a gap longer than max_gap_samples
   uint64_t ring_drops = 0;        ///< samples the loop could not hand over (ring full)
   uint64_t polls = 0;             ///< poll() calls
+  uint8_t coasting = 0;           ///< 1: the newest update's window reaches past the drive's stop (no drive: the spin can only fall)
+  uint64_t coast_rejections = 0;  ///< updates refused while coasting (window across the stop, or above the spin-down ceiling)
+  double coast_ceiling_hz = 0.0;  ///< highest speed a coasting update may carry, Hz (0: no ceiling)
 };
+
+/// While the rotor coasts (drive set-point zero after it was running: the safe state after a
+/// drop, a landing), nothing drives the spin, so it can only fall. A tracker update is then
+/// published as lost ("not tracked", confidence 0) if its window straddles the stop (it mixes
+/// the driven and the coasting spin), or if it lies above the last speed accepted before the
+/// stop (or since, whichever is lower) by more than this fraction: that line is not the shaft
+/// (after a drop the orbit's strongest line is the whirl). 0.05: the board's speed error bound.
+inline constexpr double k_coast_rise_fraction = 0.05;
 
 /// The rotor as one rigid body (the bearing task's quick-look momentum balance).
 struct RigidRotorProperties {
@@ -90,6 +101,12 @@ class AnalysisTask final : public SampleSink {
   AnalysisStatus st_{};
   uint64_t seen_updates_ = 0;
   std::atomic<bool> feeding_{true};
+  // Coast detection: the loop thread stores the HAL time the drive set-point fell to zero
+  // (-1: driven, or never driven); the analysis thread keeps the spin-down ceiling.
+  bool drive_on_ = false;  // loop thread
+  std::atomic<int64_t> coast_start_ns_{-1};
+  int64_t half_window_ns_ = 0;
+  double last_driven_speed_hz_ = 0.0;  // newest accepted speed before the stop, Hz (0: none)
 };
 
 }  // namespace amb::fw

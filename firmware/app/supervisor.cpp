@@ -105,6 +105,8 @@ void Supervisor::reset() {
   tracked_seen_update_ = 0;
   tracked_updates_seen_ = 0;
   tracked_age_steps_ = 0;
+  driven_ = false;
+  tracked_predates_stop_ = false;
   stale_steps_ = static_cast<uint64_t>(std::ceil(board_.tracker.stale_after_s * board_.rate_hz));
   status_ = {};
   status_.state = state_;
@@ -323,6 +325,14 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
   } else {
     ++tracked_age_steps_;
   }
+  // The drive stopped (safe state, landing): the rotor coasts from here - after a drop it
+  // slows by a fifth within tens of ms on its touchdown bearings - so an estimate made while it
+  // was driven no longer holds. Not tracked until the analysis thread publishes a new update
+  // (it accepts only windows wholly after the stop, AnalysisTask).
+  const bool driven = speed_cmd_hz_ > 0.0;
+  if (driven_ && !driven) tracked_predates_stop_ = true;
+  driven_ = driven;
+  if (new_update) tracked_predates_stop_ = false;
   TrackedSpeedView& tv = status_.tracked;
   {
     const auto bits = static_cast<uint32_t>(packed);
@@ -330,9 +340,9 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
     std::memcpy(&f, &bits, sizeof f);
     const bool published = update != 0;
     tv.stale = published && tracked_age_steps_ > stale_steps_;
-    tv.lost = !published || ((packed >> 40) & 1u) != 0 || tv.stale || !std::isfinite(f);
+    tv.lost = !published || ((packed >> 40) & 1u) != 0 || tv.stale || !std::isfinite(f) || tracked_predates_stop_;
     tv.speed_hz = tv.lost ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(f);
-    tv.confidence = (published && !tv.stale) ? static_cast<double>((packed >> 32) & 0xFFu) / 100.0 : 0.0;
+    tv.confidence = (published && !tv.stale && !tracked_predates_stop_) ? static_cast<double>((packed >> 32) & 0xFFu) / 100.0 : 0.0;
     tv.age_s = static_cast<double>(tracked_age_steps_) * dt_s_;
     tv.updates = tracked_updates_seen_;
   }

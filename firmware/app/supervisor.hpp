@@ -146,6 +146,8 @@ class Supervisor {
   uint16_t tracked_seen_update_ = 0;      ///< loop side
   uint64_t tracked_updates_seen_ = 0;
   uint64_t tracked_age_steps_ = 0;
+  bool driven_ = false;                   ///< the drive set-point was > 0 last period
+  bool tracked_predates_stop_ = false;    ///< the newest tracked update was made before the drive stopped
   uint64_t stale_steps_ = 0;
 };
 

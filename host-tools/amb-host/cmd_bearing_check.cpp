@@ -1,5 +1,8 @@
-// amb-host bearing-check: envelope analysis of a measured record against a bearing's defect
-// frequencies. Logic: host-tools/core/bearing/bearing_check.hpp.
+// amb-host bearing-check: rolling-bearing diagnosis of a measured record (pre-whitening, SK band
+// selection, envelope spectrum, family scores against a surrogate null). Logic:
+// host-tools/core/bearing/bearing_check.hpp.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -17,15 +20,23 @@
 
 namespace {
 
+namespace mb = amb::model::bearing;
+namespace hb = amb::host::bearing;
+
 struct Args {
   std::string mat_file;
   std::string var;
-  double fs_hz = 0.0;
-  double rpm = 0.0;
+  std::string end;  // "drive" / "fan" (CWRU channel and bearing defaults)
+  std::optional<double> fs_hz;
+  std::optional<double> rpm;
   std::string bearing;
   bool json = false;
-  bool remove_discrete = false;
 };
+
+// Plausible ranges: a vibration record sampled below 1 kHz cannot carry bearing resonances;
+// above 10 MHz is no accelerometer DAQ. Speeds from 1 rpm to 1e6 rpm.
+constexpr double k_fs_min_hz = 1000.0, k_fs_max_hz = 1e7;
+constexpr double k_rpm_min = 1.0, k_rpm_max = 1e6;
 
 nlohmann::json opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
 
@@ -45,13 +56,63 @@ int bad_input(const std::string& what) {
   std::fprintf(stderr, "amb-host bearing-check: error: %s\n", what.c_str());
   return 1;
 }
+void warn(const std::string& what) { std::fprintf(stderr, "amb-host bearing-check: warning: %s\n", what.c_str()); }
 
-int run(const Args& a) {
-  namespace mb = amb::model::bearing;
-  namespace hb = amb::host::bearing;
-  // --fs and --rpm are finite and in range (checked at parse); the bearing is in the catalogue.
+// A scalar of the file, if it has one that is a finite number.
+std::optional<double> file_scalar(const std::string& file, const std::string& name) {
+  try {
+    for (const auto& v : amb::host::list_mat_variables(file))
+      if (v == name) {
+        const double x = amb::host::read_mat_scalar(file, name);
+        if (std::isfinite(x)) return x;
+      }
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+// Command line vs file: the file's value is the record's own; the command line's is used only
+// when the file has none. Disagreement (> 0.1 %) is warned about.
+std::optional<double> resolve(const char* option, const std::optional<double>& cli, const std::optional<double>& file,
+                              const char* file_var) {
+  if (file && cli && std::abs(*cli - *file) > 1e-3 * std::abs(*file))
+    warn(std::string(option) + " " + num(*cli) + " disagrees with the file's " + file_var + " = " + num(*file) +
+         "; using the file's value");
+  return file ? file : cli;
+}
+
+void json_line(nlohmann::json& arr, const hb::LineScore& l) {
+  arr.push_back({{"label", l.label}, {"hz", l.hz}, {"ratio", l.ratio}, {"p_value", l.p_value}});
+}
+
+int run(Args a) {
+  if (!std::filesystem::exists(a.mat_file)) return bad_input("--mat file '" + a.mat_file + "' does not exist");
+  // Non-finite or absurd values are refused before anything else is read.
+  if (a.fs_hz && !(std::isfinite(*a.fs_hz) && *a.fs_hz >= k_fs_min_hz && *a.fs_hz <= k_fs_max_hz))
+    return bad_input("--fs " + num(*a.fs_hz) + " is not a sample rate in [" + num(k_fs_min_hz) + ", " + num(k_fs_max_hz) +
+                     "] Hz");
+  if (a.rpm && !(std::isfinite(*a.rpm) && *a.rpm >= k_rpm_min && *a.rpm <= k_rpm_max))
+    return bad_input("--rpm " + num(*a.rpm) + " is not a shaft speed in [" + num(k_rpm_min) + ", " + num(k_rpm_max) +
+                     "] rpm");
+  if (!a.end.empty() && a.end != "drive" && a.end != "fan")
+    return bad_input("--end '" + a.end + "' must be 'drive' or 'fan'");
+  // CWRU convention: the drive end's accelerometer DE_time sits on the 6205, the fan end's
+  // FE_time on the 6203.
+  const bool fan = a.end == "fan" || (a.end.empty() && a.var == "FE_time");
+  if (a.var.empty()) a.var = fan ? "FE_time" : "DE_time";
+  if (a.bearing.empty()) a.bearing = fan ? "6203" : "6205";
   const auto geometry = mb::find_bearing(a.bearing);
   if (!geometry) return bad_input("--bearing: unknown bearing '" + a.bearing + "' (known: " + known_bearings() + ")");
+  const auto fs = resolve("--fs", a.fs_hz, file_scalar(a.mat_file, "fs"), "fs");
+  const auto rpm = resolve("--rpm", a.rpm, file_scalar(a.mat_file, "RPM"), "RPM");
+  if (!fs) return bad_input("--fs is needed: the file has no scalar 'fs'");
+  if (!rpm) return bad_input("--rpm is needed: the file has no scalar 'RPM'");
+  if (!(*fs >= k_fs_min_hz && *fs <= k_fs_max_hz))
+    return bad_input("the file's fs " + num(*fs) + " is not a sample rate in [" + num(k_fs_min_hz) + ", " +
+                     num(k_fs_max_hz) + "] Hz");
+  if (!(*rpm >= k_rpm_min && *rpm <= k_rpm_max))
+    return bad_input("the file's RPM " + num(*rpm) + " is not a shaft speed in [" + num(k_rpm_min) + ", " +
+                     num(k_rpm_max) + "] rpm");
   std::vector<double> x;
   try {
     x = amb::host::read_mat_vector(a.mat_file, a.var);
@@ -62,117 +123,130 @@ int run(const Args& a) {
   // line examined must lie below the Nyquist frequency, and the record must span enough
   // revolutions of the cage (the slowest line) to resolve it.
   const int harmonics = hb::BearingCheckOptions{}.harmonics;
-  const mb::DefectFrequencies defect = mb::defect_frequencies(*geometry, a.rpm / 60.0);
+  const mb::DefectFrequencies defect = mb::defect_frequencies(*geometry, *rpm / 60.0);
   const double highest_hz = harmonics * defect.bpfi_hz + 3.0 * defect.shaft_hz;
-  if (highest_hz >= 0.5 * a.fs_hz)
-    return bad_input("--rpm " + num(a.rpm) + " with --fs " + num(a.fs_hz) + ": the defect lines examined reach " +
+  if (highest_hz >= 0.5 * *fs)
+    return bad_input("--rpm " + num(*rpm) + " with --fs " + num(*fs) + ": the defect lines examined reach " +
                      num(highest_hz) + " Hz (" + std::to_string(harmonics) +
-                     " x BPFI + 3 x shaft), above the Nyquist frequency " + num(0.5 * a.fs_hz) +
+                     " x BPFI + 3 x shaft), above the Nyquist frequency " + num(0.5 * *fs) +
                      " Hz; nothing can be analysed (check --rpm and --fs)");
-  const double duration_s = static_cast<double>(x.size()) / a.fs_hz;
+  const double duration_s = static_cast<double>(x.size()) / *fs;
   if (duration_s * defect.ftf_hz < 10.0)
-    return bad_input("--rpm " + num(a.rpm) + " with --fs " + num(a.fs_hz) + ": the record (" +
+    return bad_input("--rpm " + num(*rpm) + " with --fs " + num(*fs) + ": the record (" +
                      std::to_string(x.size()) + " samples, " + num(duration_s) + " s) spans " +
                      num(duration_s * defect.ftf_hz) + " cage revolutions; at least 10 are needed to resolve the lines "
                      "(check --rpm and --fs)");
   hb::BearingCheckResult r;
   try {
-    hb::BearingCheckOptions o;
-    o.remove_discrete = a.remove_discrete;
-    r = hb::check_bearing(x, a.fs_hz, a.rpm / 60.0, *geometry, o);
+    r = hb::check_bearing(x, *fs, *rpm / 60.0, *geometry);
   } catch (const std::invalid_argument& e) {
-    return bad_input(e.what());
+    return bad_input(std::string(e.what()) + " (--fs " + num(*fs) + ", --rpm " + num(*rpm) + ")");
   }
   const auto& p = r.predicted;
+  const auto& q = r.refined;
+  auto fam = [&](const char* n) -> const hb::FamilyResult& { return r.family(n); };
   if (a.json) {
     nlohmann::json j;
     j["predicted_hz"] = {{"bpfo", p.bpfo_hz}, {"bpfi", p.bpfi_hz}, {"bsf", p.bsf_hz}, {"ftf", p.ftf_hz}};
-    j["found_hz"] = {{"bpfo", opt(r.bpfo.harmonics[0].found_hz)},
-                     {"bpfi", opt(r.bpfi.harmonics[0].found_hz)},
-                     {"bsf", opt(r.found_bsf_hz)},
-                     {"ftf", opt(r.ftf.harmonics[0].found_hz)}};
+    j["refined_hz"] = {{"shaft", q.shaft_hz}, {"bpfo", q.bpfo_hz}, {"bpfi", q.bpfi_hz}, {"bsf", q.bsf_hz}, {"ftf", q.ftf_hz}};
+    j["found_hz"] = {{"bpfo", opt(fam("bpfo").found_hz)},
+                     {"bpfi", opt(fam("bpfi").found_hz)},
+                     {"bsf", opt(fam("ball").found_hz)},
+                     {"ftf", opt(fam("ftf").found_hz)}};
     j["verdict"] = r.verdict;
     j["reason"] = r.reason;
-    j["shaft_hz"] = p.shaft_hz;
     j["bearing"] = std::string(geometry->name);
-    j["band_hz"] = {r.band.low_hz, r.band.high_hz};
-    j["band_kurtosis"] = r.band.kurtosis;
-    j["discrete_removed"] = {{"enabled", a.remove_discrete},
-                             {"bins", r.discrete.bins},
-                             {"energy_fraction", r.discrete.energy_fraction}};
-    nlohmann::json lines = nlohmann::json::array();
-    for (const auto& l : r.strongest_lines) lines.push_back({{"hz", l.hz}, {"ratio", l.ratio}});
-    j["strongest_lines"] = lines;
-    j["ratio"] = {{"bpfo", r.bpfo.harmonics[0].ratio},
-                  {"bpfi", r.bpfi.harmonics[0].ratio},
-                  {"bsf", r.bsf.harmonics[0].ratio},
-                  {"bsf2", r.bsf2.harmonics[0].ratio},
-                  {"ftf", r.ftf.harmonics[0].ratio}};
-    // score: -log10 of the corrected family p-value (significance; docs/bearing.md).
-    j["score"] = {{"bpfo", r.bpfo.score}, {"bpfi", r.bpfi.score}, {"ball", r.bsf.score}, {"ftf", r.ftf.score}};
-    j["detected"] = {{"bpfo", r.bpfo.evidence}, {"bpfi", r.bpfi.evidence}, {"ball", r.bsf.evidence},
-                     {"ftf", r.ftf.evidence}};
-    j["family_band_hz"] = {{"bpfo", {r.bpfo.band.low_hz, r.bpfo.band.high_hz}},
-                           {"bpfi", {r.bpfi.band.low_hz, r.bpfi.band.high_hz}},
-                           {"ball", {r.bsf.band.low_hz, r.bsf.band.high_hz}},
-                           {"ftf", {r.ftf.band.low_hz, r.ftf.band.high_hz}}};
-    j["fundamental_ratio"] = {{"bpfo", r.bpfo.strength}, {"bpfi", r.bpfi.strength}, {"ball", r.bsf.strength},
-                              {"ftf", r.ftf.strength}};
-    j["bands_tried"] = r.bands_tried;
-    j["family_false_alarm"] = hb::BearingCheckOptions{}.family_false_alarm;
+    j["variable"] = a.var;
+    j["fs_hz"] = *fs;
+    j["rpm"] = *rpm;
+    j["shaft_hz"] = p.shaft_hz;
+    j["speed"] = {{"nominal_hz", r.speed.nominal_hz},
+                  {"refined_hz", r.speed.speed_hz},
+                  {"refined", r.speed.refined},
+                  {"source", r.speed_source},
+                  {"log10_p", r.speed.log10_p},
+                  {"harmonics_present", r.speed.harmonics_present}};
+    j["whitening"] = r.whitening;
+    nlohmann::json bands = nlohmann::json::array();
+    for (const auto& b : r.bands)
+      bands.push_back({{"name", b.name}, {"low_hz", b.band.low_hz}, {"high_hz", b.band.high_hz},
+                       {"spectral_kurtosis", b.band.kurtosis}});
+    j["bands"] = bands;
+    j["threshold_log10_p"] = r.threshold_log10_p;
+    j["record_false_alarm"] = hb::BearingCheckOptions{}.record_false_alarm;
+    nlohmann::json fams = nlohmann::json::object();
+    for (const auto& f : r.families) {
+      nlohmann::json lines = nlohmann::json::array();
+      for (const auto& l : f.lines.lines) json_line(lines, l);
+      fams[f.name] = {{"predicted_hz", f.predicted_hz},
+                      {"found_hz", opt(f.found_hz)},
+                      {"score", f.score},
+                      {"log10_p", f.log10_p},
+                      {"log10_p_per_band", f.log10_p_per_band},
+                      {"threshold_score", f.threshold_score},
+                      {"band", r.bands[f.band_index].name},
+                      {"slip", f.lines.delta},
+                      {"fundamental_present", f.lines.fundamental_present},
+                      {"detected", f.detected},
+                      {"unique_score", f.unique_score},
+                      {"reason", f.reason},
+                      {"lines", lines}};
+    }
+    j["families"] = fams;
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
-  std::printf("bearing %s at %.1f rpm (shaft %.3f Hz); resonance band %.0f-%.0f Hz (spectral kurtosis %.2f)\n",
-              std::string(geometry->name).c_str(), a.rpm, p.shaft_hz, r.band.low_hz, r.band.high_hz,
-              r.band.kurtosis);
-  if (a.remove_discrete)
-    std::printf("discrete components removed: %zu bins, %.1f %% of the energy (|X| > %.2f x local median)\n",
-                r.discrete.bins, 100.0 * r.discrete.energy_fraction, r.discrete.threshold);
-  std::printf("%-6s %12s %12s %10s %10s %s\n", "line", "predicted_Hz", "found_Hz", "ratio", "threshold", "harmonics");
-  auto row = [](const char* name, const hb::FamilyResult& f, std::optional<double> found) {
-    int n = 0;
-    for (const auto& h : f.harmonics) n += h.stands_out() ? 1 : 0;
-    const auto& l = f.harmonics[0];
-    std::printf("%-6s %12.2f %12s %10.2f %10.2f %d/%zu\n", name, l.predicted_hz,
-                found ? std::to_string(*found).substr(0, 8).c_str() : "-", l.ratio, l.threshold, n,
-                f.harmonics.size());
-  };
-  row("bpfo", r.bpfo, r.bpfo.harmonics[0].found_hz);
-  row("bpfi", r.bpfi, r.bpfi.harmonics[0].found_hz);
-  row("bsf", r.bsf, r.bsf.harmonics[0].found_hz);
-  row("2bsf", r.bsf2, r.bsf2.harmonics[0].found_hz);
-  row("ftf", r.ftf, r.ftf.harmonics[0].found_hz);
-  if (!r.strongest_lines.empty()) {
-    std::printf("strongest envelope lines (Hz ratio x f_r x FTF):");
-    for (const auto& l : r.strongest_lines)
-      std::printf("%s %.2f %.1f %.3f %.3f", &l == &r.strongest_lines.front() ? "" : ";", l.hz, l.ratio,
-                  l.hz / p.shaft_hz, l.hz / p.ftf_hz);
-    std::printf("\n");
-  }
-  std::printf("families (-log10 p corrected for %zu bands x 4 families; detected if > 3):", r.bands_tried);
-  for (const auto& [name, f] : {std::pair<const char*, const hb::FamilyResult*>{"bpfo", &r.bpfo}, {"bpfi", &r.bpfi},
-                                {"ball", &r.bsf}, {"ftf", &r.ftf}})
-    std::printf(" %s %.1f%s [%.0f-%.0f Hz]", name, f->score, f->evidence ? " detected" : "", f->band.low_hz,
-                f->band.high_hz);
-  std::printf("\n");
+  std::printf("bearing %s on %s, fs %.0f Hz, %.1f rpm nominal (shaft %.3f Hz)\n", std::string(geometry->name).c_str(),
+              a.var.c_str(), *fs, *rpm, p.shaft_hz);
+  std::printf("1 pre-whitening: %s\n", r.whitening.c_str());
+  std::printf("2 bands:");
+  for (const auto& b : r.bands)
+    std::printf(" %s %.0f-%.0f Hz (SK %.2f);", b.name.c_str(), b.band.low_hz, b.band.high_hz, b.band.kurtosis);
+  std::printf("\n3 envelope spectrum of each band\n");
+  std::printf("5 speed: %s %.4f Hz (from the %s; comb log10 p %.1f, %d harmonics present)\n",
+              r.speed.refined ? "refined to" : "not refined, nominal", r.speed.speed_hz, r.speed_source.c_str(),
+              r.speed.log10_p, r.speed.harmonics_present);
+  std::printf("4/6 families (detected if log10 P_null < %.2f and the fundamental is present):\n", r.threshold_log10_p);
+  std::printf("  %-5s %10s %10s %8s %10s %-13s %s\n", "family", "pred_Hz", "found_Hz", "score", "log10P", "band",
+              "decision");
+  for (const auto& f : r.families)
+    std::printf("  %-5s %10.2f %10s %8.1f %10.1f %-13s %s\n", f.name.c_str(), f.predicted_hz,
+                f.found_hz ? num(std::round(*f.found_hz * 100) / 100).c_str() : "-", f.score, f.log10_p,
+                r.bands[f.band_index].name.c_str(), f.reason.c_str());
   std::printf("verdict: %s (%s)\n", r.verdict.c_str(), r.reason.c_str());
   return 0;
 }
 
+std::string catalogue_text() {
+  std::string s = "Bearing catalogue (--bearing; orders per shaft Hz):\n";
+  char b[512];
+  for (const auto& g : mb::bearing_catalogue()) {
+    const auto o = mb::defect_orders(g);
+    std::snprintf(b, sizeof b, "  %-9s Z %d, ball %.3f mm, pitch %.2f mm: BPFO %.4f BPFI %.4f BSF %.4f FTF %.4f  [%s]\n",
+                  std::string(g.name).c_str(), g.ball_count, g.ball_diameter_m * 1e3, g.pitch_diameter_m * 1e3, o.bpfo,
+                  o.bpfi, o.bsf, o.ftf, std::string(g.source).c_str());
+    s += b;
+  }
+  s += "CWRU records: drive end DE_time on the SKF 6205 (default), fan end FE_time on the SKF 6203 (--end fan).\n";
+  return s;
+}
+
 const amb::host::Registration reg{
-    "bearing-check", "envelope analysis of a vibration record against a bearing's defect frequencies",
+    "bearing-check",
+    "rolling-bearing diagnosis of a vibration record (pre-whitening, SK band, envelope, family scores)",
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto args = std::make_shared<Args>();
       namespace hc = amb::host::cli;
       hc::input_file(sub.add_option("--mat", args->mat_file, "MATLAB .mat file with the vibration record")->required(), "mat");
-      sub.add_option("--var", args->var, "variable name of the record (e.g. DE_time)")->required();
-      hc::real(sub.add_option("--fs", args->fs_hz, "sample rate, Hz")->required(), 100.0, 1e7, "Hz");
-      hc::real(sub.add_option("--rpm", args->rpm, "nominal shaft speed, rpm")->required(), 1.0, 1e6, "rpm");
-      sub.add_option("--bearing", args->bearing, "bearing name, one of: " + known_bearings())->required();
+      sub.add_option("--var", args->var, "variable of the record (default DE_time; FE_time with --end fan)");
+      sub.add_option("--end", args->end, "CWRU end: drive (DE_time, SKF 6205) or fan (FE_time, SKF 6203)");
+      hc::real(sub.add_option("--fs", args->fs_hz, "sample rate, Hz (default: the file's 'fs'; the file's value wins)"),
+               k_fs_min_hz, k_fs_max_hz, "Hz");
+      hc::real(sub.add_option("--rpm", args->rpm, "nominal shaft speed, rpm (default: the file's 'RPM'; the file's value wins)"),
+               k_rpm_min, k_rpm_max, "rpm");
+      sub.add_option("--bearing", args->bearing, "bearing name from the catalogue below, e.g. 'SKF 6205' or 6205");
       sub.add_flag("--json", args->json, "print the figures as JSON");
-      sub.add_flag("--remove-discrete", args->remove_discrete,
-                   "edit discrete spectral lines (shaft harmonics, tones) out before band selection");
+      sub.footer(catalogue_text());
       run_fn = [args] { return run(*args); };
     }};
 

@@ -14,8 +14,8 @@ constexpr double k_inch_m = 0.0254;
 // - 6200: seed 001 Table 5: 8 balls, 4.76 mm; D_m = (10 + 30)/2 mm from its "race diameters"
 //   (those are really bore and OD of a 6200). The 49.3 deg contact angle of Table 5 is not
 //   used: the seed's own 762 rpm / 101.6 Hz figures require alpha = 0.
-// - 6203: ASSUMED. Not in the seeds nor in our data README. Taken as the commonly quoted
-//   CWRU fan-end 6203-2RS JEM geometry (8 balls, 0.2656 in, pitch 1.122 in).
+// - 6203: CWRU fan-end bearing (data/measured/README.md): 8 balls, 0.2656 in, pitch 1.122 in;
+//   its published orders BPFI 4.9469, BPFO 3.0530, FTF 0.3817, BSF 1.9937 are reproduced.
 constexpr std::array<BearingGeometry, 4> k_catalogue{{
     {"SKF 6205", 9, 0.3126 * k_inch_m, 1.537 * k_inch_m, 0.0,
      "CWRU drive-end bearing, data/measured/README.md"},
@@ -23,7 +23,7 @@ constexpr std::array<BearingGeometry, 4> k_catalogue{{
     {"SKF 6200", 8, 4.76e-3, 20.0e-3, 0.0,
      "seed 001 Table 5 (pitch diameter = mean of its 10/30 mm race diameters; alpha=0)"},
     {"SKF 6203", 8, 0.2656 * k_inch_m, 1.122 * k_inch_m, 0.0,
-     "ASSUMED: CWRU fan-end 6203-2RS JEM geometry as commonly quoted; not in our sources"},
+     "CWRU fan-end bearing, data/measured/README.md"},
 }};
 
 // Reduce a name to its significant characters: drop "skf", spaces, and anything after '-'.

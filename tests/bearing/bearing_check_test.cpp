@@ -26,59 +26,53 @@ std::string cwru(const char* f) { return std::string(amb::test::shared_dir()) + 
 
 class CwruBearingCheck : public ::testing::TestWithParam<Case> {};
 
-TEST_P(CwruBearingCheck, FindsLinesAndVerdict) {
+// Race faults named with their fundamental within 1 % of the kinematic line at the refined
+// speed; the healthy record healthy; ball records (not diagnosable by envelope analysis on this
+// rig: Smith & Randall 2015) never given a race or a healthy-looking wrong name: "ball",
+// "unclear" or, where nothing is significant, "healthy" (a miss, counted in docs/bearing.md).
+TEST_P(CwruBearingCheck, Verdict) {
   const Case c = GetParam();
   const std::string path = cwru(c.file);
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "measured data not found: " << path;
-  // The files carry their own fs and RPM; check we use the documented ones.
   EXPECT_DOUBLE_EQ(amb::host::read_mat_scalar(path, "fs"), c.fs_hz);
   EXPECT_DOUBLE_EQ(amb::host::read_mat_scalar(path, "RPM"), c.rpm);
   const auto x = amb::host::read_mat_vector(path, "DE_time");
   const auto r = hb::check_bearing(x, c.fs_hz, c.rpm / 60.0, *mb::find_bearing("SKF 6205"));
   const std::string expected = c.expected;
-  if (expected == "inner_race") {
-    ASSERT_TRUE(r.bpfi.harmonics[0].found_hz);
-    EXPECT_NEAR(*r.bpfi.harmonics[0].found_hz, r.predicted.bpfi_hz, 0.01 * r.predicted.bpfi_hz);
-  }
-  if (expected == "outer_race") {
-    ASSERT_TRUE(r.bpfo.harmonics[0].found_hz);
-    EXPECT_NEAR(*r.bpfo.harmonics[0].found_hz, r.predicted.bpfo_hz, 0.01 * r.predicted.bpfo_hz);
+  EXPECT_TRUE(r.speed.refined);
+  EXPECT_NEAR(r.speed.speed_hz, c.rpm / 60.0, 0.01 * c.rpm / 60.0);
+  if (expected == "ball") {
+    EXPECT_TRUE(r.verdict == "ball" || r.verdict == "unclear" || r.verdict == "healthy") << c.file << ": " << r.reason;
+    return;
   }
   EXPECT_EQ(r.verdict, expected) << c.file << ": " << r.reason;
+  if (expected == "inner_race" || expected == "outer_race") {
+    const auto& f = r.family(expected == "inner_race" ? "bpfi" : "bpfo");
+    ASSERT_TRUE(f.found_hz);
+    EXPECT_NEAR(*f.found_hz, f.predicted_hz, 0.01 * f.predicted_hz);
+  }
+  for (const auto& f : r.families) EXPECT_FALSE(f.reason.empty()) << f.name;  // every family says why
 }
 
-// 1797_B_7_DE12: the ball defect is not detected (no line stands out in the catalogue BSF / 2xBSF
-// windows, +-1.5 %); the envelope shows cage-harmonic (n x FTF) and shaft lines in a non-impulsive
-// band, and the honest answer is "unclear" (see docs/bearing.md, "Ball fault"). Expecting "ball"
-// here would be a lie.
 INSTANTIATE_TEST_SUITE_P(
     Measured, CwruBearingCheck,
-    ::testing::Values(Case{"1750_IR_7_DE12", 12000, 1750, "inner_race"},
+    ::testing::Values(Case{"1730_IR_7_DE12", 12000, 1730, "inner_race"}, Case{"1750_IR_7_DE12", 12000, 1750, "inner_race"},
                       Case{"1797_IR_7_DE12", 12000, 1797, "inner_race"},
+                      Case{"1730_ORat6_7_DE12", 12000, 1730, "outer_race"},
                       Case{"1750_ORat6_7_DE12", 12000, 1750, "outer_race"},
-                      Case{"1797_ORat6_7_DE12", 12000, 1797, "outer_race"},
-                      Case{"1797_B_7_DE12", 12000, 1797, "unclear"},
+                      Case{"1797_ORat6_7_DE12", 12000, 1797, "outer_race"}, Case{"1730_B_7_DE12", 12000, 1730, "ball"},
+                      Case{"1750_B_7_DE12", 12000, 1750, "ball"}, Case{"1797_B_7_DE12", 12000, 1797, "ball"},
                       Case{"1797_Normal", 48000, 1797, "healthy"}),
     [](const ::testing::TestParamInfo<Case>& tp) { return std::string(tp.param.file); });
 
-// The ball record: no BSF or 2xBSF line is claimed (the lines at 71.9 / 143.6 Hz are 6 and
-// 12 x FTF, cage-comb teeth; docs/bearing.md), and the BPFO lines it shows are recognised as teeth
-// of the cage comb. Default options only: with --remove-discrete the record's BPFI-like lines
-// (161.6 / 484.9 Hz) become significant in an impulsive band and the verdict is inner_race, a
-// known wrong answer of that non-default option (docs/bearing.md "Known limits").
-TEST(BearingCheck, BallRecordClaimsNoBsfLine) {
-  const std::string path = cwru("1797_B_7_DE12");
+// The fan end of the healthy record, on the 6203 whose lines sit near shaft harmonics (3.05x,
+// 4.95x, 1.99x): shaft harmonics are set aside bin by bin, nothing is called a fault.
+TEST(BearingCheck, FanEndOfTheHealthyRecordIsHealthy) {
+  const std::string path = cwru("1797_Normal");
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "measured data not found: " << path;
-  const auto x = amb::host::read_mat_vector(path, "DE_time");
-  for (bool remove : {false}) {
-    hb::BearingCheckOptions o;
-    o.remove_discrete = remove;
-    const auto r = hb::check_bearing(x, 12000.0, 1797.0 / 60.0, *mb::find_bearing("SKF 6205"), o);
-    EXPECT_FALSE(r.found_bsf_hz) << "remove_discrete " << remove;
-    EXPECT_NE(r.verdict, "ball") << "remove_discrete " << remove;
-    EXPECT_NE(r.verdict, "outer_race") << "remove_discrete " << remove;
-    EXPECT_NE(r.verdict, "inner_race") << "remove_discrete " << remove;
-  }
+  const auto x = amb::host::read_mat_vector(path, "FE_time");
+  const auto r = hb::check_bearing(x, 48000.0, 1797.0 / 60.0, *mb::find_bearing("6203"));
+  EXPECT_EQ(r.verdict, "healthy") << r.reason;
 }
 
 TEST(BearingCheck, DiscreteRemovalTakesOutATone) {
@@ -130,10 +124,8 @@ TEST(BearingCheck, BandGridGuardsTopAndTonalBands) {
   EXPECT_TRUE(any_tonal);
 }
 
-// The family test's false-alarm rate: on pure noise the Bonferroni-corrected family p-value
-// must not fall below the record's false-alarm rate (would if the correction were missing:
-// ~90 bands x 4 families x ~50 positions).
-TEST(BearingCheck, FamilyTestOnNoiseIsNotSignificant) {
+// Noise records: healthy at the calibrated threshold, every family's P_null above it.
+TEST(BearingCheck, NoiseIsHealthy) {
   for (uint64_t seed : {1ULL, 2ULL, 3ULL}) {
     std::vector<double> x(480000);
     uint64_t s = seed;
@@ -143,27 +135,21 @@ TEST(BearingCheck, FamilyTestOnNoiseIsNotSignificant) {
     }
     const auto r = hb::check_bearing(x, 48000.0, 29.95, *mb::find_bearing("6205"));
     EXPECT_EQ(r.verdict, "healthy") << r.reason;
-    for (const auto* f : {&r.bpfo, &r.bpfi, &r.bsf})
-      EXPECT_GT(f->log10_p_corrected, -3.0) << "seed " << seed;
+    for (const auto& f : r.families) EXPECT_GT(f.log10_p, r.threshold_log10_p) << "seed " << seed << " " << f.name;
+    EXPECT_FALSE(r.speed.refined);  // no shaft comb in noise: the nominal speed is kept
   }
 }
 
 TEST(BearingCheck, BadInputIsRefused) {
-  const std::vector<double> x(4096, 0.0);
+  const std::vector<double> x(120000, 0.0);
   const auto g = *mb::find_bearing("6205");
   EXPECT_THROW(hb::check_bearing(x, 0.0, 30.0, g), std::invalid_argument);
+  EXPECT_THROW(hb::check_bearing(x, std::nan(""), 30.0, g), std::invalid_argument);
   EXPECT_THROW(hb::check_bearing(x, 12000.0, -1.0, g), std::invalid_argument);
-  EXPECT_THROW(hb::check_bearing(std::vector<double>(10, 0.0), 12000.0, 30.0, g), std::invalid_argument);
-}
-
-TEST(BearingCheck, WhiteNoiseIsHealthy) {
-  // Deterministic pseudo-noise: nothing may stand out at the false-alarm rate chosen.
-  std::vector<double> x(120000);
-  uint64_t s = 12345;
-  for (double& v : x) {
-    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-    v = static_cast<double>(s >> 11) / 9007199254740992.0 - 0.5;
-  }
-  const auto r = hb::check_bearing(x, 12000.0, 29.95, *mb::find_bearing("6205"));
-  EXPECT_EQ(r.verdict, "healthy") << r.reason;
+  EXPECT_THROW(hb::check_bearing(x, 12000.0, INFINITY, g), std::invalid_argument);
+  EXPECT_THROW(hb::check_bearing(x, 12000.0, 3000.0, g), std::invalid_argument);  // lines above the band
+  EXPECT_THROW(hb::check_bearing(std::vector<double>(1000, 0.0), 12000.0, 30.0, g), std::invalid_argument);
+  auto y = x;
+  y[5] = std::nan("");
+  EXPECT_THROW(hb::check_bearing(y, 12000.0, 30.0, g), std::invalid_argument);
 }

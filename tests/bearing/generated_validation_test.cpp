@@ -45,7 +45,7 @@ TEST(BearingCheckGenerated, VerdictsAcrossSpeedsRatesAndNoise) {
       for (auto loc : {mb::DefectLocation::outer_race, mb::DefectLocation::inner_race, mb::DefectLocation::none}) {
         const auto clean = mb::simulate_housing_acceleration(with_defect(loc), [&](double) { return speed_hz; }, fs, 2.0, 0.0, 1);
         const double sig = rms(clean);
-        for (double snr_rel : {0.5, 2.0}) {  // noise rms relative to the clean signal's rms
+        for (double snr_rel : {0.5}) {  // noise rms relative to the clean signal's rms (more: model_validation.cpp)
           std::vector<double> x = clean;
           uint64_t s = 7 + static_cast<uint64_t>(speed_hz * 10 + fs / 1000);
           for (double& v : x) {  // Gaussian noise by Box-Muller on a fixed LCG
@@ -62,9 +62,9 @@ TEST(BearingCheckGenerated, VerdictsAcrossSpeedsRatesAndNoise) {
           wrong_fault += (r.verdict != truth && r.verdict != "unclear" && r.verdict != "healthy") ? 1 : 0;
           wrong_fault += (truth == "healthy" && r.verdict != "healthy" && r.verdict != "unclear") ? 1 : 0;
           std::printf("generated 6206 %-10s %5.1f Hz fs %5.0f noise/signal %.1f: %-10s band %.0f-%.0f (%s)\n",
-                      truth.c_str(), speed_hz, fs, snr_rel, r.verdict.c_str(), r.band.low_hz, r.band.high_hz,
+                      truth.c_str(), speed_hz, fs, snr_rel, r.verdict.c_str(), r.bands[r.verdict_band].band.low_hz, r.bands[r.verdict_band].band.high_hz,
                       r.reason.substr(0, 90).c_str());
-          EXPECT_LE(r.band.high_hz, 0.85 * 0.5 * fs + 1e-6);
+          EXPECT_LE(r.bands[r.verdict_band].band.high_hz, 0.85 * 0.5 * fs + 1e-6);
         }
       }
     }
@@ -94,7 +94,7 @@ TEST(BearingCheckGenerated, TopOfSpectrumArtefactDoesNotCaptureTheBand) {
   std::printf("unguarded kurtogram band %.0f-%.0f Hz SK %.1f\n", top.low_hz, top.high_hz, top.kurtosis);
   EXPECT_GT(top.high_hz, 22000.0);  // the artefact would win an SK-maximising selection
   const auto r = hb::check_bearing(x, fs, speed_hz * 1.003, g);
-  std::printf("guarded: %s, band %.0f-%.0f Hz: %s\n", r.verdict.c_str(), r.band.low_hz, r.band.high_hz, r.reason.c_str());
+  std::printf("guarded: %s, band %.0f-%.0f Hz: %s\n", r.verdict.c_str(), r.bands[r.verdict_band].band.low_hz, r.bands[r.verdict_band].band.high_hz, r.reason.c_str());
   EXPECT_EQ(r.verdict, "inner_race") << r.reason;
-  EXPECT_LE(r.band.high_hz, 0.85 * 24000.0 + 1e-6);
+  EXPECT_LE(r.bands[r.verdict_band].band.high_hz, 0.85 * 24000.0 + 1e-6);
 }

@@ -75,3 +75,30 @@ TEST(ReportHtml, WriteEventReportWritesThePage) {
 }
 
 }  // namespace
+
+// Speed section (issue 32): the rig's tachometer beside the board's estimate, and the spans where
+// the board had no valid speed shaded as "not tracked" (one band per run of lost samples).
+TEST(ReportHtml, SpeedSectionShowsTheTachometerAndTheNotTrackedSpans) {
+  ReportData d = new_report_data("speed");
+  amb::host::report::SpeedTrace sp;
+  for (int i = 0; i < 100; ++i) {
+    const double t = 0.01 * i;
+    const bool lost = (i >= 20 && i < 40) || i >= 70;
+    sp.t_s.push_back(t);
+    sp.plant_speed_hz.push_back(45.0 - 10.0 * t);
+    sp.speed_hz.push_back(lost ? NAN : 45.0 - 10.0 * t);
+    sp.speed_command_hz.push_back(i < 50 ? 45.0 : 0.0);
+    sp.not_tracked.push_back(lost ? 1 : 0);
+  }
+  d.speed.set(std::move(sp), "test");
+  const std::string html = render_event_report(d);
+  EXPECT_NE(html.find("tachometer"), std::string::npos);
+  EXPECT_NE(html.find("not tracked"), std::string::npos);  // legend entry
+  // One shaded band per run of lost samples: two runs (samples 20-39 and 70-99).
+  const std::string band = "fill=\"#bbbbbb\" fill-opacity=\"0.25\"";
+  size_t bands = 0;
+  for (size_t p = html.find(band); p != std::string::npos; p = html.find(band, p + 1)) ++bands;
+  EXPECT_EQ(bands, 2u);
+  const auto ids = plot_ids(d);
+  EXPECT_NE(std::find(ids.begin(), ids.end(), "speed"), ids.end());
+}

@@ -1,19 +1,36 @@
 #include "host-tools/core/bearing/bearing_check.hpp"
 
+#include "host-tools/core/bearing/line_family.hpp"
+
 #include <algorithm>
-#include <array>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace amb::host::bearing {
 
 bool BearingCheckOptions::valid() const {
-  return speed_uncertainty >= 0 && slip_allowance >= 0 && false_alarm_probability > 0 && min_band_kurtosis > -2 &&
-         family_false_alarm > 0 && family_false_alarm < 1 && line_p > 0 && line_p < 1 && dominance >= 1 &&
-         impulsive_sigmas >= 0 &&
-         false_alarm_probability < 1 && harmonics >= 2 && floor_halfwidth_hz >= 0 && discrete_halfwidth_hz > 0 &&
-         strongest_lines >= 0 && band.valid();
+  return slip_tolerance > 0 && slip_tolerance <= 0.1 && speed_range > 0 && speed_range <= 0.2 && harmonics >= 2 &&
+         record_false_alarm > 0 && record_false_alarm < 1 && line_p > 0 && line_p < 1 && floor_halfwidth_hz > 0 &&
+         shaft_exclude_bins >= 0 && comb_dominance >= 1 && false_alarm_probability > 0 && false_alarm_probability < 1 && band.valid() &&
+         std::all_of(null.begin(), null.end(), [](const NullFit& f) { return f.scale > 0 && std::isfinite(f.median); });
+}
+
+std::array<NullFit, 4> BearingCheckOptions::default_nulls() {
+  // Measured: tests/bearing/null_calibration.cpp (docs/bearing.md "Calibration").
+  std::array<NullFit, 4> n;
+  // {draws, median, q90, q99, scale} of each family's score (bpfo, bpfi, ball, ftf).
+  n[0] = {498, 1.710, 3.013, 5.712, 1.023};
+  n[1] = {284, 1.852, 3.150, 4.077, 0.806};
+  n[2] = {394, 1.248, 2.578, 4.252, 0.826};
+  n[3] = {1544, 0.709, 1.701, 2.960, 0.753};
+  return n;
+}
+
+const FamilyResult& BearingCheckResult::family(const std::string& name) const {
+  for (const auto& f : families)
+    if (f.name == name) return f;
+  throw std::invalid_argument("no family '" + name + "'");
 }
 
 LineResult find_line(const EnvelopeSpectrum& s, double predicted_hz, double rel_tolerance,
@@ -24,8 +41,7 @@ LineResult find_line(const EnvelopeSpectrum& s, double predicted_hz, double rel_
   const auto n = static_cast<long>(s.amplitude.size());
   if (df <= 0 || n < 8) return r;
   const double half_hz = std::max(rel_tolerance * predicted_hz, 2.0 * df);
-  const double floor_half_hz =
-      o.floor_halfwidth_hz > 0 ? o.floor_halfwidth_hz : std::max(10.0 * half_hz, 5.0);
+  const double floor_half_hz = std::max(10.0 * half_hz, o.floor_halfwidth_hz);
   const long c = std::lround(predicted_hz / df);
   const long w = std::lround(half_hz / df);
   const long fw = std::lround(floor_half_hz / df);
@@ -34,15 +50,13 @@ LineResult find_line(const EnvelopeSpectrum& s, double predicted_hz, double rel_
   for (long k = c - w; k <= c + w; ++k)
     if (s.amplitude[static_cast<size_t>(k)] > s.amplitude[static_cast<size_t>(best)]) best = k;
   std::vector<double> floor_bins;
-  floor_bins.reserve(static_cast<size_t>(2 * fw));
   for (long k = std::max(1L, c - fw); k <= std::min(n - 1, c + fw); ++k)
     if (k < c - w || k > c + w) floor_bins.push_back(s.amplitude[static_cast<size_t>(k)]);
   if (floor_bins.size() < 8) return r;
   auto mid = floor_bins.begin() + static_cast<long>(floor_bins.size() / 2);
   std::nth_element(floor_bins.begin(), mid, floor_bins.end());
   const double median = *mid;
-  const double n_window = static_cast<double>(2 * w + 1);
-  r.threshold = std::sqrt(std::log2(n_window / o.false_alarm_probability));
+  r.threshold = std::sqrt(std::log2(static_cast<double>(2 * w + 1) / o.false_alarm_probability));
   r.peak_hz = static_cast<double>(best) * df;
   r.ratio = median > 0 ? s.amplitude[static_cast<size_t>(best)] / median : 0.0;
   if (r.ratio > r.threshold) r.found_hz = r.peak_hz;
@@ -51,465 +65,351 @@ LineResult find_line(const EnvelopeSpectrum& s, double predicted_hz, double rel_
 
 namespace {
 
-// Local maxima of s in [f_lo, f_hi] over the median of +-floor_hz (line +-2 bins excluded).
-std::vector<EnvelopeLine> strongest_lines(const EnvelopeSpectrum& s, double f_lo, double f_hi, double floor_hz,
-                                          const BearingCheckOptions& o) {
-  std::vector<EnvelopeLine> out;
-  const auto n = static_cast<long>(s.amplitude.size());
-  if (s.df_hz <= 0 || n < 16 || o.strongest_lines == 0) return out;
-  const long k0 = std::max(2L, std::lround(f_lo / s.df_hz));
-  const long k1 = std::min(n - 2, std::lround(f_hi / s.df_hz));
-  const long fw = std::max(8L, std::lround(floor_hz / s.df_hz));
-  if (k1 <= k0) return out;
-  const double k = std::sqrt(std::log2(static_cast<double>(k1 - k0 + 1) / o.false_alarm_probability));
-  std::vector<double> floor_bins;
-  for (long c = k0; c <= k1; ++c) {
-    const double a = s.amplitude[static_cast<size_t>(c)];
-    if (a < s.amplitude[static_cast<size_t>(c - 1)] || a < s.amplitude[static_cast<size_t>(c + 1)]) continue;
-    floor_bins.clear();
-    for (long j = std::max(1L, c - fw); j <= std::min(n - 1, c + fw); ++j)
-      if (std::abs(j - c) > 2) floor_bins.push_back(s.amplitude[static_cast<size_t>(j)]);
-    auto mid = floor_bins.begin() + static_cast<long>(floor_bins.size() / 2);
-    std::nth_element(floor_bins.begin(), mid, floor_bins.end());
-    if (*mid > 0 && a / *mid > k) out.push_back({static_cast<double>(c) * s.df_hz, a / *mid});
-  }
-  std::sort(out.begin(), out.end(), [](const EnvelopeLine& a, const EnvelopeLine& b) { return a.ratio > b.ratio; });
-  if (out.size() > static_cast<size_t>(o.strongest_lines)) out.resize(static_cast<size_t>(o.strongest_lines));
-  return out;
-}
-
-}  // namespace
-
-namespace {
-
 enum Fam { kOuter = 0, kInner = 1, kBall = 2, kCage = 3, kFamilies = 4 };
+constexpr const char* k_names[kFamilies] = {"bpfo", "bpfi", "ball", "ftf"};
+constexpr const char* k_verdicts[kFamilies] = {"outer_race", "inner_race", "ball", "unclear"};
 
-struct FamilyDef {
+struct Template {
   double base_hz = 0.0;
-  std::vector<FamilyLine> lines;
+  std::vector<TemplateLine> lines;
 };
 
-// Expected lines of each family. Harmonics m = 1..H of the base; inner race: +-f_r sidebands of
-// its first two harmonics (the defect turns through the load zone once per revolution); ball:
-// BSF and 2 BSF are both fundamentals (a defective ball strikes both races per spin), 4 BSF,
-// and 2 BSF +- FTF (the ball goes round with the cage through the load zone).
-std::array<FamilyDef, kFamilies> family_defs(const model::bearing::DefectFrequencies& p, const BearingCheckOptions& o) {
-  std::array<FamilyDef, kFamilies> d;
-  auto harmonics = [&](FamilyDef& f, double base, int h_max) {
+// Step 4's templates at the refined speed. Sideband offsets are exact multiples of the refined
+// shaft frequency (inner race: the defect turns through the load zone once per revolution); the
+// ball's FTF sidebands allow the cage's own slip (slip_tolerance of FTF).
+std::array<Template, kFamilies> templates(const model::bearing::DefectFrequencies& p, double df_hz,
+                                          const BearingCheckOptions& o) {
+  std::array<Template, kFamilies> t;
+  auto harmonics = [&](Template& f, double base) {
     f.base_hz = base;
-    for (int h = 1; h <= h_max; ++h) f.lines.push_back({static_cast<double>(h), 0.0, 0.0, h == 1, false, std::to_string(h) + "x"});
+    for (int h = 1; h <= o.harmonics; ++h) f.lines.push_back({double(h), 0.0, 1, h == 1, std::to_string(h) + "x"});
   };
-  harmonics(d[kOuter], p.bpfo_hz, o.harmonics);
-  harmonics(d[kInner], p.bpfi_hz, o.harmonics);
+  harmonics(t[kOuter], p.bpfo_hz);
+  harmonics(t[kInner], p.bpfi_hz);
   for (int h = 1; h <= 2; ++h)
     for (int sgn : {-1, 1})
-      d[kInner].lines.push_back({static_cast<double>(h), sgn * p.shaft_hz, o.speed_uncertainty, false, false,
-                                 std::to_string(h) + (sgn < 0 ? "x-fr" : "x+fr")});
-  d[kBall].base_hz = p.bsf_hz;
-  for (int h : {1, 2, 4}) d[kBall].lines.push_back({static_cast<double>(h), 0.0, 0.0, h <= 2, false, std::to_string(h) + "x"});
+      t[kInner].lines.push_back({double(h), sgn * p.shaft_hz, 1, false, std::to_string(h) + (sgn < 0 ? "x-fr" : "x+fr")});
+  t[kBall].base_hz = p.bsf_hz;
+  // The ball defect strikes both races once per ball spin: 2 BSF is its fundamental (Smith &
+  // Randall); BSF itself is scored but does not stand for the family (6200/6203: BSF ~ 2 f_r).
+  for (int h : {1, 2, 4}) t[kBall].lines.push_back({double(h), 0.0, 1, h == 2, std::to_string(h) + "x"});
+  const int cage_jitter = 1 + static_cast<int>(std::lround(o.slip_tolerance * p.ftf_hz / df_hz));
   for (int sgn : {-1, 1})
-    d[kBall].lines.push_back({2.0, sgn * p.ftf_hz, o.speed_uncertainty + o.slip_allowance, false, false,
-                              sgn < 0 ? "2x-ftf" : "2x+ftf"});
-  harmonics(d[kCage], p.ftf_hz, o.harmonics);
-  return d;
+    t[kBall].lines.push_back({2.0, sgn * p.ftf_hz, cage_jitter, false, sgn < 0 ? "2x-ftf" : "2x+ftf"});
+  harmonics(t[kCage], p.ftf_hz);
+  return t;
 }
 
-// Lines of family `a` that share their search window with a harmonic line of another family
-// are evidence for neither (6205: 3 BPFO ~ 2 BPFI). The cage family is not a competitor of the
-// race families here: BPFO = Z x FTF by kinematics.
-void mark_shared_lines(std::array<FamilyDef, kFamilies>& d, double tol, double shaft_hz, double shaft_tol) {
-  for (int a = 0; a < kFamilies; ++a) {
-    // A fundamental whose whole search range can hold a shaft harmonic is confounded with the
-    // shaft (6203: BSF = 1.994 f_r): no delta can make it evidence.
-    for (auto& l : d[static_cast<size_t>(a)].lines) {
-      if (!l.fundamental || l.offset_hz != 0.0) continue;
-      const double pos = l.multiple * d[static_cast<size_t>(a)].base_hz;
-      const double k = std::round(pos / shaft_hz);
-      if (k >= 1 && std::abs(pos - k * shaft_hz) < tol * pos + shaft_tol * k * shaft_hz) l.ambiguous = true;
-    }
-    for (auto& l : d[static_cast<size_t>(a)].lines) {
-      const double pos = l.multiple * d[static_cast<size_t>(a)].base_hz + l.offset_hz;
-      const double half = tol * l.multiple * d[static_cast<size_t>(a)].base_hz;
-      for (int b = 0; b < kFamilies; ++b) {
-        if (b == a || (a == kCage) != (b == kCage)) continue;
-        for (const auto& m : d[static_cast<size_t>(b)].lines) {
-          if (m.offset_hz != 0.0) continue;
-          const double q = m.multiple * d[static_cast<size_t>(b)].base_hz;
-          if (std::abs(pos - q) < half + tol * q) l.ambiguous = true;
-        }
-      }
-    }
-    // Sidebands of a shared harmonic are shared too (6205: 2 BPFI +- f_r = 3 BPFO +- f_r).
-    auto& lines = d[static_cast<size_t>(a)].lines;
-    for (auto& l : lines) {
-      if (l.offset_hz == 0.0) continue;
-      for (const auto& c : lines)
-        if (c.offset_hz == 0.0 && c.multiple == l.multiple && c.ambiguous) l.ambiguous = true;
-    }
-  }
-}
-
-double strongest_fundamental(const FamilyTest& t, const std::vector<FamilyLine>& lines) {
-  double r = 0.0;
-  for (size_t i = 0; i < lines.size() && i < t.lines.size(); ++i)
-    if (lines[i].fundamental && !t.lines[i].ambiguous) r = std::max(r, t.lines[i].ratio);
-  return r;
-}
-
-// Fisher p-value of the counting lines (no delta re-search), corrected like the test.
-double corrected_log10_p(const FamilyTest& t, double log10_tests) {
-  double x = 0.0;
-  int m = 0;
-  for (const auto& l : t.lines) {
-    if (l.ambiguous) continue;
-    x += -2.0 * std::log(std::max(l.p_value, 1e-300));
-    ++m;
-  }
-  const double lp = m > 0 ? log_chi2_sf_even(x, m) / std::log(10.0) : 0.0;
-  return std::min(0.0, lp + std::log10(t.trials) + log10_tests);
-}
-
-bool detected(const FamilyResult& f, const BearingCheckOptions& o) {
-  return f.log10_p_corrected < std::log10(o.family_false_alarm) && f.test.fundamental_present &&
-         f.test.lines_present >= 2;
-}
-
-void recount(FamilyResult& f, const std::vector<FamilyLine>& lines, const BearingCheckOptions& o) {
-  f.test.lines_present = 0;
-  f.test.fundamental_present = false;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    if (f.test.lines[i].ambiguous || !(f.test.lines[i].p_value < o.line_p)) continue;
-    ++f.test.lines_present;
-    if (lines[i].fundamental) f.test.fundamental_present = true;
-  }
-}
-
-// Positions of the stronger family's pattern: harmonics 1..2H (+- k f_r, k <= 3, inner race;
-// +- k FTF, k <= 2, ball), at its fitted delta.
-std::vector<std::pair<double, double>> pattern(int fam, const FamilyResult& f, const model::bearing::DefectFrequencies& p,
-                                               const BearingCheckOptions& o) {
-  std::vector<std::pair<double, double>> out;  // position, extra tolerance Hz
-  const double base = f.test.base_hz * (1.0 + f.test.delta);
-  const int h_max = 2 * o.harmonics + 2;
-  for (int h = 1; h <= h_max; ++h) {
-    const double c = h * base;
-    out.emplace_back(c, 0.0);
-    if (fam == kInner)
-      for (int k = 1; k <= 3; ++k)
-        for (int sgn : {-1, 1}) out.emplace_back(c + sgn * k * p.shaft_hz, o.speed_uncertainty * k * p.shaft_hz);
-    if (fam == kBall)
-      for (int k = 1; k <= 2; ++k)
-        for (int sgn : {-1, 1})
-          out.emplace_back(c + sgn * k * p.ftf_hz, (o.speed_uncertainty + o.slip_allowance) * k * p.ftf_hz);
-  }
+// Kinematic lines of every family with the modulation sidebands a defect puts around them
+// (races: +-k f_r, k <= 5; ball: 2h BSF +- k FTF, k <= 3): surrogate bases must not sit on
+// them, or the null would be measured on the defect's own pattern.
+std::vector<double> kinematic_lines(const model::bearing::DefectFrequencies& p) {
+  std::vector<double> out;
+  for (int h = 1; h <= 6; ++h)
+    for (double b : {p.bsf_hz, p.ftf_hz}) out.push_back(h * b);
+  for (int h = 1; h <= 4; ++h)
+    for (double b : {p.bpfo_hz, p.bpfi_hz})
+      for (int k = -5; k <= 5; ++k) out.push_back(h * b + k * p.shaft_hz);
+  for (int h = 1; h <= 2; ++h)
+    for (int k = -3; k <= 3; ++k) out.push_back(2.0 * h * p.bsf_hz + k * p.ftf_hz);
   return out;
+}
+
+char buf[512];
+std::string fmt_p(double log10_p) {
+  std::snprintf(buf, sizeof buf, "%.1f", log10_p);
+  return buf;
 }
 
 }  // namespace
 
 BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, double shaft_speed_hz,
                                  const model::bearing::BearingGeometry& g, const BearingCheckOptions& o) {
-  if (!(fs_hz > 0)) throw std::invalid_argument("sample rate must be > 0 Hz");
-  if (!(shaft_speed_hz > 0)) throw std::invalid_argument("shaft speed must be > 0");
+  if (!std::isfinite(fs_hz) || !(fs_hz > 0)) throw std::invalid_argument("sample rate must be a finite number > 0 Hz");
+  if (!std::isfinite(shaft_speed_hz) || !(shaft_speed_hz > 0))
+    throw std::invalid_argument("shaft speed must be a finite number > 0 Hz");
   if (!g.valid()) throw std::invalid_argument("invalid bearing geometry");
   if (!o.valid()) throw std::invalid_argument("invalid bearing-check options");
+  for (double v : x)
+    if (!std::isfinite(v)) throw std::invalid_argument("record holds a non-finite sample");
   BearingCheckResult r;
   r.predicted = model::bearing::defect_frequencies(g, shaft_speed_hz);
-  const auto& p = r.predicted;
+  const double top_hz = (1.0 - o.band.top_guard_fraction) * 0.5 * fs_hz;
+  const double need_hz = (o.harmonics + 2) * r.predicted.bpfi_hz * (1.0 + o.speed_range);
+  if (need_hz > top_hz) {
+    std::snprintf(buf, sizeof buf,
+                  "shaft speed %.4g Hz puts the bearing's lines (%d x BPFI = %.4g Hz) above the usable band of a "
+                  "record sampled at %.4g Hz (%.4g Hz)",
+                  shaft_speed_hz, o.harmonics + 2, need_hz, fs_hz, top_hz);
+    throw std::invalid_argument(buf);
+  }
+  const double duration_s = static_cast<double>(x.size()) / fs_hz;
+  if (duration_s * r.predicted.ftf_hz < 10.0) {
+    std::snprintf(buf, sizeof buf, "record too short: %.3g s holds %.3g cage periods, at least 10 needed", duration_s,
+                  duration_s * r.predicted.ftf_hz);
+    throw std::invalid_argument(buf);
+  }
 
-  BandAnalyser analyser(x, fs_hz);
-  if (o.remove_discrete) r.discrete = analyser.remove_discrete_components(o.discrete_halfwidth_hz, o.false_alarm_probability);
+  // 1-2. pre-whitening and band selection (band widths from the nominal speed).
+  BandAnalyser raw(x, fs_hz);
+  const double df = fs_hz / static_cast<double>(raw.length());
+  BandAnalyser white = raw;
+  white.prewhiten();
+  r.whitening = "cepstrum pre-whitening (unit spectral magnitude, phase kept)";
   BandSelectionOptions bo = o.band;
-  // The squared envelope of a band B wide holds modulation up to B, with SNR falling towards B:
-  // ask for the harmonics of BPFI plus their shaft sidebands with margin, i.e. B >= 4 BPFI
-  // (and >= (harmonics + 2) BPFI when more harmonics are examined).
-  bo.min_bandwidth_hz = std::max(bo.min_bandwidth_hz, std::max(4, o.harmonics + 2) * p.bpfi_hz);
-  std::vector<Band> grid = analyser.band_grid(bo);
-  if (grid.empty()) {  // every band tonal: analyse the whole guarded spectrum, say so by its SK
-    const double hi = (1.0 - bo.top_guard_fraction) * 0.5 * fs_hz;
-    grid.push_back(Band{0.0, hi, analyser.band_kurtosis(0.0, hi), 0});
-  }
-  r.bands_tried = grid.size();
-  r.log10_tests = std::log10(static_cast<double>(grid.size()) * static_cast<double>(kFamilies));
+  const double bpfi_max = r.predicted.bpfi_hz * (1.0 + o.speed_range);
+  bo.min_bandwidth_hz = std::max(bo.min_bandwidth_hz, (o.harmonics + 2) * bpfi_max);
+  // A demodulation band must lie above the lines it is to reveal: a band that holds them holds
+  // the (whitened) lines themselves, not a resonance they modulate.
+  bo.min_low_edge_hz = std::max(bo.min_low_edge_hz, o.harmonics * bpfi_max + r.predicted.shaft_hz);
+  r.bands.push_back({"whitened_full", Band{0.0, top_hz, white.band_kurtosis(0.0, top_hz), 0}});
+  r.bands.push_back({"whitened_sk", white.select_band(bo)});
+  if (o.raw_sk_band) r.bands.push_back({"raw_sk", raw.select_band(bo)});
 
-  const double tol = o.speed_uncertainty + o.slip_allowance;
-  auto defs = family_defs(p, o);
-  mark_shared_lines(defs, tol, p.shaft_hz, o.speed_uncertainty);
-  FamilyTestOptions to;
-  to.tolerance = tol;
-  to.line_p = o.line_p;
-  to.floor_halfwidth_hz = o.floor_halfwidth_hz;
-  to.shaft_hz = p.shaft_hz;
-  to.shaft_tolerance = o.speed_uncertainty;
-
-  // Per family: the most significant band among the impulsive ones (verdict) and among all
-  // bands (to say "lines without impacts").
-  std::array<FamilyResult, kFamilies> fam, any;
-  std::array<bool, kFamilies> have{}, have_any{};
-  for (const Band& b : grid) {
-    const EnvelopeSpectrum s = analyser.envelope_spectrum(b);
-    const bool impulsive = b.kurtosis > o.impulsive_sigmas * analyser.kurtosis_standard_error(b.high_hz - b.low_hz);
-    for (int f = 0; f < kFamilies; ++f) {
-      const auto& d = defs[static_cast<size_t>(f)];
-      FamilyTest t = test_family(s, d.base_hz, d.lines, to);
-      const auto k = static_cast<size_t>(f);
-      if (!have_any[k] || t.log10_p < any[k].test.log10_p) {
-        have_any[k] = true;
-        any[k].test = t;
-        any[k].band = b;
-      }
-      // The cage comb is an explanation, not a verdict: its best band need not be impulsive.
-      if ((impulsive || f == kCage) && (!have[k] || t.log10_p < fam[k].test.log10_p)) {
-        have[k] = true;
-        fam[k].test = std::move(t);
-        fam[k].band = b;
-      }
+  // 5. speed: the shaft-harmonic comb of the spectrum, else of the whitened envelope spectrum
+  // (an inner-race defect or an unbalance modulates at f_r even where the spectrum has no comb).
+  r.speed = refine_speed(raw.magnitude(), df, shaft_speed_hz, o.speed_range);
+  r.speed_source = r.speed.refined ? "spectrum" : "nominal";
+  if (!r.speed.refined) {
+    const EnvelopeSpectrum e = white.envelope_spectrum(r.bands[0].band);
+    const SpeedRefinement se = refine_speed(e.amplitude, e.df_hz, shaft_speed_hz, o.speed_range);
+    if (se.refined) {
+      r.speed = se;
+      r.speed_source = "envelope spectrum";
     }
   }
-  auto finish = [&](FamilyResult& cur, int f, bool had) {
-    const auto& d = defs[static_cast<size_t>(f)];
-    cur.line_labels.clear();
-    for (const auto& l : d.lines) cur.line_labels.push_back(l.label);
-    if (!had) {  // no impulsive band at all: nothing to test
-      cur.test = FamilyTest{};
-      cur.test.base_hz = d.base_hz;
-      cur.test.lines.resize(d.lines.size());
-      for (size_t i = 0; i < d.lines.size(); ++i) cur.test.lines[i].ambiguous = d.lines[i].ambiguous;
-      cur.band = grid.front();
-    }
-    cur.log10_p_corrected = std::min(0.0, cur.test.log10_p + r.log10_tests);
-    cur.score = -cur.log10_p_corrected;
-    cur.strength = strongest_fundamental(cur.test, d.lines);
-    cur.evidence = had && detected(cur, o);
-  };
+  r.refined = model::bearing::defect_frequencies(g, r.speed.speed_hz);
+  const auto& p = r.refined;
+  // Not refined: the nominal speed's uncertainty adds to the slip.
+  const double tol = o.slip_tolerance + (r.speed.refined ? 0.0 : o.speed_range);
+
+  // 3-4. envelope spectra, family scores and their surrogate nulls.
+  const auto tmpl = templates(p, df, o);
+  const auto forbidden = kinematic_lines(p);
+  double f_max = 0.0;
+  for (const auto& t : tmpl)
+    for (const auto& l : t.lines) f_max = std::max(f_max, 1.8 * (l.multiple * t.base_hz + std::abs(l.offset_hz)));
+  f_max += o.floor_halfwidth_hz;
+  const double shaft_for_exclusion = r.speed.refined ? p.shaft_hz : 0.0;
+  r.threshold_log10_p = std::log10(o.record_false_alarm / (static_cast<double>(r.bands.size()) * static_cast<double>(kFamilies)));
   for (int f = 0; f < kFamilies; ++f) {
-    finish(fam[static_cast<size_t>(f)], f, have[static_cast<size_t>(f)]);
-    finish(any[static_cast<size_t>(f)], f, have_any[static_cast<size_t>(f)]);
+    auto& fr = r.families[static_cast<size_t>(f)];
+    fr.name = k_names[f];
+    fr.predicted_hz = tmpl[static_cast<size_t>(f)].base_hz;
+    fr.log10_p = 1.0;  // "none yet"
   }
-  // Cage comb: inner-race and ball lines on its teeth are the comb's.
-  const double df = static_cast<double>(fs_hz) / static_cast<double>(analyser.length());
-  const bool cage = fam[kCage].evidence;
-  if (cage) {
-    const double ftf = fam[kCage].test.base_hz * (1.0 + fam[kCage].test.delta);
-    for (auto* set : {&fam, &any})
-      for (int f : {kInner, kBall}) {
-        auto& cur = (*set)[static_cast<size_t>(f)];
-        const auto& d = defs[static_cast<size_t>(f)];
-        int n_explained = 0;
-        for (auto& l : cur.test.lines) {
-          if (l.ambiguous || !(l.ratio > 0)) continue;
-          const double n = std::round(l.hz / ftf);
-          // the fitted FTF is good to about a bin at its 3rd harmonic: n/3 bins at tooth n
-          if (n >= 1 && std::abs(l.hz - n * ftf) <= (2.0 + n / 3.0) * df) {
-            l.ambiguous = true;
-            ++n_explained;
-          }
-        }
-        if (n_explained == 0) continue;
-        cur.explained_lines += n_explained;
-        cur.log10_p_corrected = corrected_log10_p(cur.test, r.log10_tests);
-        cur.score = -cur.log10_p_corrected;
-        recount(cur, d.lines, o);
-        cur.strength = strongest_fundamental(cur.test, d.lines);
-        cur.evidence = detected(cur, o);
+  for (size_t b = 0; b < r.bands.size(); ++b) {
+    const BandAnalyser& a = r.bands[b].name == "raw_sk" ? raw : white;
+    const EnvelopeSpectrum s = a.envelope_spectrum(r.bands[b].band);
+    const NormalisedSpectrum ns = normalise_spectrum(s, f_max, o.floor_halfwidth_hz, shaft_for_exclusion, o.shaft_exclude_bins);
+    for (int f = 0; f < kFamilies; ++f) {
+      const auto& t = tmpl[static_cast<size_t>(f)];
+      auto& fr = r.families[static_cast<size_t>(f)];
+      TemplateScore sc = score_template(ns, t.base_hz, t.lines, tol, o.line_p);
+      const double lp = o.null[static_cast<size_t>(f)].log10_p(sc.score);
+      fr.log10_p_per_band.push_back(lp);
+      if (o.collect_surrogates) {
+        const auto d = surrogate_scores(ns, t.base_hz, t.lines, tol, forbidden);
+        fr.surrogates.insert(fr.surrogates.end(), d.begin(), d.end());
       }
+      if (fr.log10_p > 0.5 || lp < fr.log10_p || (lp == fr.log10_p && sc.score > fr.score)) {
+        fr.log10_p = lp;
+        fr.score = sc.score;
+        fr.lines = std::move(sc);
+        fr.band_index = b;
+      }
+    }
   }
-  // Outer race inside a cage comb: BPFO = Z x FTF, so cage modulation (a ball going round with
-  // the cage, a cage fault) puts a tooth on BPFO too. An outer-race defect gives the teeth at
-  // multiples of Z only: its fundamental must stand `dominance` x above the neighbouring teeth
-  // (Z-2, Z-1, Z+1, Z+2) in its own band and above the comb's first teeth (1..3 FTF);
-  // otherwise it is a tooth of the comb.
-  if (cage && fam[kOuter].evidence) {
-    const double ftf = fam[kCage].test.base_hz * (1.0 + fam[kCage].test.delta);
-    const EnvelopeSpectrum s = analyser.envelope_spectrum(fam[kOuter].band);
-    std::vector<FamilyLine> teeth;
+
+  // Without a refined speed the shaft harmonics cannot be set aside bin by bin. A fundamental
+  // line that sits on a shaft comb instead - k f_s with f_s within speed_range of nominal and
+  // the comb's neighbours (k-1) f_s and (k+1) f_s (2 f_s, 3 f_s for k = 1) present on their own
+  // in the same band - is the comb's, not the family's (6200: BSF = 1.98 f_r next to 2 f_r).
+  std::array<bool, kFamilies> comb_member{};
+  if (!r.speed.refined) {
+    for (int f = 0; f < kFamilies; ++f) {
+      auto& fr = r.families[static_cast<size_t>(f)];
+      if (!fr.lines.fundamental_present) continue;
+      const auto& band = r.bands[fr.band_index];
+      const BandAnalyser& a = band.name == "raw_sk" ? raw : white;
+      const NormalisedSpectrum ns = normalise_spectrum(a.envelope_spectrum(band.band), f_max, o.floor_halfwidth_hz, 0.0, 0);
+      auto present = [&](double hz) {
+        const long c = std::lround(hz / df);
+        double m = 0.0;
+        for (long k = c - 1; k <= c + 1; ++k)
+          if (k > 0 && k < static_cast<long>(ns.ratio.size())) m = std::max(m, ns.ratio[static_cast<size_t>(k)]);
+        return -std::expm1(3.0 * std::log1p(-std::exp2(-m * m))) < o.line_p;
+      };
+      bool any_own = false;
+      const auto& tl = tmpl[static_cast<size_t>(f)].lines;
+      for (size_t i = 0; i < tl.size(); ++i) {
+        const auto& l = fr.lines.lines[i];
+        if (!tl[i].fundamental || !(l.p_value < o.line_p)) continue;
+        const double k = std::round(l.hz / shaft_speed_hz);
+        const double comb_hz = k >= 1 ? l.hz / k : 0.0;
+        const bool on_comb = k >= 1 && std::abs(comb_hz - shaft_speed_hz) <= o.speed_range * shaft_speed_hz &&
+                             (k >= 2 ? present((k - 1) * comb_hz) : present(3 * comb_hz)) && present((k + 1) * comb_hz);
+        if (!on_comb) any_own = true;
+      }
+      if (!any_own) {
+        fr.lines.fundamental_present = false;
+        comb_member[static_cast<size_t>(f)] = true;
+      }
+    }
+  }
+
+  // 6. decision.
+  for (int f = 0; f < kFamilies; ++f) {
+    auto& fr = r.families[static_cast<size_t>(f)];
+    fr.threshold_score = o.null[static_cast<size_t>(f)].score_at(r.threshold_log10_p);
+    const bool significant = fr.log10_p < r.threshold_log10_p;
+    fr.detected = significant && fr.lines.fundamental_present;
+    if (fr.lines.fundamental_present) {
+      const auto& l = fr.lines.lines;
+      if (f == kBall)
+        fr.found_hz = l[1].hz / 2.0;  // the 2 BSF line (the fundamental) / 2
+      else
+        fr.found_hz = l[0].hz;
+    }
+    if (!significant)
+      fr.reason = "not significant: score " + fmt_p(fr.score) + " <= " + fmt_p(fr.threshold_score) + " (log10 P_null " +
+                  fmt_p(fr.log10_p) + " >= " + fmt_p(r.threshold_log10_p) + ")";
+    else if (!fr.detected && comb_member[static_cast<size_t>(f)])
+      fr.reason = "lines significant (log10 P_null " + fmt_p(fr.log10_p) +
+                  ") but the fundamental sits on a shaft-harmonic comb (speed not refined)";
+    else if (!fr.detected)
+      fr.reason = "lines significant (log10 P_null " + fmt_p(fr.log10_p) + ") but the fundamental is absent";
+  }
+  // Outer race inside a cage comb (see BearingCheckOptions::comb_dominance).
+  auto& fo = r.families[kOuter];
+  if (fo.detected) {
     const int z = g.ball_count;
-    for (int n : {z - 2, z - 1, z + 1, z + 2})
-      if (n >= 1) teeth.push_back({static_cast<double>(n), 0.0, 0.0, false, false, std::to_string(n) + "ftf"});
-    FamilyTestOptions ct = to;
-    ct.shaft_hz = 0.0;
-    ct.tolerance = 2.0 * df / (static_cast<double>(z + 2) * ftf);  // fitted FTF: a couple of bins
-    const FamilyTest comb = test_family(s, ftf, teeth, ct);
-    // ... and above the comb's own first teeth (1..3 FTF, in the cage family's band).
-    double tooth = fam[kCage].strength;
-    for (const auto& l : fam[kCage].test.lines) tooth = std::max(tooth, l.ambiguous ? 0.0 : l.ratio);
-    for (const auto& l : comb.lines) tooth = std::max(tooth, l.ratio);
-    r.cage_teeth_ratio = tooth;
-    if (fam[kOuter].strength < o.dominance * tooth) {
-      fam[kOuter].evidence = false;
-      r.outer_in_cage_comb = true;
-    }
-  }
-  for (int f : {kOuter, kInner, kBall}) {
-    auto& cur = fam[static_cast<size_t>(f)];
-    const auto& a = any[static_cast<size_t>(f)];
-    cur.significant_without_impacts = !cur.evidence && detected(a, o) && !(f == kOuter && r.outer_in_cage_comb);
-    if (cur.significant_without_impacts) {  // report where the lines are
-      cur.band = a.band;
-      cur.test = a.test;
-      cur.score = a.score;
-      cur.log10_p_corrected = a.log10_p_corrected;
-      cur.strength = a.strength;
-      cur.explained_lines = a.explained_lines;
-    }
-  }
-
-  // Explain away: lines of a weaker detected family that sit on the stronger family's pattern.
-  const int defects[] = {kOuter, kInner, kBall};
-  std::vector<int> order(std::begin(defects), std::end(defects));
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return fam[static_cast<size_t>(a)].score > fam[static_cast<size_t>(b)].score;
-  });
-  for (size_t i = 0; i < order.size(); ++i) {
-    const auto& strong = fam[static_cast<size_t>(order[i])];
-    if (!strong.evidence) continue;
-    const auto pat = pattern(order[i], strong, p, o);
-    for (size_t j = i + 1; j < order.size(); ++j) {
-      auto& weak = fam[static_cast<size_t>(order[j])];
-      const auto& d = defs[static_cast<size_t>(order[j])];
-      for (auto& l : weak.test.lines) {
-        if (l.ambiguous || !(l.ratio > 0)) continue;
-        for (const auto& [c, extra] : pat)
-          if (std::abs(l.hz - c) <= 2.0 * df + extra) {
-            l.ambiguous = true;
-            ++weak.explained_lines;
-            break;
-          }
-      }
-      if (weak.explained_lines > 0) {
-        weak.log10_p_corrected = corrected_log10_p(weak.test, r.log10_tests);
-        weak.score = -weak.log10_p_corrected;
-        recount(weak, d.lines, o);
-        weak.strength = strongest_fundamental(weak.test, d.lines);
-        weak.evidence = detected(weak, o);
+    const double ftf = fo.lines.lines[0].hz / z;  // BPFO = Z FTF: the comb's spacing from the BPFO line found
+    // In BPFO's band and in the cage family's best band (where a comb shows best).
+    for (size_t bi : {fo.band_index, r.families[kCage].band_index}) {
+      const auto& band = r.bands[bi];
+      const BandAnalyser& a = band.name == "raw_sk" ? raw : white;
+      const NormalisedSpectrum ns =
+          normalise_spectrum(a.envelope_spectrum(band.band), f_max, o.floor_halfwidth_hz, shaft_for_exclusion, o.shaft_exclude_bins);
+      auto peak = [&](double hz) {
+        const long c = std::lround(hz / df);
+        double m = 0.0;
+        for (long k = c - 1; k <= c + 1; ++k)
+          if (k > 0 && k < static_cast<long>(ns.ratio.size()) && !ns.excluded[static_cast<size_t>(k)])
+            m = std::max(m, ns.ratio[static_cast<size_t>(k)]);
+        return m;
+      };
+      double teeth = 0.0;
+      for (int n : {1, 2, 3, z - 2, z - 1, z + 1, z + 2}) teeth = std::max(teeth, peak(n * ftf));
+      const double bpfo_ratio = peak(z * ftf);
+      // The comb is there if the cage family is detected or a tooth is present on its own
+      // (Rayleigh p of the largest of its 3 bins < line_p).
+      const bool comb = r.families[kCage].detected || -std::expm1(3.0 * std::log1p(-std::exp2(-teeth * teeth))) < o.line_p;
+      r.cage_teeth_ratio = std::max(r.cage_teeth_ratio, teeth);
+      if (comb && bpfo_ratio < o.comb_dominance * teeth) {
+        fo.detected = false;
+        std::snprintf(buf, sizeof buf,
+                      "significant, but a tooth of the cage comb: in %s the BPFO line is %.1fx its floor < %.1f x the "
+                      "strongest cage tooth (%.1fx); cage modulation (a ball fault going round with the cage, or the "
+                      "cage) also puts a line on BPFO = %d FTF",
+                      band.name.c_str(), bpfo_ratio, o.comb_dominance, teeth, z);
+        fo.reason = buf;
+        break;
       }
     }
   }
-
-  // Legacy per-line view (display, found_hz) in each family's band.
-  auto legacy = [&](FamilyResult& f, double base) {
-    const EnvelopeSpectrum s = analyser.envelope_spectrum(f.band);
-    for (int h = 1; h <= o.harmonics; ++h) f.harmonics.push_back(find_line(s, h * base, tol, o));
-  };
-  r.bpfo = fam[kOuter];
-  r.bpfi = fam[kInner];
-  r.bsf = fam[kBall];
-  r.ftf = fam[kCage];
-  legacy(r.bpfo, p.bpfo_hz);
-  legacy(r.bpfi, p.bpfi_hz);
-  legacy(r.bsf, p.bsf_hz);
-  legacy(r.ftf, p.ftf_hz);
-  r.bsf2.band = r.bsf.band;
-  legacy(r.bsf2, 2.0 * p.bsf_hz);
-  {
-    const EnvelopeSpectrum s = analyser.envelope_spectrum(r.bpfi.band);
-    r.bpfi_lower_sideband = find_line(s, p.bpfi_hz - p.shaft_hz, tol, o);
-    r.bpfi_upper_sideband = find_line(s, p.bpfi_hz + p.shaft_hz, tol, o);
-    r.shaft.band = r.bpfi.band;
-    for (int h = 1; h <= o.harmonics; ++h) r.shaft.harmonics.push_back(find_line(s, h * p.shaft_hz, o.speed_uncertainty, o));
-  }
-  // Found frequencies: the detected family's fitted fundamental, else a legacy line that stands out.
-  auto fitted = [](const FamilyResult& f, size_t line) -> std::optional<double> {
-    if (f.evidence && line < f.test.lines.size() && f.test.lines[line].p_value < 0.5) return f.test.lines[line].hz;
-    return std::nullopt;
-  };
-  if (auto v = fitted(r.bpfo, 0)) r.bpfo.harmonics[0].found_hz = v;
-  if (auto v = fitted(r.bpfi, 0)) r.bpfi.harmonics[0].found_hz = v;
-  if (auto v = fitted(r.ftf, 0)) r.ftf.harmonics[0].found_hz = v;
-  if (r.bsf.evidence) {
-    r.found_bsf_hz = r.bsf.test.base_hz * (1.0 + r.bsf.test.delta);
-  } else if (r.bsf.harmonics[0].stands_out()) {
-    r.found_bsf_hz = r.bsf.harmonics[0].found_hz;
-  } else if (r.bsf2.harmonics[0].stands_out()) {
-    r.found_bsf_hz = *r.bsf2.harmonics[0].found_hz / 2.0;
-  }
-  const auto strongest_band = [&]() {
-    const FamilyResult* b = &r.bpfo;
-    for (const FamilyResult* f : {&r.bpfi, &r.bsf}) if (f->score > b->score) b = f;
-    return b->band;
-  };
-
-  struct Candidate {
-    const char* name;
-    const FamilyResult* f;
-  };
-  const Candidate cands[] = {{"outer_race", &r.bpfo}, {"inner_race", &r.bpfi}, {"ball", &r.bsf}};
-  const Candidate* best = nullptr;
-  const Candidate* second = nullptr;
-  for (const auto& c : cands) {
-    if (!c.f->evidence) continue;
-    if (!best || c.f->score > best->f->score) {
-      second = best;
-      best = &c;
-    } else if (!second || c.f->score > second->f->score) {
-      second = &c;
-    }
-  }
-  char buf[640];
-  const FamilyResult* silent = nullptr;  // significant, but only without impacts
-  const char* silent_name = "";
-  for (const auto& c : cands)
-    if (c.f->significant_without_impacts && (!silent || c.f->score > silent->score)) {
-      silent = c.f;
-      silent_name = c.name;
-    }
-  if (!best) {
-    r.band = strongest_band();
-    if (r.outer_in_cage_comb) {
-      r.verdict = "unclear";
-      r.band = r.bpfo.band;
-      std::snprintf(buf, sizeof buf,
-                    "BPFO lines are significant (fundamental %.1fx floor) but are teeth of a cage comb n x FTF "
-                    "(neighbouring teeth up to %.1fx): cage modulation (a ball fault going round with the cage, or "
-                    "the cage) and an outer-race defect cannot be told apart; the ball lines BSF, 2 BSF sit on "
-                    "cage teeth too",
-                    r.bpfo.strength, r.cage_teeth_ratio);
-      r.reason = buf;
-    } else if (silent) {
-      r.verdict = "unclear";
-      r.band = silent->band;
-      std::snprintf(buf, sizeof buf,
-                    "%s lines are significant (p = 1e-%.1f, fundamental %.1fx floor) but only in bands that are not "
-                    "impulsive (best %.0f-%.0f Hz, spectral kurtosis %.3f <= %.1f standard errors): periodic "
-                    "modulation without impacts is not claimed as a localised defect",
-                    silent_name, silent->score, silent->strength, silent->band.low_hz, silent->band.high_hz,
-                    silent->band.kurtosis, o.impulsive_sigmas);
-      r.reason = buf;
-    } else if (r.ftf.evidence) {
-      r.verdict = "unclear";
-      r.band = r.ftf.band;
-      r.reason = "only a cage (FTF) line family stands out";
-    } else {
-      r.verdict = "healthy";
-      std::snprintf(buf, sizeof buf,
-                    "no defect line family is significant at the record's false-alarm rate %.0e (%zu bands x %d families tried)",
-                    o.family_false_alarm, r.bands_tried, static_cast<int>(kFamilies));
-      r.reason = buf;
+  // Shared lines: where two detected families' lines coincide (6200: 2 BSF = BPFI - f_r; 6205:
+  // 3 BPFO ~ 2 BPFI), a line is evidence for neither. Each detected family is ranked by its
+  // score on the lines no other detected family also found; a family with no such evidence above
+  // the threshold cannot be named.
+  int n_detected = 0;
+  for (const auto& fr : r.families) n_detected += fr.detected ? 1 : 0;
+  if (n_detected >= 2) {
+    for (int f = 0; f < kFamilies; ++f) {
+      auto& fr = r.families[static_cast<size_t>(f)];
+      if (!fr.detected) continue;
+      double chi2 = 0.0;
+      int m = 0;
+      for (const auto& l : fr.lines.lines) {
+        if (!(l.hz > 0)) continue;
+        bool shared = false;
+        for (int e = 0; e < kFamilies && !shared; ++e) {
+          if (e == f || !r.families[static_cast<size_t>(e)].detected) continue;
+          for (const auto& q : r.families[static_cast<size_t>(e)].lines.lines)
+            if (q.hz > 0 && q.p_value < o.line_p && std::abs(q.hz - l.hz) <= std::max(2.0 * df, tol * l.hz)) shared = true;
+        }
+        if (shared) continue;
+        chi2 += -2.0 * std::log(std::max(l.p_value, 1e-300));
+        ++m;
+      }
+      fr.unique_score = m > 0 ? -log_chi2_sf_even(chi2, m) / std::log(10.0) : 0.0;
+      fr.unique_log10_p = o.null[static_cast<size_t>(f)].log10_p(fr.unique_score);
     }
   } else {
-    r.band = best->f->band;
-    const bool dominant = !second || best->f->score >= o.dominance * second->f->score ||
-                          best->f->strength >= o.dominance * second->f->strength;
-    if (!dominant) {
-      r.verdict = "unclear";
-      std::snprintf(buf, sizeof buf,
-                    "both %s (significance %.1f, fundamental %.1fx floor) and %s (%.1f, %.1fx) families are detected; "
-                    "neither dominates by %.1fx",
-                    best->name, best->f->score, best->f->strength, second->name, second->f->score, second->f->strength,
-                    o.dominance);
-      r.reason = buf;
-    } else {
-      r.verdict = best->name;
-      std::snprintf(buf, sizeof buf,
-                    "%s family detected: p = 1e-%.1f after correction for %zu bands x %d families (false-alarm rate %.0e), "
-                    "%d lines present, fundamental %.1fx floor%s",
-                    best->name, best->f->score, r.bands_tried, static_cast<int>(kFamilies), o.family_false_alarm,
-                    best->f->test.lines_present, best->f->strength,
-                    second ? (std::string("; dominates ") + second->name).c_str() : "");
-      r.reason = buf;
+    for (auto& fr : r.families) {
+      fr.unique_score = fr.score;
+      fr.unique_log10_p = fr.log10_p;
     }
   }
-  r.strongest_lines = strongest_lines(analyser.envelope_spectrum(r.band), 1.0, 2.0 * (p.bpfi_hz + p.shaft_hz), 5.0, o);
+  int best = -1;
+  for (int f = 0; f < kFamilies; ++f) {
+    const auto& fr = r.families[static_cast<size_t>(f)];
+    if (fr.detected && fr.unique_log10_p < r.threshold_log10_p &&
+        (best < 0 || fr.unique_log10_p < r.families[static_cast<size_t>(best)].unique_log10_p))
+      best = f;
+  }
+  if (best < 0 && n_detected >= 2) {
+    r.verdict = "unclear";
+    r.reason = "several families are detected but none on lines of its own (their evidence is shared lines):";
+    for (auto& fr : r.families)
+      if (fr.detected) {
+        fr.reason = "detected on shared lines only (score on its own lines " + fmt_p(fr.unique_score) + ")";
+        r.reason += " " + fr.name;
+      }
+    return r;
+  }
+  if (best < 0 && fo.reason.rfind("significant, but a tooth", 0) == 0) {
+    r.verdict = "unclear";
+    r.reason = "bpfo " + fo.reason;
+    return r;
+  }
+  if (best < 0) {
+    r.verdict = "healthy";
+    std::snprintf(buf, sizeof buf,
+                  "no family significant: every family's P_null is above %.1e (record-wise false-alarm rate %.0e over "
+                  "%zu bands x %d families)",
+                  std::pow(10.0, r.threshold_log10_p), o.record_false_alarm, r.bands.size(), kFamilies);
+    r.reason = buf;
+    return r;
+  }
+  const auto& w = r.families[static_cast<size_t>(best)];
+  r.verdict_band = w.band_index;
+  r.verdict = k_verdicts[best];
+  for (int f = 0; f < kFamilies; ++f) {
+    auto& fr = r.families[static_cast<size_t>(f)];
+    if (f == best) {
+      fr.reason = "named: strongest detected family (log10 P_null " + fmt_p(fr.log10_p) + ", score " + fmt_p(fr.score) +
+                  ", band " + r.bands[fr.band_index].name + ")";
+    } else if (fr.detected) {
+      fr.reason = std::string("detected but weaker than ") + k_names[best] + " on lines of its own (log10 P_null " +
+                  fmt_p(fr.unique_log10_p) + " vs " + fmt_p(w.unique_log10_p) + ")";
+    }
+  }
+  const auto& band = r.bands[w.band_index];
+  if (best == kCage) {
+    std::snprintf(buf, sizeof buf,
+                  "only the cage family (FTF %.2f Hz) is detected (log10 P_null %.1f in %s %.0f-%.0f Hz): cage "
+                  "modulation without a race or ball line family of its own%s",
+                  w.found_hz.value_or(w.predicted_hz), w.log10_p, band.name.c_str(), band.band.low_hz, band.band.high_hz,
+                  r.cage_teeth_ratio > 0 && !fo.detected ? "; the BPFO line is a tooth of its comb" : "");
+  } else {
+    std::snprintf(buf, sizeof buf,
+                  "%s family detected: fundamental %.2f Hz (predicted %.2f), score %.1f > %.1f (log10 P_null %.1f < "
+                  "%.1f, null measured on healthy records) in %s %.0f-%.0f Hz",
+                  k_names[best], w.found_hz.value_or(0.0), w.predicted_hz, w.score, w.threshold_score, w.log10_p,
+                  r.threshold_log10_p, band.name.c_str(), band.band.low_hz, band.band.high_hz);
+  }
+  r.reason = buf;
   return r;
 }
 

@@ -179,6 +179,24 @@ DiscreteRemoval BandAnalyser::remove_discrete_components(double halfwidth_hz, do
   return d;
 }
 
+void BandAnalyser::prewhiten() {
+  for (size_t k = 0; k < spec_re_.size(); ++k) {
+    const double m = std::hypot(spec_re_[k], spec_im_[k]);
+    if (k == 0 || !(m > 0)) {
+      spec_re_[k] = spec_im_[k] = 0.0;
+      continue;
+    }
+    spec_re_[k] /= m;
+    spec_im_[k] /= m;
+  }
+}
+
+std::vector<double> BandAnalyser::magnitude() const {
+  std::vector<double> m(spec_re_.size());
+  for (size_t k = 0; k < m.size(); ++k) m[k] = std::hypot(spec_re_[k], spec_im_[k]);
+  return m;
+}
+
 EnvelopeSpectrum BandAnalyser::envelope_spectrum(const Band& band) const {
   EnvelopeSpectrum s;
   s.band = band;

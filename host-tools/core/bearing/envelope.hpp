@@ -72,6 +72,14 @@ class BandAnalyser {
   /// Caveat (docs/bearing.md): a fault whose impacts are strictly periodic (no slip) is itself
   /// discrete and is attenuated too.
   DiscreteRemoval remove_discrete_components(double halfwidth_hz, double false_alarm_probability);
+  /// Cepstrum pre-whitening (Sawalhi & Randall; Borghesani et al. 2013): every bin of the stored
+  /// spectrum is set to unit magnitude, its phase kept (the real cepstrum edited to zero at all
+  /// quefrencies but 0). Discrete lines (shaft harmonics, tones) and the transfer path's
+  /// colouring are flattened; impulsive content keeps its phase alignment and stays impulsive.
+  /// Bins of zero magnitude stay zero.
+  void prewhiten();
+  /// Magnitude of the stored spectrum, bin k at k * fs / length() Hz (k = 0 .. length()/2).
+  std::vector<double> magnitude() const;
   /// Envelope spectrum for `band` (squared envelope, mean removed, Hann window).
   EnvelopeSpectrum envelope_spectrum(const Band& band) const;
   double fs_hz() const { return fs_hz_; }

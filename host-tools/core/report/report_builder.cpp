@@ -181,6 +181,9 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
     sp.t_s.push_back(t_of(i));
     sp.speed_hz.push_back(e.samples[i].speed_hz);
     sp.speed_command_hz.push_back(e.samples[i].speed_command_hz);
+    const double tach = e.samples[i].tach_hz;
+    sp.plant_speed_hz.push_back(tach >= 0.0 ? tach : NAN);
+    sp.not_tracked.push_back(fw::speed_lost(e.samples[i]) ? 1 : 0);
   }
   for (size_t b = 0; b < 2; ++b) {
     double r_max = 0.0;
@@ -198,7 +201,8 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
   d.orbit.set(std::move(planes), source + ": sensors [A1, A2, B1, B2] through the sensor view (aux plane: rigid-rotor extrapolation)");
   d.rubbing.set(std::move(rub), source + ": measured orbit at the aux planes, model/drop/rubbing_states (contact at " +
                                     fmt("%.2f", ro.contact_radius_fraction) + " x clearance)");
-  d.speed.set(std::move(sp), source + ": the firmware's speed estimate and drive command per sample");
+  d.speed.set(std::move(sp), source + ": the firmware's speed estimate, drive command and the rig's tachometer per "
+                                      "sample; shaded: the board had no valid speed (\"not tracked\")");
 }
 
 void add_replay(ReportData& d, const replay::ReplayResult& r) {

@@ -188,6 +188,21 @@ std::string section_speed(const ReportData& d) {
   p.series.push_back({"speed estimate", d.speed.data->t_s, d.speed.data->speed_hz, palette(0)});
   if (!d.speed.data->speed_command_hz.empty())
     p.series.push_back({"drive command", d.speed.data->t_s, d.speed.data->speed_command_hz, palette(3), 1.2, true});
+  const auto& sp = *d.speed.data;
+  bool any_plant = false;
+  for (double v : sp.plant_speed_hz) any_plant |= std::isfinite(v);
+  if (any_plant) p.series.push_back({"tachometer", sp.t_s, sp.plant_speed_hz, palette(2), 1.2});
+  // Spans where the board had no valid speed: shaded, one band per run of lost samples.
+  for (size_t i = 0; i < sp.not_tracked.size() && i < sp.t_s.size();) {
+    if (!sp.not_tracked[i]) {
+      ++i;
+      continue;
+    }
+    size_t j = i;
+    while (j + 1 < sp.not_tracked.size() && j + 1 < sp.t_s.size() && sp.not_tracked[j + 1]) ++j;
+    p.intervals.push_back({sp.t_s[i], sp.t_s[j], "not tracked", "#bbbbbb"});
+    i = j + 1;
+  }
   return s + render_line_plot(p) + source_line(d.speed.source) + "</section>\n";
 }
 

@@ -78,7 +78,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   const int every = std::max(1, static_cast<int>(std::lround(board.rate_hz / 1000.0)));
   int count = 0;
   bool after_cut = false;
-  rig.on_period = [&](const fw::Status&) {
+  rig.on_period = [&](const fw::Status& st) {
     const model::PlantTruth tr = rig.plant().truth();
     if (after_cut)
       for (double f : tr.contact_force_n) sum.max_contact_force_n = std::max(sum.max_contact_force_n, f);
@@ -88,6 +88,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
     sum.trace.aux_y_m.push_back(tr.aux_y_m);
     sum.trace.contact_force_n.push_back(tr.contact_force_n);
     sum.trace.speed_hz.push_back(rig.plant().outputs().spin_speed_hz);
+    sum.trace.tracked_speed_hz.push_back(st.tracked.lost ? std::nan("") : st.tracked.speed_hz);
   };
   auto reached = [](fw::Phase p) {
     return [p](const fw::Status& s) { return s.phase == p || s.state == fw::State::fault; };

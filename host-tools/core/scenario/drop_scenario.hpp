@@ -35,6 +35,7 @@ struct ScenarioTrace {
   std::vector<std::array<double, 2>> aux_x_m, aux_y_m;    ///< rotor centre at the aux planes (truth), m
   std::vector<std::array<double, 2>> contact_force_n;     ///< normal contact force per aux bearing, N
   std::vector<double> speed_hz;                           ///< rotor speed (truth), Hz
+  std::vector<double> tracked_speed_hz;                   ///< the board's speed as its loop sees it, Hz (NaN: not tracked)
 };
 
 struct DropScenarioSummary {

@@ -1,0 +1,39 @@
+// bearing-check's null, measured: each family's score at surrogate bases on the healthy
+// calibration records (tests/bearing/calibration.hpp). Prints the fit to put in
+// BearingCheckOptions::default_nulls() and fails if the defaults are less conservative than the
+// measurement (a lower detection threshold than the measured null supports).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "tests/bearing/calibration.hpp"
+
+namespace tb = amb::test::bearing;
+namespace hb = amb::host::bearing;
+
+TEST(BearingNull, DefaultsAreAtLeastTheMeasuredNull) {
+  const auto records = tb::calibration_records(true);
+  hb::BearingCheckOptions o;
+  std::array<std::vector<double>, 4> draws;
+  const auto fits = tb::calibrate(records, o, &draws);
+  const char* names[4] = {"bpfo", "bpfi", "ball", "ftf"};
+  const double threshold = std::log10(o.record_false_alarm / (2.0 * 4.0));  // 2 bands x 4 families
+  for (size_t f = 0; f < 4; ++f) {
+    const auto& m = fits[f];
+    const auto& d = o.null[f];
+    double above = 0;
+    for (double v : draws[f]) above += v > d.score_at(threshold) ? 1 : 0;
+    std::printf("null %-4s: {%d, %.3f, %.3f, %.3f, %.3f}: %d draws, median %.3f q90 %.3f scale %.3f -> threshold score %.2f (default %.2f); "
+                "draws above the default threshold: %.0f\n",
+                names[f], m.samples, m.median, m.q90, m.q99, m.scale, m.samples, m.median, m.q90, m.scale, m.score_at(threshold), d.score_at(threshold), above);
+    std::vector<double> top = draws[f];
+    std::sort(top.rbegin(), top.rend());
+    std::printf("  largest draws:");
+    for (size_t i = 0; i < 5 && i < top.size(); ++i) std::printf(" %.2f", top[i]);
+    std::printf("\n");
+    ASSERT_GE(m.samples, 200);
+    // 0.01: the defaults are the printed fit rounded to 3 decimals.
+    EXPECT_GE(d.score_at(threshold), m.score_at(threshold) - 0.01) << names[f];
+  }
+}
