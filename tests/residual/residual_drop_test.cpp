@@ -181,11 +181,11 @@ TEST(ResidualDrop, OffsetAndRunoutTogether) {
   // Two effects at once, with a spin record: both named and kept together.
   fx::EffectSet e;
   fx::AuxBearingOffset a;
-  a.x_m = {0.0, -50e-6};
-  a.y_m = {0.0, 40e-6};
+  a.x_m = {50e-6, -40e-6};
+  a.y_m = {-60e-6, 30e-6};
   e.aux_offset = a;
   fx::SensorRunout r;
-  r.r_m[0][0] = {15e-6, 10e-6};
+  r.r_m[0][0] = {8e-6, 4e-6};
   e.runout = r;
   const auto o = run_case("offset_runout", e, true);
   std::set<std::string> named;
