@@ -103,6 +103,13 @@ int run(Args a) {
   if (a.bearing.empty()) a.bearing = fan ? "6203" : "6205";
   const auto geometry = mb::find_bearing(a.bearing);
   if (!geometry) return bad_input("--bearing: unknown bearing '" + a.bearing + "' (known: " + known_bearings() + ")");
+  // The record first: a file that cannot be read is named before anything is taken from it.
+  std::vector<double> x;
+  try {
+    x = amb::host::read_mat_vector(a.mat_file, a.var);
+  } catch (const std::exception& e) {
+    return bad_input("--mat '" + a.mat_file + "' --var '" + a.var + "': " + e.what());
+  }
   const auto fs = resolve("--fs", a.fs_hz, file_scalar(a.mat_file, "fs"), "fs");
   const auto rpm = resolve("--rpm", a.rpm, file_scalar(a.mat_file, "RPM"), "RPM");
   if (!fs) return bad_input("--fs is needed: the file has no scalar 'fs'");
@@ -113,12 +120,6 @@ int run(Args a) {
   if (!(*rpm >= k_rpm_min && *rpm <= k_rpm_max))
     return bad_input("the file's RPM " + num(*rpm) + " is not a shaft speed in [" + num(k_rpm_min) + ", " +
                      num(k_rpm_max) + "] rpm");
-  std::vector<double> x;
-  try {
-    x = amb::host::read_mat_vector(a.mat_file, a.var);
-  } catch (const std::exception& e) {
-    return bad_input("--mat '" + a.mat_file + "' --var '" + a.var + "': " + e.what());
-  }
   // Where the record cannot hold the defect lines, say so instead of giving a verdict: every
   // line examined must lie below the Nyquist frequency, and the record must span enough
   // revolutions of the cage (the slowest line) to resolve it.

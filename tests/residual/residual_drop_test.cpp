@@ -185,7 +185,9 @@ TEST(ResidualDrop, OffsetAndRunoutTogether) {
   a.y_m = {-60e-6, 30e-6};
   e.aux_offset = a;
   fx::SensorRunout r;
-  r.r_m[0][0] = {8e-6, 4e-6};
+  // 7 um: the drop part names a 1x runout from about 5 um (population, docs/residual.md); above
+  // about 8 um the SIL firmware does not settle at lift-off.
+  r.r_m[0][0] = {6.5e-6, 2.5e-6};
   e.runout = r;
   const auto o = run_case("offset_runout", e, true);
   std::set<std::string> named;
