@@ -179,6 +179,46 @@ double correlation_samples(const std::vector<double>& r, const std::vector<size_
   return tau;
 }
 
+// Contact samples among `cand` (each with a bearing index `k`) whose radial residual `r`
+// lies within trim_sigma robust scales (1.4826 MAD) of its bearing's median: flight samples
+// inside the contact band fall out.
+template <class S>
+std::vector<S> trimmed_contacts(const std::vector<S>& cand, const std::vector<double>& r, double trim_sigma) {
+  std::array<std::vector<double>, 2> rk;
+  for (size_t i = 0; i < cand.size(); ++i) rk[static_cast<size_t>(cand[i].k)].push_back(r[i]);
+  std::array<double, 2> med{}, scale{};
+  for (size_t k = 0; k < 2; ++k) {
+    med[k] = median(rk[k]);
+    std::vector<double> dev;
+    for (double v : rk[k]) dev.push_back(std::abs(v - med[k]));
+    scale[k] = 1.4826 * median(dev);
+  }
+  std::vector<S> next;
+  for (size_t i = 0; i < cand.size(); ++i) {
+    const auto k = static_cast<size_t>(cand[i].k);
+    if (std::abs(r[i] - med[k]) <= trim_sigma * scale[k]) next.push_back(cand[i]);
+  }
+  return next;
+}
+
+// Correlation time (samples) of the residuals `res` of the samples `sel`, per bearing in time
+// order, the longer one, at least `min_corr`.
+template <class S>
+double contact_correlation_samples(const std::vector<S>& sel, const std::vector<double>& res, double min_corr) {
+  double tau = min_corr;
+  for (int k = 0; k < 2; ++k) {
+    std::vector<double> r;
+    std::vector<size_t> idx;
+    for (size_t i = 0; i < sel.size(); ++i)
+      if (sel[i].k == k) {
+        r.push_back(res[i]);
+        idx.push_back(sel[i].i);
+      }
+    tau = std::max(tau, correlation_samples(r, idx));
+  }
+  return tau;
+}
+
 }  // namespace
 
 double ContactRunout::largest_z() const {
@@ -229,21 +269,7 @@ ContactRunout estimate_contact_runout(const Readings& sensor_m, const SpinAngle&
   std::vector<Sample> sel = cand;
   CircleFit c0 = fit_circles(sel, a, circles_only, start);
   for (int pass = 0; pass < 2 && c0.ok; ++pass) {
-    const auto r = radial_residuals(cand, a, circles_only, c0.beta);
-    std::array<std::vector<double>, 2> rk;
-    for (size_t i = 0; i < cand.size(); ++i) rk[static_cast<size_t>(cand[i].k)].push_back(r[i]);
-    std::array<double, 2> med{}, scale{};
-    for (size_t k = 0; k < 2; ++k) {
-      med[k] = median(rk[k]);
-      std::vector<double> dev;
-      for (double v : rk[k]) dev.push_back(std::abs(v - med[k]));
-      scale[k] = 1.4826 * median(dev);
-    }
-    std::vector<Sample> next;
-    for (size_t i = 0; i < cand.size(); ++i) {
-      const auto k = static_cast<size_t>(cand[i].k);
-      if (std::abs(r[i] - med[k]) <= o.trim_sigma * scale[k]) next.push_back(cand[i]);
-    }
+    std::vector<Sample> next = trimmed_contacts(cand, radial_residuals(cand, a, circles_only, c0.beta), o.trim_sigma);
     if (!enough(count(next))) break;
     sel = std::move(next);
     c0 = fit_circles(sel, a, circles_only, c0.beta);
@@ -265,18 +291,7 @@ ContactRunout estimate_contact_runout(const Readings& sensor_m, const SpinAngle&
     return out;
   }
   // Correlation time of the residual (per bearing, in time order; the longer one).
-  const auto res = radial_residuals(sel, a, with_runout, c1.beta);
-  double tau = min_corr;
-  for (int k = 0; k < 2; ++k) {
-    std::vector<double> r;
-    std::vector<size_t> idx;
-    for (size_t i = 0; i < sel.size(); ++i)
-      if (sel[i].k == k) {
-        r.push_back(res[i]);
-        idx.push_back(sel[i].i);
-      }
-    tau = std::max(tau, correlation_samples(r, idx));
-  }
+  const double tau = contact_correlation_samples(sel, radial_residuals(sel, a, with_runout, c1.beta), min_corr);
   const double per_point = 1.0 / tau;
   const int np = with_runout.params;
   const int npts = pts[0] + pts[1];
@@ -653,21 +668,7 @@ ContactGain estimate_contact_gain(const Readings& sensor_m, const model::PlantPa
   std::vector<GainSample> sel = cand;
   GainFit c0 = fit_gain(sel, m, none, start);
   for (int pass = 0; pass < 2 && c0.ok; ++pass) {
-    const auto r = residuals(cand, c0.beta);
-    std::array<std::vector<double>, 2> rk;
-    for (size_t i = 0; i < cand.size(); ++i) rk[static_cast<size_t>(cand[i].k)].push_back(r[i]);
-    std::array<double, 2> med{}, scale{};
-    for (size_t k = 0; k < 2; ++k) {
-      med[k] = median(rk[k]);
-      std::vector<double> dev;
-      for (double v : rk[k]) dev.push_back(std::abs(v - med[k]));
-      scale[k] = 1.4826 * median(dev);
-    }
-    std::vector<GainSample> next;
-    for (size_t i = 0; i < cand.size(); ++i) {
-      const auto k = static_cast<size_t>(cand[i].k);
-      if (std::abs(r[i] - med[k]) <= o.trim_sigma * scale[k]) next.push_back(cand[i]);
-    }
+    std::vector<GainSample> next = trimmed_contacts(cand, residuals(cand, c0.beta), o.trim_sigma);
     if (!enough(count(next))) break;
     sel = std::move(next);
     c0 = fit_gain(sel, m, none, c0.beta);
@@ -690,18 +691,7 @@ ContactGain estimate_contact_gain(const Readings& sensor_m, const model::PlantPa
     out.why_not = "the gain ratios are not resolved (the contact points do not spread round the circles)";
     return out;
   }
-  const auto res = residuals(sel, c1.beta);
-  double tau = min_corr;
-  for (int k = 0; k < 2; ++k) {
-    std::vector<double> r;
-    std::vector<size_t> idx;
-    for (size_t i = 0; i < sel.size(); ++i)
-      if (sel[i].k == k) {
-        r.push_back(res[i]);
-        idx.push_back(sel[i].i);
-      }
-    tau = std::max(tau, correlation_samples(r, idx));
-  }
+  const double tau = contact_correlation_samples(sel, residuals(sel, c1.beta), min_corr);
   const double per_point = 1.0 / tau;
   const int npts = pts[0] + pts[1];
   out.testable = true;
