@@ -72,6 +72,13 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json, bool quiet) {
     j["drop_residual"] = {{"ran", s.drop_residual_ran}, {"record", s.drop_residual_record},
                           {"verdict", s.drop_residual_verdict}, {"error_before", f4(s.drop_residual_before)},
                           {"error_after", f4(s.drop_residual_after)}, {"error", s.drop_residual_error}};
+    nlohmann::json added = nlohmann::json::array();
+    for (const auto& [name, params] : s.drop_residual_added) {
+      nlohmann::json p = nlohmann::json::object();
+      for (const auto& [k, v] : params) p[k] = v;
+      added.push_back({{"name", name}, {"parameters", p}});
+    }
+    j["drop_residual"]["effects_added"] = added;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("Drop scenario on %s (simulated rig, sim HAL backend)\n", s.board.c_str());
@@ -133,7 +140,15 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json, bool quiet) {
                   s.drop_residual_verdict.c_str(), s.drop_residual_before[0], s.drop_residual_before[1],
                   s.drop_residual_before[2], s.drop_residual_before[3], s.drop_residual_after[0], s.drop_residual_after[1],
                   s.drop_residual_after[2], s.drop_residual_after[3]);
-    else if (!s.drop_residual_error.empty())
+    if (s.drop_residual_ran)
+      for (const auto& [name, params] : s.drop_residual_added) {
+        std::printf("                       %s:", name.c_str());
+        for (const auto& [k, v] : params)
+          if (k.size() > 2 && k.compare(k.size() - 2, 2, "_m") == 0) std::printf(" %s %.1f um", k.c_str(), v * 1e6);
+          else std::printf(" %s %.4g", k.c_str(), v);
+        std::printf("\n");
+      }
+    if (!s.drop_residual_ran && !s.drop_residual_error.empty())
       std::printf("  residual, drop     : not run: %s\n", s.drop_residual_error.c_str());
     std::printf("  run                : %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.simulated_s, s.wall_s,
                 s.simulated_s / s.wall_s);

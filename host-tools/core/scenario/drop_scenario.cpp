@@ -281,6 +281,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       sum.drop_residual_verdict = out.verdict;
       sum.drop_residual_before = {out.before.rms, out.before.spectral, out.before.pearson, out.before.statics};
       sum.drop_residual_after = {out.after.rms, out.after.spectral, out.after.pearson, out.after.statics};
+      for (const auto& e : out.effects_added) sum.drop_residual_added.emplace_back(e.name, e.parameters);
       drop_residual_outcome = std::make_unique<residual::DropResidualOutcome>(out);
     } catch (const std::exception& e) {
       sum.drop_residual_error = e.what();

@@ -6,6 +6,7 @@
 #include <array>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "firmware/board/board.hpp"
@@ -113,6 +114,8 @@ struct DropScenarioSummary {
   std::string drop_residual_record;
   std::string drop_residual_verdict;
   std::array<double, 4> drop_residual_before{}, drop_residual_after{};
+  /// Each added element's parameters (name -> SI value), e.g. the found aux-bearing offsets.
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>> drop_residual_added;
   std::string drop_residual_error;
   ScenarioTrace trace;
 };
