@@ -108,7 +108,8 @@ Case make_case(int id, const std::string& kind, std::mt19937_64& g) {
       // 1x at one plane, 2-7 um (the drop part needs the rotor angle: tachometer on). Above
       // about 8 um the SIL firmware does not declare lift-off settled (docs/residual.md).
       fx::SensorRunout ro;
-      const double r = uniform(g, 2e-6, 7e-6);
+      double r = uniform(g, 2e-6, 7e-6);
+      if (const char* f = std::getenv("AMB_POPULATION_RUNOUT_M")) r = std::atof(f);  // a fixed size (diagnosis)
       const auto p = static_cast<size_t>(uniform(g, 0, 2));
       ro.r_m[p][0] = std::polar(r, phase);
       c.effects.runout = ro;

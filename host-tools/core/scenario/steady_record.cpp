@@ -52,7 +52,10 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
   auto at = [](fw::Phase p) { return [p](const fw::Status& s) { return s.phase == p || s.state == fw::State::fault; }; };
   if (!rig.run_until(at(fw::Phase::levitated), 5.0) || sup.state() == fw::State::fault)
     throw std::runtime_error("generator: no lift-off for " + stem + " (state " + fw::to_string(sup.state()) + ", phase " +
-                             fw::to_string(sup.status().phase) + ", fault " + fw::to_string(sup.status().fault) + ")");
+                             fw::to_string(sup.status().phase) + ", fault " + fw::to_string(sup.status().fault) +
+                             ", orbit radius " + std::to_string(sup.status().orbit_radius_m[0] * 1e6) + " / " +
+                             std::to_string(sup.status().orbit_radius_m[1] * 1e6) + " um against the settle tolerance " +
+                             std::to_string(b.lifecycle.settle_tolerance_m * 1e6) + " um)");
   sup.post(fw::Command::run);
   if (!rig.run_until(at(fw::Phase::at_speed), 10.0) || sup.state() == fw::State::fault)
     throw std::runtime_error("generator: did not reach speed for " + stem);
