@@ -55,7 +55,8 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
                              fw::to_string(sup.status().phase) + ", fault " + fw::to_string(sup.status().fault) +
                              ", orbit radius " + std::to_string(sup.status().orbit_radius_m[0] * 1e6) + " / " +
                              std::to_string(sup.status().orbit_radius_m[1] * 1e6) + " um against the settle tolerance " +
-                             std::to_string(b.lifecycle.settle_tolerance_m * 1e6) + " um)");
+                             std::to_string(b.lifecycle.settle_tolerance_m * 1e6) + " um; rotor speed " +
+                             std::to_string(rig.plant().outputs().spin_speed_hz) + " Hz)");
   sup.post(fw::Command::run);
   if (!rig.run_until(at(fw::Phase::at_speed), 10.0) || sup.state() == fw::State::fault)
     throw std::runtime_error("generator: did not reach speed for " + stem);
