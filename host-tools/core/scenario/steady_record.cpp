@@ -1,5 +1,6 @@
 #include "host-tools/core/scenario/steady_record.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -39,6 +40,7 @@ std::string generate_steady_record(const std::string& dir, const std::string& st
   auto plant = std::make_unique<model::effects::EffectPlant>(sil::make_board_plant(truth, po), truth.plant, effects);
   b.lifecycle.spin_accel_hz_per_s = o.spin_accel_hz_per_s;
   if (o.speed_hz > 0.0) b.lifecycle.operating_speed_hz = o.speed_hz;
+  if (o.settle_tolerance_m > 0.0) b.lifecycle.settle_tolerance_m = std::min(o.settle_tolerance_m, b.lifecycle.max_orbit_fault_m);
   sil::SilOptions so;
   so.noise_seed = o.seed;
   so.tachometer = o.tachometer;

@@ -38,6 +38,11 @@ struct SteadyRecordOptions {
   bool rigid_rotor = false;             ///< the rig's rotor without bending modes (rigid-body modes only)
   double ring_inertia_scale = 1.0;      ///< aux-bearing inner-ring inertia x this, 1
   double amplifier_bandwidth_scale = 1.0; ///< amplifier current-loop bandwidth x this (current decay after the cut), 1
+  /// > 0: the firmware's lift-off settle tolerance instead of the board's (a commissioning
+  /// setting the host never reads). With the Bath rig's seed-000 gains (integral time ~500 s,
+  /// net proportional stiffness kp - ks = 1.2 MN/m) a static sensor offset r at standstill is
+  /// read as about 3.3 r, so a runout above ~10 um never settles within the board's 35 um, m
+  double settle_tolerance_m = 0.0;
 };
 
 /// Steady run or drop event (see drop_s). Writes DIR/STEM.json + DIR/STEM.csv; returns the sidecar path. Throws on a failed run.
