@@ -5,6 +5,7 @@
 // within a timeout with exit code 1, name the option or the file on stderr, print nothing
 // on stdout (no verdict) and write nothing (the working folder stays empty).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
@@ -43,10 +44,14 @@ struct Fixtures {
   fs::path empty_file, missing, folder, empty_dir;
 };
 
+// ctest runs each case as its own process, two at a time: every process works below its own
+// folder (a shared fixture folder was removed by one case while another read it).
+fs::path sweep_root() { return fs::path(amb::test::artefact_dir()) / "cli_sweep" / std::to_string(::getpid()); }
+
 const Fixtures& fixtures() {
   static const Fixtures f = [] {
     Fixtures x;
-    x.dir = fs::path(amb::test::artefact_dir()) / "cli_sweep" / "fixtures";
+    x.dir = sweep_root() / "fixtures";
     fs::remove_all(x.dir);
     fs::create_directories(x.dir);
     const fs::path src = amb::test::source_dir(), shared = amb::test::shared_dir();
@@ -120,7 +125,7 @@ const Fixtures& fixtures() {
 }
 
 nlohmann::json command_table() {
-  const fs::path dir = fs::path(amb::test::artefact_dir()) / "cli_sweep" / "table";
+  const fs::path dir = sweep_root() / "table";
   fs::create_directories(dir);
   const CliRun r = amb::test::run_cli(AMB_HOST_EXE, {"--command-table"}, dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -212,7 +217,7 @@ struct Tally {
 void expect_refused(const std::vector<std::string>& args, const std::vector<std::string>& named, const std::string& what,
                     Tally& tally) {
   static int n = 0;
-  const fs::path cwd = fs::path(amb::test::artefact_dir()) / "cli_sweep" / "work" / std::to_string(n++);
+  const fs::path cwd = sweep_root() / "work" / std::to_string(n++);
   fs::remove_all(cwd);
   fs::create_directories(cwd);
   const CliRun r = amb::test::run_cli(AMB_HOST_EXE, args, cwd, 20.0);
@@ -294,7 +299,7 @@ TEST(CliSweep, EveryInputFileRefusesMissingEmptyFolderTruncatedAndWrongKind) {
 }
 
 TEST(CliSweep, CliElevenErrorsAreExitOneWithTheOptionNamed) {
-  const fs::path cwd = fs::path(amb::test::artefact_dir()) / "cli_sweep" / "cli11";
+  const fs::path cwd = sweep_root() / "cli11";
   fs::remove_all(cwd);
   fs::create_directories(cwd);
   struct Case {
@@ -318,7 +323,7 @@ TEST(CliSweep, CliElevenErrorsAreExitOneWithTheOptionNamed) {
 }
 
 TEST(CliSweep, MisleadingCasesOfTheIssueSayWhatIsWrong) {
-  const fs::path cwd = fs::path(amb::test::artefact_dir()) / "cli_sweep" / "messages";
+  const fs::path cwd = sweep_root() / "messages";
   fs::remove_all(cwd);
   fs::create_directories(cwd);
   const Fixtures& fx = fixtures();

@@ -14,6 +14,8 @@
 #include "tests/support/read_text.hpp"
 #include "tests/support/test_paths.hpp"
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -22,7 +24,8 @@ struct CliRun {
   std::string out, err;
 };
 CliRun amb_host(const std::string& args) {
-  const fs::path dir = fs::temp_directory_path() / "amb_bearing_cli";
+  // Per process: ctest runs the cases as separate processes, two at a time.
+  const fs::path dir = fs::temp_directory_path() / ("amb_bearing_cli_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path o = dir / "stdout", e = dir / "stderr";
   const int rc = std::system((std::string(AMB_HOST_EXE) + " " + args + " > '" + o.string() + "' 2> '" + e.string() + "'").c_str());
