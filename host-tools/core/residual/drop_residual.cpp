@@ -95,8 +95,10 @@ double pearson(const std::vector<double>& a, const std::vector<double>& b) {
   return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
 }
 
+// `sag`: the board rotor's sag bias of the straight-line view (gravity_sag_view_shift_m),
+// computed once per event (it does not depend on the aux-bearing offsets the refits move).
 DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, const model::PlantParams& rig,
-                    const DropResidualOptions& o) {
+                    const DropResidualOptions& o, const SagViewShift& sag) {
   DropErrors e;
   e.cost = f.cost.total;
   e.friction_coefficient = f.friction_coefficient;
@@ -156,7 +158,6 @@ DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, 
   // distributed as its mass is, so the sag scales with the mean downward contact force over
   // the contact samples (from the fitted simulation) against the weight.
   if (f.rotor_modes_per_plane == 2 && rig.rotor.modes_kept != 2) {
-    const auto sag = gravity_sag_view_shift_m(rig);
     double fy = 0.0, weight = 0.0;
     std::array<double, 2> fk{};
     std::array<int, 2> nk{};
@@ -494,13 +495,13 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     }
   }
   out.contact_law = law_name[static_cast<int>(bu.plant.aux[0].contact_law)];
-  out.drop_before = evaluate(m, base, bu.plant, o);
+  const SagViewShift sag = gravity_sag_view_shift_m(b.plant);
+  out.drop_before = evaluate(m, base, bu.plant, o, sag);
   out.drop_after = out.drop_before;
   out.drop_notes.push_back(fmt("drop model fitted: friction coefficient %.3f, Phase C cost %.4g", base.friction_coefficient,
                                base.cost.total) + ", contact law " + out.contact_law +
                            fmt(", rotor %.0f modes per plane (2: rigid)", static_cast<double>(base.rotor_modes_per_plane)));
   if (out.drop_before.sag_scale > 0.0) {
-    const auto sag = gravity_sag_view_shift_m(bu.plant);
     out.drop_notes.push_back(fmt("rigid drop model: the board's flexible rotor's sag bias added to its contact circles, "
                                  "%.1f / %.1f um (static) x %.2f (mean contact force / weight)",
                                  sag.shift_m[0] * 1e6, sag.shift_m[1] * 1e6, out.drop_before.sag_scale));
@@ -633,7 +634,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   if (have_apply && angle_through) {
     fit::DropMeasurement mc = m;
     mc.sensor_m = remove_runout(m.sensor_m, angle, apply, bu.plant);
-    const DropErrors e1 = evaluate(mc, base, bu.plant, o);  // runout is a reading artefact: the drop model's motion is unchanged
+    const DropErrors e1 = evaluate(mc, base, bu.plant, o, sag);  // runout is a reading artefact: the drop model's motion is unchanged
     out.drop_notes.push_back("runout (" + out.runout_source + ") subtracted from the drop readings: " + errs(out.drop_before.error) +
                              " -> " + errs(e1.error));
     bool keep = !runout_sig || lev_runout;  // a runout the levitated part named is applied as found there
@@ -733,7 +734,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
         const ContactGain g1 = estimate_contact_gain(after_trigger(m), bu.plant, fs, geo, fr);
         fit::DropMeasurement mc = m;
         mc.sensor_m = remove_gain_ratio(m.sensor_m, g1.log_ratio);
-        const DropErrors e1 = evaluate(mc, base, bu.plant, o);  // a reading artefact: the drop model's motion is unchanged
+        const DropErrors e1 = evaluate(mc, base, bu.plant, o, sag);  // a reading artefact: the drop model's motion is unchanged
         const ContactGain post = estimate_contact_gain(after_trigger(mc), bu.plant, fs, geo, fr);
         engine::CandidateEvidence ce;
         ce.element = "sensor_gain";
@@ -862,7 +863,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     };
     board::BoardConfig b2 = with_offset(delta);
     fit::DropFitResult refit = fit::fit_drop(m, b2, fo);
-    DropErrors after = evaluate(m, refit, b2.plant, o);
+    DropErrors after = evaluate(m, refit, b2.plant, o, sag);
     for (int it = 0; it < o.max_offset_iterations; ++it) {
       double worst = 0.0;
       const double c2 = centre_chi2(after, &worst);
@@ -872,7 +873,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
         for (size_t c = 0; c < 2; ++c) next[k][c] += after.measured_circle[k].centre_m[c] - after.simulated_circle[k].centre_m[c];
       board::BoardConfig bn = with_offset(next);
       fit::DropFitResult rn = fit::fit_drop(m, bn, fo);
-      DropErrors an = evaluate(m, rn, bn.plant, o);
+      DropErrors an = evaluate(m, rn, bn.plant, o, sag);
       const double c2n = centre_chi2(an, nullptr);
       out.drop_notes.push_back(fmt("offset iteration %.0f: centre chi2 %.1f -> %.1f", it + 1.0, c2, c2n) +
                                fmt(", rotor %.0f modes per plane", static_cast<double>(rn.rotor_modes_per_plane)));
