@@ -1094,7 +1094,6 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
                                                                    [](const UnexplainedItem& u) { return u.kind == "order"; }));
       for (auto& cs : out.drop_ranking)
         if (cs.name == "sensor_runout" && cs.decided) {
-          cs.information_features.push_back({"levitated part: rms error with the drop's runout held", "1", e0.rms, ev.error.rms});
           cs.information_features.push_back({"levitated part: unexplained speed-order lines", "lines", static_cast<double>(lines_before),
                                             static_cast<double>(lines_after)});
         }
