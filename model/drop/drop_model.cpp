@@ -39,7 +39,13 @@ void fail(const std::string& what) { throw std::invalid_argument("drop model: " 
 
 DropModel::DropModel(const PlantParams& plant, const PidParams& pid, double controller_rate_hz,
                      const DropOptions& options)
-    : p_(plant), pid_(pid), o_(options) {
+    : DropModel(RigModel::make(plant), plant, pid, controller_rate_hz, options) {}
+
+DropModel::DropModel(std::shared_ptr<const RigModel> rig, const PlantParams& plant, const PidParams& pid,
+                     double controller_rate_hz, const DropOptions& options)
+    : p_(plant), pid_(pid), o_(options), rig_(std::move(rig)) {
+  if (!rig_) fail("no rig model");
+  rig_->check_same_rig(p_, "drop model");
   if (const std::string e = o_.check(); !e.empty()) fail(e);
   if (o_.internal_controller && !(controller_rate_hz > 0.0)) fail("controller_rate_hz must be > 0");
   ctrl_period_s_ = controller_rate_hz > 0.0 ? 1.0 / controller_rate_hz : 0.0;
@@ -56,23 +62,23 @@ DropModel::DropModel(const PlantParams& plant, const PidParams& pid, double cont
     ring_radius_m_[b] = a.collar_radius_m + a.clearance_m;
   }
 
-  fe_ = rotor::build_rotor_model(p_.rotor);
   const int modes = o_.modes_per_plane > 0 ? o_.modes_per_plane : p_.rotor.modes_kept;
-  red_ = rotor::reduce_rotor(fe_, p_.rotor, modes);
-  m_ = red_.modes;
+  red_ = modes == p_.rotor.modes_kept ? rig_->board_reduction() : rig_->reduction(modes);
+  const rotor::RotorModel& fe = rig_->rotor();
+  m_ = red_.modes();
   if (m_ > k_max_modes) fail("modes per plane exceed the capacity of " + std::to_string(k_max_modes));
-  spin_inertia_ = fe_.polar_inertia_kg_m2;
+  spin_inertia_ = fe.polar_inertia_kg_m2;
   if (!(spin_inertia_ > 0.0)) fail("rotor has no polar inertia");
 
-  w2_ = to_vec(red_.omega2.transpose());
-  damp_ = to_vec(red_.damping.transpose());
-  polar_ = red_.polar;
+  w2_ = to_vec(red_.reduced.omega2.transpose());
+  damp_ = to_vec(red_.reduced.damping.transpose());
+  polar_ = red_.reduced.polar;
   // Gravity along -y on the consistent mass (as rotor_amb_plant.cpp).
-  gravity_y_ = to_vec(rotor::modal_gravity_load(fe_, red_, p_.gravity_m_s2).transpose());
+  gravity_y_ = to_vec(red_.gravity_y_n.transpose());
 
   for (size_t b = 0; b < 2; ++b) {
-    b_amb_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p_.amb[b].axial_m));
-    b_aux_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p_.aux[b].axial_m));
+    b_amb_[b] = to_vec(red_.amb[b]);
+    b_aux_[b] = to_vec(red_.aux[b]);
     law_[b] = magnet::make_axis_law(p_.amb[b]);
     for (size_t a = 0; a < 2; ++a) act_dir_[2 * b + a] = magnet::axis_direction(p_.amb[b].actuator_angle_deg[a]);
     const auto& s0 = magnet::axis_direction(p_.sensor[2 * b].angle_deg);
@@ -83,26 +89,25 @@ DropModel::DropModel(const PlantParams& plant, const PidParams& pid, double cont
     actuator_inv_[b] = inverse2(a0[0], a1[0], a0[1], a1[1]);
   }
   for (size_t k = 0; k < 4; ++k) {
-    b_sensor_[k] = to_vec(rotor::modal_interpolation(fe_, red_, p_.sensor[k].axial_m));
+    b_sensor_[k] = to_vec(red_.sensor[k]);
     sensor_dir_[k] = magnet::axis_direction(p_.sensor[k].angle_deg);
   }
-  b_coupling_ = to_vec(rotor::modal_interpolation(fe_, red_, fe_.length_m));
+  b_coupling_ = to_vec(red_.coupling);
 
-  // Unbalance expansion in cos/sin of the spin angle (see rotor_amb_plant.cpp).
+  // Unbalance expansion in cos/sin of the spin angle (see rotor_amb_plant.cpp): this model's
+  // unbalance, the rig model's disk rows.
   unb_s_ = ModeVec::Zero(m_);
   unb_c_ = ModeVec::Zero(m_);
-  b_mid_disk_ = to_vec(rotor::modal_interpolation(fe_, red_, 0.5 * fe_.length_m));
-  double best = 1e300;
-  for (const auto& d : p_.rotor.disks) {
-    const ModeVec b = to_vec(rotor::modal_interpolation(fe_, red_, d.axial_m));
-    const double ph = d.unbalance_phase_deg * M_PI / 180.0;
-    unb_s_ += d.unbalance_kg_m * std::sin(ph) * b;
-    unb_c_ += d.unbalance_kg_m * std::cos(ph) * b;
-    if (std::abs(d.axial_m - 0.5 * fe_.length_m) < best) {
-      best = std::abs(d.axial_m - 0.5 * fe_.length_m);
-      b_mid_disk_ = b;
-      mid_disk_phase_rad_ = ph;
-    }
+  b_mid_disk_ = to_vec(red_.mid_span);
+  for (size_t d = 0; d < p_.rotor.disks.size(); ++d) {
+    const ModeVec b = to_vec(red_.disk[d]);
+    const double ph = p_.rotor.disks[d].unbalance_phase_deg * M_PI / 180.0;
+    unb_s_ += p_.rotor.disks[d].unbalance_kg_m * std::sin(ph) * b;
+    unb_c_ += p_.rotor.disks[d].unbalance_kg_m * std::cos(ph) * b;
+  }
+  if (red_.mid_disk >= 0) {
+    b_mid_disk_ = to_vec(red_.disk[static_cast<size_t>(red_.mid_disk)]);
+    mid_disk_phase_rad_ = p_.rotor.disks[static_cast<size_t>(red_.mid_disk)].unbalance_phase_deg * M_PI / 180.0;
   }
   fext_x_ = ModeVec::Zero(m_);
   fext_y_ = ModeVec::Zero(m_);
@@ -690,7 +695,7 @@ std::array<double, 2> DropModel::aux_position_m(int bearing) const {
 }
 
 std::array<double, 2> DropModel::displacement_at(double axial_m) const {
-  const Eigen::RowVectorXd b = rotor::modal_interpolation(fe_, red_, axial_m);
+  const Eigen::RowVectorXd b = rig_->modal_row(red_, axial_m);
   double x = 0.0, y = 0.0;
   for (int i = 0; i < m_; ++i) {
     x += b(i) * s_.q(i);

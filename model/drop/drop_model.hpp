@@ -53,6 +53,7 @@
 #include "model/drop/drop_options.hpp"
 #include "model/plant/gaussian_rng.hpp"
 #include "model/plant/plant.hpp"
+#include "model/rig/rig_model.hpp"
 #include "model/rotor/modal_reduction.hpp"
 #include "model/rotor/rotor_model.hpp"
 
@@ -138,6 +139,12 @@ class DropModel final : public Plant {
   /// `controller_rate_hz` (Hz) are the board's controller, used when
   /// options.internal_controller is set. Throws std::invalid_argument for unusable input.
   DropModel(const PlantParams& plant, const PidParams& pid, double controller_rate_hz, const DropOptions& options);
+  /// The same on a rig model built once elsewhere (shared, read only; see model/rig). `plant`
+  /// carries what the fit varies (friction, offsets, contact law, unbalance); its rotor and
+  /// planes must be the rig model's. options.modes_per_plane cuts the rig model's modal basis
+  /// (no new FE build or eigen solve).
+  DropModel(std::shared_ptr<const RigModel> rig, const PlantParams& plant, const PidParams& pid,
+            double controller_rate_hz, const DropOptions& options);
 
   // model::Plant
   void reset(bool levitated, double spin_hz) override;
@@ -187,7 +194,8 @@ class DropModel final : public Plant {
   /// for the rigid-body modes; mass-normalised: q and u of a mode are in sqrt(kg) m, sqrt(kg) m/s).
   const ModeVec& modal_omega2() const { return w2_; }
   double step_s() const { return o_.step_s; }
-  double rotor_mass_kg() const { return fe_.mass_kg; }
+  double rotor_mass_kg() const { return rig_->mass_kg(); }
+  const std::shared_ptr<const RigModel>& rig_model() const { return rig_; }
   double spin_inertia_kg_m2() const { return spin_inertia_; }
   /// Rotor centre (x, y) at an axial position now, m (truth; allocates: not for the loop).
   std::array<double, 2> displacement_at(double axial_m) const;
@@ -219,8 +227,8 @@ class DropModel final : public Plant {
   double ctrl_period_s_ = 0.0;
   DropOptions o_;
   ContactSolverOptions solver_{};
-  rotor::RotorModel fe_;
-  rotor::ReducedRotor red_;
+  std::shared_ptr<const RigModel> rig_;  // shared, read only
+  RigReduction red_;                     // the rig model's rows at this model's mode count
   int m_ = 0;
   double spin_inertia_ = 0.0;
 

@@ -9,12 +9,28 @@
 
 namespace amb::model::drop {
 
+namespace {
+int checked_modes(int bending_modes) {
+  if (bending_modes < 1) throw std::invalid_argument("flexible orbit: at least one bending mode");
+  return 2 + bending_modes;
+}
+}  // namespace
+
 FlexibleOrbit::FlexibleOrbit(const rotor::RotorModel& rotor, const RotorParams& params, std::array<double, 2> sensor_axial_m,
                              std::array<double, 2> aux_axial_m, int bending_modes, double gravity_m_s2) {
-  if (bending_modes < 1) throw std::invalid_argument("flexible orbit: at least one bending mode");
+  init(rotor, rotor::reduce_rotor(rotor, params, checked_modes(bending_modes)), sensor_axial_m, aux_axial_m, gravity_m_s2);
+}
+
+FlexibleOrbit::FlexibleOrbit(const RigModel& rig, std::array<double, 2> sensor_axial_m, std::array<double, 2> aux_axial_m,
+                             int bending_modes) {
+  init(rig.rotor(), rotor::truncate_basis(rig.modal_basis(), rig.rotor(), checked_modes(bending_modes)), sensor_axial_m,
+       aux_axial_m, rig.params().gravity_m_s2);
+}
+
+void FlexibleOrbit::init(const rotor::RotorModel& rotor, const rotor::ReducedRotor& red, std::array<double, 2> sensor_axial_m,
+                         std::array<double, 2> aux_axial_m, double gravity_m_s2) {
   if (std::abs(sensor_axial_m[1] - sensor_axial_m[0]) < 1e-9 || std::abs(aux_axial_m[1] - aux_axial_m[0]) < 1e-9)
     throw std::invalid_argument("flexible orbit: the two sensor planes (and the two aux planes) must differ");
-  const rotor::ReducedRotor red = rotor::reduce_rotor(rotor, params, 2 + bending_modes);
   if (red.modes < 3 || red.omega2(0) != 0.0 || red.omega2(1) != 0.0 || !(red.omega2(2) > 0.0))
     throw std::invalid_argument("flexible orbit: the rotor model has no bending mode above its two rigid-body modes");
   nf_ = red.modes - 2;

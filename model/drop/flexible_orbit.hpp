@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "model/plant/plant_params.hpp"
+#include "model/rig/rig_model.hpp"
 #include "model/rotor/rotor_model.hpp"
 
 namespace amb::model::drop {
@@ -39,6 +40,9 @@ class FlexibleOrbit {
   /// Throws std::invalid_argument when the planes coincide or the rotor has no bending mode.
   FlexibleOrbit(const rotor::RotorModel& rotor, const RotorParams& params, std::array<double, 2> sensor_axial_m,
                 std::array<double, 2> aux_axial_m, int bending_modes, double gravity_m_s2);
+  /// The same from a rig model's modal basis (no new eigen solve); gravity is the rig's.
+  FlexibleOrbit(const RigModel& rig, std::array<double, 2> sensor_axial_m, std::array<double, 2> aux_axial_m,
+                int bending_modes);
 
   /// True when every mode of the inverse system is stable (eigenvalues of L^-1 W_f real and
   /// positive): the correction can be integrated over a record.
@@ -57,6 +61,8 @@ class FlexibleOrbit {
                                                 bool with_gravity = true) const;
 
  private:
+  void init(const rotor::RotorModel& rotor, const rotor::ReducedRotor& red, std::array<double, 2> sensor_axial_m,
+            std::array<double, 2> aux_axial_m, double gravity_m_s2);
   int nf_ = 0;
   Eigen::MatrixXd s_f_;           // 2 x nf: bending shapes at the sensor planes
   Eigen::MatrixXd l_inv_, e_;     // nf x nf, nf x 2

@@ -35,11 +35,15 @@ cd first_order(double bandwidth_hz, double w) {
 
 EffectLoopModel::EffectLoopModel(const PlantParams& rig, const PidParams& pid, double rate_hz, double spin_hz,
                                  const EffectSet& effects)
-    : rig_(rig), pid_(pid), rate_hz_(rate_hz), spin_rad_s_(k_two_pi * spin_hz), fx_(effects) {
+    : EffectLoopModel(RigModel::make(rig), rig, pid, rate_hz, spin_hz, effects) {}
+
+EffectLoopModel::EffectLoopModel(std::shared_ptr<const RigModel> rig_model, const PlantParams& rig, const PidParams& pid,
+                                 double rate_hz, double spin_hz, const EffectSet& effects)
+    : rig_(rig), pid_(pid), rate_hz_(rate_hz), spin_rad_s_(k_two_pi * spin_hz), fx_(effects), model_(std::move(rig_model)) {
   if (!(rate_hz > 0.0)) throw std::invalid_argument("EffectLoopModel: rate_hz must be > 0");
-  fe_ = rotor::build_rotor_model(rig.rotor);
-  red_ = rotor::reduce_rotor(fe_, rig.rotor, rig.rotor.modes_kept);
-  m_ = red_.modes;
+  if (!model_) throw std::invalid_argument("EffectLoopModel: no rig model");
+  model_->check_same_rig(rig, "EffectLoopModel");
+  m_ = red().modes;
   const bool ped = fx_.pedestal.has_value();
   n_ = 2 * m_ + (ped ? 2 : 0);
   ped_ = ped ? 2 * m_ : -1;
@@ -54,21 +58,21 @@ EffectLoopModel::EffectLoopModel(const PlantParams& rig, const PidParams& pid, d
   // Rotor: mass-normalised modes; rotor_mode scales the flexible (non-zero) frequencies.
   const double scale2 = fx_.rotor_mode ? fx_.rotor_mode->frequency_scale * fx_.rotor_mode->frequency_scale : 1.0;
   for (int i = 0; i < m_; ++i) {
-    const double w2 = red_.omega2(i) * scale2;
+    const double w2 = red().omega2(i) * scale2;
     k_(i, i) = k_(m_ + i, m_ + i) = w2;
-    c_(i, i) = c_(m_ + i, m_ + i) = red_.damping(i);
+    c_(i, i) = c_(m_ + i, m_ + i) = red().damping(i);
   }
-  g_.block(0, m_, m_, m_) = spin_rad_s_ * red_.polar;
-  g_.block(m_, 0, m_, m_) = -spin_rad_s_ * red_.polar;
+  g_.block(0, m_, m_, m_) = spin_rad_s_ * red().polar;
+  g_.block(m_, 0, m_, m_) = -spin_rad_s_ * red().polar;
 
   // Gravity (-y) on the rotor: Phi^T M_planar (unit translation).
-  Eigen::VectorXd unit_w = Eigen::VectorXd::Zero(fe_.planar_mass.rows());
+  Eigen::VectorXd unit_w = Eigen::VectorXd::Zero(fe().planar_mass.rows());
   for (Eigen::Index i = 0; i < unit_w.size(); i += 2) unit_w(i) = 1.0;
-  gravity_.segment(m_, m_) = -rig.gravity_m_s2 * red_.shapes.transpose() * (fe_.planar_mass * unit_w);
+  gravity_.segment(m_, m_) = -rig.gravity_m_s2 * red().shapes.transpose() * (fe().planar_mass * unit_w);
 
   if (fx_.sensor_mass) {
     for (double z : fx_.sensor_mass->axial_m) {
-      const Eigen::RowVectorXd b = rotor::modal_interpolation(fe_, red_, z);
+      const Eigen::RowVectorXd b = rotor::modal_interpolation(fe(), red(), z);
       const Eigen::MatrixXd bb = fx_.sensor_mass->mass_kg * b.transpose() * b;
       mass_.block(0, 0, m_, m_) += bb;
       mass_.block(m_, m_, m_, m_) += bb;
@@ -85,7 +89,7 @@ EffectLoopModel::EffectLoopModel(const PlantParams& rig, const PidParams& pid, d
   }
 
   for (int b = 0; b < 2; ++b) {
-    const Eigen::RowVectorXd ba = rotor::modal_interpolation(fe_, red_, rig.amb[static_cast<size_t>(b)].axial_m);
+    const Eigen::RowVectorXd ba = rotor::modal_interpolation(fe(), red(), rig.amb[static_cast<size_t>(b)].axial_m);
     for (int a = 0; a < 2; ++a) {
       const int j = 2 * b + a;
       const auto u = magnet::axis_direction(rig.amb[static_cast<size_t>(b)].actuator_angle_deg[static_cast<size_t>(a)]);
@@ -101,7 +105,7 @@ EffectLoopModel::EffectLoopModel(const PlantParams& rig, const PidParams& pid, d
   }
   for (int k = 0; k < 4; ++k) {
     const auto& s = rig.sensor[static_cast<size_t>(k)];
-    const Eigen::RowVectorXd bs = rotor::modal_interpolation(fe_, red_, s.axial_m);
+    const Eigen::RowVectorXd bs = rotor::modal_interpolation(fe(), red(), s.axial_m);
     const auto d = magnet::axis_direction(s.angle_deg);
     Eigen::VectorXd v = Eigen::VectorXd::Zero(n_);
     v.segment(0, m_) = d[0] * bs.transpose();
@@ -213,7 +217,7 @@ LoopResponse EffectLoopModel::at(double f_hz, const std::vector<AccelPoint>& poi
   r.injection.bottomRows(4) = minv;
   r.accel_injection.resize(static_cast<Eigen::Index>(points.size()), 4);
   for (size_t p = 0; p < points.size(); ++p) {
-    const Eigen::RowVectorXd b = rotor::modal_interpolation(fe_, red_, points[p].axial_m);
+    const Eigen::RowVectorXd b = rotor::modal_interpolation(fe(), red(), points[p].axial_m);
     const auto d = magnet::axis_direction(points[p].angle_deg);
     Eigen::RowVectorXcd c = Eigen::RowVectorXcd::Zero(n_);
     c.segment(0, m_) = (d[0] * b).cast<cd>();
@@ -226,7 +230,7 @@ LoopResponse EffectLoopModel::at(double f_hz, const std::vector<AccelPoint>& poi
 Eigen::VectorXcd EffectLoopModel::forward_force(double f_hz, double axial_m) const {
   const double w = k_two_pi * f_hz;
   const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(dynamic_stiffness(w));
-  const Eigen::RowVectorXd b = rotor::modal_interpolation(fe_, red_, axial_m);
+  const Eigen::RowVectorXd b = rotor::modal_interpolation(fe(), red(), axial_m);
   Eigen::VectorXcd f = Eigen::VectorXcd::Zero(n_);
   f.segment(0, m_) = b.transpose().cast<cd>();
   f.segment(m_, m_) = cd(0.0, -1.0) * b.transpose().cast<cd>();
@@ -256,12 +260,12 @@ std::array<double, 4> EffectLoopModel::rest_sensors_m() const {
   const double scale2 = fx_.rotor_mode ? fx_.rotor_mode->frequency_scale * fx_.rotor_mode->frequency_scale : 1.0;
   for (int dir = 0; dir < 2; ++dir) {
     Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(m_ + 2, m_ + 2);
-    for (int i = 0; i < m_; ++i) kkt(i, i) = red_.omega2(i) * scale2;
+    for (int i = 0; i < m_; ++i) kkt(i, i) = red().omega2(i) * scale2;
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m_ + 2);
     if (dir == 1) rhs.head(m_) = gravity_.segment(m_, m_);
     for (int p = 0; p < 2; ++p) {
       const auto& aux = rig_.aux[static_cast<size_t>(p)];
-      const Eigen::RowVectorXd b = rotor::modal_interpolation(fe_, red_, aux.axial_m);
+      const Eigen::RowVectorXd b = rotor::modal_interpolation(fe(), red(), aux.axial_m);
       kkt.block(m_ + p, 0, 1, m_) = b;
       kkt.block(0, m_ + p, m_, 1) = b.transpose();
       double off = dir == 0 ? aux.centre_offset_x_m : aux.centre_offset_y_m;
@@ -273,7 +277,7 @@ std::array<double, 4> EffectLoopModel::rest_sensors_m() const {
   std::array<double, 4> out{};
   for (int k = 0; k < 4; ++k) {
     const auto& s = rig_.sensor[static_cast<size_t>(k)];
-    const Eigen::RowVectorXd b = rotor::modal_interpolation(fe_, red_, s.axial_m);
+    const Eigen::RowVectorXd b = rotor::modal_interpolation(fe(), red(), s.axial_m);
     const auto d = magnet::axis_direction(s.angle_deg);
     out[static_cast<size_t>(k)] = d[0] * b.dot(q[0]) + d[1] * b.dot(q[1]);
   }

@@ -27,6 +27,7 @@
 #include "model/control/pid_params.hpp"
 #include "model/effects/effect_set.hpp"
 #include "model/plant/plant_params.hpp"
+#include "model/rig/rig_model.hpp"
 #include "model/rotor/modal_reduction.hpp"
 #include "model/rotor/rotor_model.hpp"
 
@@ -60,6 +61,10 @@ class EffectLoopModel {
   /// Throws std::invalid_argument for an unusable rig (see rotor_model.hpp).
   EffectLoopModel(const PlantParams& rig, const PidParams& pid, double rate_hz, double spin_hz,
                   const EffectSet& effects);
+  /// The same on a rig model built once by the caller (shared, read only; model/rig). `rig`
+  /// carries what the residual engine varies; its rotor and planes must be the rig model's.
+  EffectLoopModel(std::shared_ptr<const RigModel> rig_model, const PlantParams& rig, const PidParams& pid, double rate_hz,
+                  double spin_hz, const EffectSet& effects);
 
   /// Closed-loop responses at `f_hz` (> 0). `points`: accelerations to report for injection.
   LoopResponse at(double f_hz, const std::vector<AccelPoint>& points = {}) const;
@@ -91,8 +96,9 @@ class EffectLoopModel {
   PidParams pid_;
   double rate_hz_ = 0.0, spin_rad_s_ = 0.0;
   EffectSet fx_;
-  rotor::RotorModel fe_;
-  rotor::ReducedRotor red_;
+  std::shared_ptr<const RigModel> model_;  // shared, read only
+  const rotor::RotorModel& fe() const { return model_->rotor(); }
+  const rotor::ReducedRotor& red() const { return model_->board_reduction().reduced; }
   int m_ = 0, n_ = 0, ped_ = -1;                   // modes per plane, coordinates, pedestal index
   Eigen::MatrixXd k_, c_, g_, mass_;               // n x n
   std::array<Eigen::VectorXd, 4> n_amb_;           // generalised actuator directions

@@ -16,8 +16,13 @@ JournalState static_journal_state(const JournalBearingParams& jb) {
 }
 
 RigStatics static_state(const PlantParams& rig, double at_axial_m, double force_axial_m, double fx_n, double fy_n) {
-  const rotor::RotorModel fe = rotor::build_rotor_model(rig.rotor);
-  const rotor::ReducedRotor red = rotor::reduce_rotor(fe, rig.rotor, rig.rotor.modes_kept);
+  return static_state(RigModel(rig), at_axial_m, force_axial_m, fx_n, fy_n);
+}
+
+RigStatics static_state(const RigModel& rig_model, double at_axial_m, double force_axial_m, double fx_n, double fy_n) {
+  const PlantParams& rig = rig_model.params();
+  const rotor::RotorModel& fe = rig_model.rotor();
+  const rotor::ReducedRotor& red = rig_model.board_reduction().reduced;
   const int m = red.modes;
   // Unknowns: modal displacements and the two AMB forces; rows: modal equilibrium and the
   // two sensor planes at zero. x and y planes decouple at rest.

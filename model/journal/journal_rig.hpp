@@ -23,6 +23,7 @@
 #include "model/journal/reynolds_fvm.hpp"
 #include "model/journal/wear_geometry.hpp"
 #include "model/plant/plant_params.hpp"
+#include "model/rig/rig_model.hpp"
 
 namespace amb::model::journal {
 
@@ -63,6 +64,8 @@ struct RigStatics {
   std::array<std::array<double, 2>, 2> amb_displacement_m{}; ///< per AMB: rotor at the actuator plane (x, y), m
 };
 RigStatics static_state(const PlantParams& rig, double at_axial_m, double force_axial_m, double fx_n, double fy_n);
+/// The same on a rig model built once by the caller (model/rig).
+RigStatics static_state(const RigModel& rig_model, double at_axial_m, double force_axial_m, double fx_n, double fy_n);
 
 /// static_state(...).at_m.
 std::array<double, 2> static_displacement_m(const PlantParams& rig, double at_axial_m, double force_axial_m,

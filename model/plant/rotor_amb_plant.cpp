@@ -34,55 +34,59 @@ double ramp_gain(double bandwidth_hz, double h) {
 
 RotorAmbPlant::RotorAmbPlant(const PlantParams& p) : RotorAmbPlant(p, Options{}) {}
 
-RotorAmbPlant::RotorAmbPlant(const PlantParams& p, const Options& o) : p_(p), o_(o), rng_(o.noise_seed) {
-  fe_ = rotor::build_rotor_model(p.rotor);
-  red_ = rotor::reduce_rotor(fe_, p.rotor, p.rotor.modes_kept);
-  m_ = red_.modes;
+RotorAmbPlant::RotorAmbPlant(const PlantParams& p, const Options& o) : RotorAmbPlant(RigModel::make(p), p, o) {}
+
+RotorAmbPlant::RotorAmbPlant(std::shared_ptr<const RigModel> rig, const PlantParams& p, const Options& o)
+    : p_(p), o_(o), rig_(std::move(rig)), rng_(o.noise_seed) {
+  if (!rig_) throw std::invalid_argument("plant: no rig model");
+  rig_->check_same_rig(p, "plant");
+  const RigReduction& red = rig_->board_reduction();
+  const rotor::RotorModel& fe = rig_->rotor();
+  m_ = red.modes();
   if (m_ > k_max_modes)
     throw std::invalid_argument("plant: modes_kept (per plane) exceeds the capacity of " +
                                 std::to_string(k_max_modes));
-  spin_inertia_ = fe_.polar_inertia_kg_m2;
+  spin_inertia_ = fe.polar_inertia_kg_m2;
   if (!(spin_inertia_ > 0.0)) throw std::invalid_argument("plant: rotor has no polar inertia");
 
-  w2_ = to_vec(red_.omega2.transpose());
-  damp_ = to_vec(red_.damping.transpose());
+  w2_ = to_vec(red.reduced.omega2.transpose());
+  damp_ = to_vec(red.reduced.damping.transpose());
   polar_.resize(m_, m_);
-  polar_ = red_.polar;
+  polar_ = red.reduced.polar;
   // Gravity along -y on the consistent mass: f = Phi^T M (-g t), t = unit translation.
-  gravity_y_ = to_vec(rotor::modal_gravity_load(fe_, red_, p.gravity_m_s2).transpose());
+  gravity_y_ = to_vec(red.gravity_y_n.transpose());
 
   for (size_t b = 0; b < 2; ++b) {
-    b_amb_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p.amb[b].axial_m));
-    b_aux_[b] = to_vec(rotor::modal_interpolation(fe_, red_, p.aux[b].axial_m));
+    b_amb_[b] = to_vec(red.amb[b]);
+    b_aux_[b] = to_vec(red.aux[b]);
     aux_inv_mass_[b] = b_aux_[b].squaredNorm();
     law_[b] = magnet::make_axis_law(p.amb[b]);
     for (size_t a = 0; a < 2; ++a) act_dir_[2 * b + a] = magnet::axis_direction(p.amb[b].actuator_angle_deg[a]);
   }
   for (size_t s = 0; s < 4; ++s) {
-    b_sensor_[s] = to_vec(rotor::modal_interpolation(fe_, red_, p.sensor[s].axial_m));
+    b_sensor_[s] = to_vec(red.sensor[s]);
     sensor_dir_[s] = magnet::axis_direction(p.sensor[s].angle_deg);
   }
-  b_coupling_ = to_vec(rotor::modal_interpolation(fe_, red_, fe_.length_m));
+  b_coupling_ = to_vec(red.coupling);
 
   // Unbalance: disk d at angle a_d = phase_d - theta from the vertical. Its force
   // u (W^2 (sin a, cos a) + W' (cos a, -sin a)) expands in cos(theta), sin(theta) with the
-  // two sums S = sum b_d u_d sin(phase_d), C = sum b_d u_d cos(phase_d).
+  // two sums S = sum b_d u_d sin(phase_d), C = sum b_d u_d cos(phase_d). The unbalance is
+  // this plant's own (p), the disk rows the rig model's.
   unb_s_ = Vec::Zero(m_);
   unb_c_ = Vec::Zero(m_);
-  double best = 1e300;
-  b_mid_disk_ = b_coupling_ * 0.0;
-  for (const auto& d : p.rotor.disks) {
-    const Vec b = to_vec(rotor::modal_interpolation(fe_, red_, d.axial_m));
-    const double ph = d.unbalance_phase_deg * M_PI / 180.0;
-    unb_s_ += d.unbalance_kg_m * std::sin(ph) * b;
-    unb_c_ += d.unbalance_kg_m * std::cos(ph) * b;
-    if (std::abs(d.axial_m - 0.5 * fe_.length_m) < best) {
-      best = std::abs(d.axial_m - 0.5 * fe_.length_m);
-      b_mid_disk_ = b;
-      mid_disk_phase_rad_ = ph;
-    }
+  for (size_t d = 0; d < p.rotor.disks.size(); ++d) {
+    const Vec b = to_vec(red.disk[d]);
+    const double ph = p.rotor.disks[d].unbalance_phase_deg * M_PI / 180.0;
+    unb_s_ += p.rotor.disks[d].unbalance_kg_m * std::sin(ph) * b;
+    unb_c_ += p.rotor.disks[d].unbalance_kg_m * std::cos(ph) * b;
   }
-  if (p.rotor.disks.empty()) b_mid_disk_ = to_vec(rotor::modal_interpolation(fe_, red_, 0.5 * fe_.length_m));
+  if (red.mid_disk >= 0) {
+    b_mid_disk_ = to_vec(red.disk[static_cast<size_t>(red.mid_disk)]);
+    mid_disk_phase_rad_ = p.rotor.disks[static_cast<size_t>(red.mid_disk)].unbalance_phase_deg * M_PI / 180.0;
+  } else {
+    b_mid_disk_ = to_vec(red.mid_span);
+  }
 
   // Sub-step rule (see header).
   double w_max = std::sqrt(w2_.maxCoeff());
@@ -157,7 +161,7 @@ void RotorAmbPlant::set_journal(const journal::LinearJournal& j) {
   journal_force_n_ = {};
   if (!j.enabled) return;
   if (!(j.ref_spin_rad_s > 0.0)) throw std::invalid_argument("plant: journal linearisation speed must be > 0");
-  b_journal_ = to_vec(rotor::modal_interpolation(fe_, red_, j.axial_m));
+  b_journal_ = to_vec(rig_->modal_row(rig_->board_reduction(), j.axial_m));
   for (size_t k = 0; k < 2; ++k) journal_probe_dir_[k] = magnet::axis_direction(j.probe_angle_deg[k]);
   // Sub-step rule with the film as a spring (up to twice the linearisation speed) and a damper.
   const double inv_mass = b_journal_.squaredNorm();
@@ -425,7 +429,7 @@ PlantOutputs RotorAmbPlant::outputs() const {
 }
 
 std::array<double, 2> RotorAmbPlant::displacement_at(double axial_m) const {
-  const Eigen::RowVectorXd b = rotor::modal_interpolation(fe_, red_, axial_m);
+  const Eigen::RowVectorXd b = rig_->modal_row(rig_->board_reduction(), axial_m);
   double x = 0.0, y = 0.0;
   for (int i = 0; i < m_; ++i) {
     x += b(i) * ex_(i);

@@ -36,6 +36,7 @@
 #include "model/plant/aux_contact.hpp"
 #include "model/plant/gaussian_rng.hpp"
 #include "model/plant/plant.hpp"
+#include "model/rig/rig_model.hpp"
 #include "model/rotor/modal_reduction.hpp"
 #include "model/rotor/rotor_model.hpp"
 
@@ -68,6 +69,10 @@ class RotorAmbPlant final : public Plant {
   /// std::invalid_argument for parameters it cannot simulate (e.g. more than k_max_modes).
   explicit RotorAmbPlant(const PlantParams& p);
   RotorAmbPlant(const PlantParams& p, const Options& o);
+  /// The plant on a rig model built once elsewhere (shared, read only). `p` carries what this
+  /// plant varies (offsets, friction, unbalance, noise, ...); its rotor and planes must be the
+  /// rig model's (std::invalid_argument naming the difference otherwise).
+  RotorAmbPlant(std::shared_ptr<const RigModel> rig, const PlantParams& p, const Options& o);
 
   void reset(bool levitated, double spin_hz) override;
   void step(double dt_s, const PlantInputs& in) override;
@@ -77,10 +82,11 @@ class RotorAmbPlant final : public Plant {
 
   double integration_step_s() const { return h_nominal_s_; } ///< sub-step in use, s
   double step_rule_s() const { return h_rule_s_; }           ///< largest sub-step the rule allows, s
-  double rotor_mass_kg() const { return fe_.mass_kg; }
+  double rotor_mass_kg() const { return rig_->mass_kg(); }
   double spin_inertia_kg_m2() const { return spin_inertia_; }
-  const rotor::RotorModel& rotor_model() const { return fe_; }
-  const rotor::ReducedRotor& reduced_rotor() const { return red_; }
+  const rotor::RotorModel& rotor_model() const { return rig_->rotor(); }
+  const rotor::ReducedRotor& reduced_rotor() const { return rig_->board_reduction().reduced; }
+  const std::shared_ptr<const RigModel>& rig_model() const { return rig_; }
   const PlantParams& params() const { return p_; }
   const Counters& counters() const { return counters_; }
   /// Rotor displacement (x, y) at any axial position now, m (truth).
@@ -117,8 +123,7 @@ class RotorAmbPlant final : public Plant {
 
   PlantParams p_;
   Options o_;
-  rotor::RotorModel fe_;
-  rotor::ReducedRotor red_;
+  std::shared_ptr<const RigModel> rig_;       // shared, read only
   int m_ = 0;                                 // modes per plane
   double spin_inertia_ = 0.0;
   double h_rule_s_ = 0.0, h_nominal_s_ = 0.0;

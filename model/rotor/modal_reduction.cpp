@@ -16,24 +16,44 @@ std::vector<double> sqrt_sorted(const Eigen::VectorXd& w2) {
 
 }  // namespace
 
-ReducedRotor reduce_rotor(const RotorModel& m, const RotorParams& p, int modes_per_plane) {
+ReducedRotor modal_basis(const RotorModel& m, const RotorParams& p) {
+  detail::count_eigen_solve();
   // K and M are symmetric, M positive definite: the generalized solver returns
   // M-orthonormal eigenvectors with ascending eigenvalues.
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(m.planar_stiffness, m.planar_mass);
   const int total = static_cast<int>(m.planar_mass.rows());
-  const int k = (modes_per_plane <= 0 || modes_per_plane > total) ? total : modes_per_plane;
   ReducedRotor r;
-  r.modes = k;
-  r.shapes = es.eigenvectors().leftCols(k);
-  r.omega2 = es.eigenvalues().head(k);
+  r.modes = total;
+  r.shapes = es.eigenvectors();
+  r.omega2 = es.eigenvalues();
   // Rigid-body eigenvalues come out as +-round-off; a negative one would be unstable.
   const double scale = std::max(1.0, std::abs(es.eigenvalues()(total - 1)));
-  for (int i = 0; i < k; ++i)
+  for (int i = 0; i < total; ++i)
     if (r.omega2(i) < 1e-12 * scale) r.omega2(i) = 0.0;
   r.damping = p.rayleigh_alpha_1_per_s + p.rayleigh_beta_s * r.omega2.array();
   r.polar = r.shapes.transpose() * m.planar_polar * r.shapes;
   r.polar = 0.5 * (r.polar + r.polar.transpose()).eval();
   return r;
+}
+
+ReducedRotor truncate_basis(const ReducedRotor& basis, const RotorModel& m, int modes_per_plane) {
+  const int total = basis.modes;
+  const int k = (modes_per_plane <= 0 || modes_per_plane > total) ? total : modes_per_plane;
+  if (k == total) return basis;
+  ReducedRotor r;
+  r.modes = k;
+  r.shapes = basis.shapes.leftCols(k);
+  r.omega2 = basis.omega2.head(k);
+  r.damping = basis.damping.head(k);
+  // Recomputed from the kept shapes (not a block of the full product) so that the result is
+  // bit-identical to a reduction solved for k modes directly.
+  r.polar = r.shapes.transpose() * m.planar_polar * r.shapes;
+  r.polar = 0.5 * (r.polar + r.polar.transpose()).eval();
+  return r;
+}
+
+ReducedRotor reduce_rotor(const RotorModel& m, const RotorParams& p, int modes_per_plane) {
+  return truncate_basis(modal_basis(m, p), m, modes_per_plane);
 }
 
 Eigen::RowVectorXd modal_interpolation(const RotorModel& m, const ReducedRotor& r, double axial_m) {

@@ -20,7 +20,27 @@ struct ReducedRotor {
 };
 
 /// Keep the lowest `modes_per_plane` planar modes (0 or more than available: all of them).
+/// Same as truncate_basis(modal_basis(m, p), m, modes_per_plane).
 ReducedRotor reduce_rotor(const RotorModel& m, const RotorParams& p, int modes_per_plane);
+
+/// Every planar mode of the rotor (one generalised eigen solve; counted in build_counts()).
+ReducedRotor modal_basis(const RotorModel& m, const RotorParams& p);
+
+/// The lowest `modes_per_plane` modes of a complete basis (<= 0 or more than available: all),
+/// without a new eigen solve; bit-identical to reduce_rotor with the same count.
+ReducedRotor truncate_basis(const ReducedRotor& basis, const RotorModel& m, int modes_per_plane);
+
+/// How often this process has assembled an FE rotor and solved its modal eigenproblem
+/// (tests check that a fit or a residual run builds each rig once).
+struct BuildCounts {
+  long fe_builds = 0;     ///< build_rotor_model calls
+  long eigen_solves = 0;  ///< modal eigen solves (modal_basis, reduce_rotor)
+};
+BuildCounts build_counts();
+namespace detail {
+void count_fe_build();     ///< called by build_rotor_model
+void count_eigen_solve();  ///< called by modal_basis
+}  // namespace detail
 
 /// Reduced interpolation row: modal coordinates -> displacement at `axial_m` (m per unit).
 Eigen::RowVectorXd modal_interpolation(const RotorModel& m, const ReducedRotor& r, double axial_m);

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "model/rotor/modal_reduction.hpp"
 #include "model/rotor/timoshenko_element.hpp"
 
 namespace amb::model::rotor {
@@ -21,6 +22,7 @@ int core_element(const std::vector<BeamElement>& els, int i) {
 }  // namespace
 
 RotorModel build_rotor_model(const RotorParams& p) {
+  detail::count_fe_build();
   const auto& els = p.elements;
   if (els.empty()) throw std::invalid_argument("rotor: no elements");
   RotorModel m;

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "model/rotor/modal_reduction.hpp"
 #include "firmware/board/board.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
 #include "host-tools/core/fit/implicit_filtering.hpp"
@@ -181,7 +182,13 @@ TEST(DropFit, RecoversFrictionCoefficient) {
     o.weights.contact_share = 0.0;
     o.weights.whirl = 0.0;
     o.weights.bounce = 0.0;
+    const auto builds0 = amb::model::rotor::build_counts();
     const hf::DropFitResult r = hf::fit_drop(meas, board(), o);
+    const auto builds1 = amb::model::rotor::build_counts();
+    // One rig model per fit (issue 37): the workers' models, the rigid and flexible structure
+    // trials and the friction estimate share one FE assembly and one eigen solve.
+    EXPECT_EQ(builds1.fe_builds - builds0.fe_builds, 1) << "mu " << mu;
+    EXPECT_EQ(builds1.eigen_solves - builds0.eigen_solves, 1) << "mu " << mu;
     const double err = (r.friction_coefficient - mu) / mu;
     std::printf("mu %.3f fitted %.4f (%.2f %%) cost %.4f (rub %.4f orbit %.4f speed %.4f) evals %d wall %.2f s %s | "
                 "swing %.4f/%.4f fw %.4f/%.4f bw %.4f/%.4f\n",

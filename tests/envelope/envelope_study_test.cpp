@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "model/rotor/modal_reduction.hpp"
 #include "host-tools/core/envelope/envelope_report.hpp"
 #include "host-tools/core/envelope/envelope_study.hpp"
 #include "tests/support/test_paths.hpp"
@@ -62,7 +63,12 @@ TEST(EnvelopeStudy, RunsReusesAndReportsIdenticalFigures) {
     ++calls;
     EXPECT_LE(done, total);
   };
+  const auto builds0 = amb::model::rotor::build_counts();
   const ev::StudySummary first = ev::run_study(spec, o);
+  const auto builds1 = amb::model::rotor::build_counts();
+  // One rig model per study (issue 37): four cases, one FE assembly and one eigen solve.
+  EXPECT_EQ(builds1.fe_builds - builds0.fe_builds, 1);
+  EXPECT_EQ(builds1.eigen_solves - builds0.eigen_solves, 1);
   ASSERT_EQ(first.cases, 4u);
   EXPECT_EQ(first.cases_run, 4u);
   EXPECT_EQ(first.cases_reused, 0u);

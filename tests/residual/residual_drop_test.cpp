@@ -12,6 +12,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "model/rotor/modal_reduction.hpp"
 #include "firmware/board/board.hpp"
 #include "tests/support/test_paths.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
@@ -29,7 +30,14 @@ hr::DropResidualOutcome analyse(const std::string& sidecar) {
   const auto b = board::load_board(rec.board);
   std::string why;
   EXPECT_TRUE(hr::is_drop_event(rec, b, &why)) << why;
-  return hr::run_drop_residual(rec, b);
+  // One rig model per run (issue 37): every fit, refit and loop model of the residual run
+  // shares it, so the FE rotor is assembled and its eigenproblem solved exactly once.
+  const auto before = amb::model::rotor::build_counts();
+  auto out = hr::run_drop_residual(rec, b);
+  const auto after = amb::model::rotor::build_counts();
+  EXPECT_EQ(after.fe_builds - before.fe_builds, 1) << "FE rotor builds in one drop residual run";
+  EXPECT_EQ(after.eigen_solves - before.eigen_solves, 1) << "modal eigen solves in one drop residual run";
+  return out;
 }
 
 std::string temp_dir() {

@@ -72,6 +72,11 @@ std::string case_hash(const StudySettings& s, const CaseParams& c) {
 }
 
 CaseResult run_case(const board::BoardConfig& board, const StudySettings& s, const CaseParams& c) {
+  return run_case(board, model::RigModel::make(board.plant), s, c);
+}
+
+CaseResult run_case(const board::BoardConfig& board, const std::shared_ptr<const model::RigModel>& rig_model,
+                    const StudySettings& s, const CaseParams& c) {
   const auto t0 = std::chrono::steady_clock::now();
   model::PlantParams rig = board.plant;
   for (auto& disk : rig.rotor.disks) disk.unbalance_kg_m *= c.unbalance_factor;
@@ -90,7 +95,7 @@ CaseResult run_case(const board::BoardConfig& board, const StudySettings& s, con
   mo.internal_controller = true;
   mo.sensor_noise = false;
   if (const std::string e = mo.check(); !e.empty()) throw std::invalid_argument("drop options: " + e);
-  md::DropModel model(rig, board.controller, board.rate_hz, mo);
+  md::DropModel model(rig_model, rig, board.controller, board.rate_hz, mo);
 
   md::DropScenario sc;
   sc.speed_hz = c.speed_hz;

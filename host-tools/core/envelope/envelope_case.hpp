@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "firmware/board/board.hpp"
+#include "model/rig/rig_model.hpp"
 #include "host-tools/core/envelope/envelope_spec.hpp"
 
 namespace amb::host::envelope {
@@ -46,6 +47,9 @@ std::string case_hash(const StudySettings& settings, const CaseParams& c);
 /// in parallel). Throws std::invalid_argument for parameters the board cannot take (e.g. an
 /// offset beyond the clearance).
 CaseResult run_case(const board::BoardConfig& board, const StudySettings& settings, const CaseParams& c);
+/// The same on the board's rig model, built once by the caller and shared by every case.
+CaseResult run_case(const board::BoardConfig& board, const std::shared_ptr<const model::RigModel>& rig_model,
+                    const StudySettings& settings, const CaseParams& c);
 
 /// JSON of a case file (key, parameters, result) and back. from_case_json throws
 /// std::invalid_argument naming the missing or mistyped field.

@@ -151,6 +151,7 @@ StudySummary run_study(const StudySpec& spec, const StudyOptions& o) {
   }
   s.cases = s.outcomes.size();
 
+  const std::shared_ptr<const model::RigModel> rig_model = model::RigModel::make(board.plant);  // once per study
   std::atomic<std::size_t> next{0};
   std::size_t done = 0;
   std::mutex progress_mutex;
@@ -165,7 +166,7 @@ StudySummary run_study(const StudySpec& spec, const StudyOptions& o) {
         c.done = c.reused = true;
       } else {
         try {
-          c.result = run_case(board, spec.settings, c.params);
+          c.result = run_case(board, rig_model, spec.settings, c.params);
           write_whole(path, to_case_json(spec.settings, c.params, c.result).dump(1) + "\n");
           c.done = true;
         } catch (const std::exception& e) {

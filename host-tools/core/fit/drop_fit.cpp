@@ -189,7 +189,7 @@ DropFitResult fit_drop_structure(const DropMeasurement& m, const board::BoardCon
   // Friction from the measured contact forces (friction_estimate.hpp), when asked and found.
   FrictionEstimate fe;
   if (o.friction_from_contact_forces && m.amplifiers_off) {
-    fe = estimate_friction(m, rig, o.friction_estimate);
+    fe = estimate_friction(m, rig, *o.rig_model, o.friction_estimate);
     if (o.progress)
       o.progress(fe.valid ? "fit: friction from contact forces " + std::to_string(fe.friction) + " +- " + std::to_string(fe.uncertainty) +
                                 " (" + std::to_string(fe.windows_used) + " of " + std::to_string(fe.windows_total) + " windows sliding; rotor read " +
@@ -218,7 +218,7 @@ DropFitResult fit_drop_structure(const DropMeasurement& m, const board::BoardCon
   mo.sensor_noise = false;
   const int workers = o.optimiser.threads;
   std::vector<std::unique_ptr<md::DropModel>> models;
-  for (int w = 0; w < workers; ++w) models.push_back(std::make_unique<md::DropModel>(rig, board.controller, board.rate_hz, mo));
+  for (int w = 0; w < workers; ++w) models.push_back(std::make_unique<md::DropModel>(o.rig_model, rig, board.controller, board.rate_hz, mo));
   md::levitate(*models[0], sc);
   md::DropState levitated = models[0]->state();
   std::vector<double> rigid_dq, rigid_du;
@@ -513,7 +513,9 @@ DropFitResult fit_drop_structure(const DropMeasurement& m, const board::BoardCon
 
 }  // namespace
 
-DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board, const DropFitOptions& o) {
+DropFitResult fit_drop(const DropMeasurement& m, const board::BoardConfig& board, const DropFitOptions& o_in) {
+  DropFitOptions o = o_in;
+  if (!o.rig_model) o.rig_model = model::RigModel::make(board.plant);
   if (!o.choose_rotor_structure || o.model.modes_per_plane != 0) {
     DropFitResult r = fit_drop_structure(m, board, o);
     r.structure_trials.push_back({r.rotor_modes_per_plane, r.cost.total, r.converged, r.bound_active});

@@ -7,6 +7,7 @@
 // parameters, simulates the event window and compares through drop_cost.hpp.
 #include <array>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "host-tools/core/fit/drop_cost.hpp"
 #include "host-tools/core/fit/drop_measurement.hpp"
 #include "host-tools/core/fit/friction_estimate.hpp"
+#include "model/rig/rig_model.hpp"
 #include "host-tools/core/fit/implicit_filtering.hpp"
 #include "model/drop/drop_options.hpp"
 #include "model/drop/drop_simulation.hpp"
@@ -22,6 +24,9 @@
 namespace amb::host::fit {
 
 struct DropFitOptions {
+  /// The board's rig model (model/rig), built once by the caller and shared by every model of
+  /// the fit (and of the caller's other fits). Null: fit_drop builds it once from the board.
+  std::shared_ptr<const model::RigModel> rig_model;
   double mu_min = 0.02, mu_max = 0.6;          ///< friction coefficient bounds, 1
   /// Friction from the contact forces (friction_estimate.hpp: ratio of the tangential to the
   /// normal contact impulse while the collar slides, from the measured orbit's momentum

@@ -36,7 +36,7 @@ namespace {
 // Contact forces per sample (rigid-body momentum balance), both bearings.
 struct ContactSample {
   std::array<double, 2> radius_m{};  // aux-plane orbit radius from the bearing centre, m
-  std::array<double, 2> normal_n{};  // towards the bearing centre on the rotor, N
+  std::array<double, 2> normal_n{};  // towards the bearing centre on the rm, N
   std::array<double, 2> friction_n{};// opposing the collar's surface speed, N
 };
 
@@ -132,13 +132,13 @@ struct FreeFlight {
 constexpr size_t kFreeFlightAverage = 2;
 
 std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model::PlantParams& rig, size_t first, size_t last,
-                                          int h, const model::rotor::RotorModel& rotor, const FrictionEstimateOptions& o,
+                                          int h, const model::RigModel& rm, const FrictionEstimateOptions& o,
                                           const std::vector<double>& rate, Synchronous* sync_out, FreeFlight* free_out) {
   const model::drop::SensorOrbit view(rig);
   const double dt = 1.0 / m.sample_rate_hz;
   const double zs0 = rig.sensor[0].axial_m, zs1 = rig.sensor[2].axial_m;
-  const double zg = rotor.centre_of_mass_m;
-  const double mass = rotor.mass_kg, it = rotor.transverse_inertia_kg_m2, ip = rotor.polar_inertia_kg_m2;
+  const double zg = rm.rotor().centre_of_mass_m;
+  const double mass = rm.rotor().mass_kg, it = rm.rotor().transverse_inertia_kg_m2, ip = rm.rotor().polar_inertia_kg_m2;
   const double la = rig.aux[0].axial_m - zg, lb = rig.aux[1].axial_m - zg;
   const double g = rig.gravity_m_s2;
   // Rotor centre at the two sensor planes per sample from the trigger on, (x0, y0, x1, y1);
@@ -152,9 +152,9 @@ std::vector<ContactSample> contact_forces(const DropMeasurement& m, const model:
   }
   std::unique_ptr<model::drop::FlexibleOrbit> flex;
   if (o.bending_modes > 0) {
-    flex = std::make_unique<model::drop::FlexibleOrbit>(rotor, rig.rotor, std::array<double, 2>{zs0, zs1},
+    flex = std::make_unique<model::drop::FlexibleOrbit>(rm, std::array<double, 2>{zs0, zs1},
                                                         std::array<double, 2>{rig.aux[0].axial_m, rig.aux[1].axial_m},
-                                                        o.bending_modes, rig.gravity_m_s2);
+                                                        o.bending_modes);
     if (flex->usable()) {
       planes = flex->rigid_part(planes, dt);
       if (free_out) free_out->bending_modes = o.bending_modes;
@@ -428,17 +428,17 @@ struct Pass {
 // force and its noise level only when `free_flight` (they choose the rotor description; the
 // half-width pass of the uncertainty does not need them).
 Pass prepare_pass(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o, size_t first,
-                  size_t last, int h, const model::rotor::RotorModel& rotor, bool free_flight) {
+                  size_t last, int h, const model::RigModel& rm, bool free_flight) {
   Pass p;
   const std::vector<double> rate = m.speed_rad_s.empty() ? std::vector<double>{} : spin_rate_rad_s2(m, first, last - first, h);
-  p.samples = contact_forces(m, rig, first, last, h, rotor, o, rate, &p.synchronous, free_flight ? &p.free_flight : nullptr);
+  p.samples = contact_forces(m, rig, first, last, h, rm, o, rate, &p.synchronous, free_flight ? &p.free_flight : nullptr);
   if (o.matched_speed_filter) p.speed_rate_rad_s2 = rate;
   return p;
 }
 
 // Windows of o.window_s over a prepared pass, and their sliding cluster.
 Pass run_pass(Pass p, const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o, size_t first,
-              const model::rotor::RotorModel& rotor) {
+              const model::RigModel& rm) {
   p.windows.clear();
   const double dt = 1.0 / m.sample_rate_hz;
   p.per_window = std::max<size_t>(1, static_cast<size_t>(std::lround(o.window_s * m.sample_rate_hz)));
@@ -467,7 +467,7 @@ Pass run_pass(Pass p, const DropMeasurement& m, const model::PlantParams& rig, c
       // speed drop taken through the same derivative fit as the forces (matched_speed_filter).
       const double r_collar = 0.5 * (rig.aux[0].collar_radius_m + rig.aux[1].collar_radius_m);
       w.force_friction_impulse_n_s = w.friction_impulse_n_s;
-      w.friction_impulse_n_s = spin_sign * p.speed_drop(m, first, s, n) * rotor.polar_inertia_kg_m2 / r_collar;
+      w.friction_impulse_n_s = spin_sign * p.speed_drop(m, first, s, n) * rm.rotor().polar_inertia_kg_m2 / r_collar;
     }
     if (w.normal_impulse_n_s > 0.0) w.ratio = w.friction_impulse_n_s / w.normal_impulse_n_s;
     return w;
@@ -488,19 +488,19 @@ Pass run_pass(Pass p, const DropMeasurement& m, const model::PlantParams& rig, c
 // spin-down check.
 FrictionEstimate finish_estimate(const Pass& base, const DropMeasurement& m, const model::PlantParams& rig,
                                  const FrictionEstimateOptions& o, int bending_modes, size_t first, size_t last, int h2,
-                                 const model::rotor::RotorModel& rotor) {
+                                 const model::RigModel& rm) {
   const double dt = 1.0 / m.sample_rate_hz;
   FrictionEstimate r;
   FrictionEstimateOptions ow = o;
   ow.bending_modes = bending_modes;
   r.bending_modes = bending_modes;
-  Pass p = run_pass(base, m, rig, ow, first, rotor);
+  Pass p = run_pass(base, m, rig, ow, first, rm);
   const auto too_few = [&](const Pass& q) { return q.cluster.used < o.min_sliding_windows || !(q.cluster.mu > 0.0); };
   const auto not_clear = [&](const Pass& q) { return o.clear_neighbour_fraction > 0.0 && q.cluster.clear < o.min_sliding_windows; };
   while ((too_few(p) || not_clear(p)) && 0.5 * ow.window_s >= o.min_window_s && o.min_window_s > 0.0) {
     FrictionEstimateOptions oh = ow;
     oh.window_s *= 0.5;
-    Pass q = run_pass(base, m, rig, oh, first, rotor);
+    Pass q = run_pass(base, m, rig, oh, first, rm);
     if (!too_few(p) && too_few(q)) break;  // halved only for clear windows, and the halved ones give too few
     ow = oh;
     p = std::move(q);
@@ -529,7 +529,7 @@ FrictionEstimate finish_estimate(const Pass& base, const DropMeasurement& m, con
   r.valid = true;
   r.friction = p.cluster.mu;
   r.standard_error = p.cluster.se;
-  const Pass p2 = run_pass(prepare_pass(m, rig, ow, first, last, h2, rotor, false), m, rig, ow, first, rotor);
+  const Pass p2 = run_pass(prepare_pass(m, rig, ow, first, last, h2, rm, false), m, rig, ow, first, rm);
   r.smoothing_change = p2.cluster.used > 0 ? p2.cluster.mu - p.cluster.mu : 0.0;
   r.uncertainty = std::sqrt(r.standard_error * r.standard_error + r.smoothing_change * r.smoothing_change);
 
@@ -554,19 +554,19 @@ FrictionEstimate finish_estimate(const Pass& base, const DropMeasurement& m, con
           tau += rig.aux[b].collar_radius_m * p.samples[i].friction_n[b] * dt;
     drop += d;
     torque_impulse += tau;
-    diff.push_back(tau - rotor.polar_inertia_kg_m2 * d);
+    diff.push_back(tau - rm.rotor().polar_inertia_kg_m2 * d);
   }
   r.sliding_time_s = time;
   if (!m.speed_rad_s.empty() && time > 0.0) {
     r.measured_spin_down_rad_s2 = drop / time;
-    r.force_spin_down_rad_s2 = torque_impulse / rotor.polar_inertia_kg_m2 / time;
+    r.force_spin_down_rad_s2 = torque_impulse / rm.rotor().polar_inertia_kg_m2 / time;
     if (diff.size() >= 2) {
       double mean = 0.0, var = 0.0;
       for (const double d : diff) mean += d;
       mean /= static_cast<double>(diff.size());
       for (const double d : diff) var += (d - mean) * (d - mean);
       var /= static_cast<double>(diff.size() - 1);
-      r.force_spin_down_scatter_rad_s2 = std::sqrt(var * static_cast<double>(diff.size())) / rotor.polar_inertia_kg_m2 / time;
+      r.force_spin_down_scatter_rad_s2 = std::sqrt(var * static_cast<double>(diff.size())) / rm.rotor().polar_inertia_kg_m2 / time;
     }
   }
   return r;
@@ -575,11 +575,16 @@ FrictionEstimate finish_estimate(const Pass& base, const DropMeasurement& m, con
 }  // namespace
 
 FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantParams& rig, const FrictionEstimateOptions& o) {
+  return estimate_friction(m, rig, model::RigModel(rig), o);
+}
+
+FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantParams& rig, const model::RigModel& rm,
+                                   const FrictionEstimateOptions& o) {
+  rm.check_same_rig(rig, "friction estimate");
   if (const std::string e = o.check(); !e.empty()) throw std::invalid_argument("friction estimate: " + e);
   if (const std::string e = m.check(); !e.empty()) throw std::invalid_argument("friction estimate: " + e);
   if (rig.sensor.size() < 4 || rig.aux.size() < 2)
     throw std::invalid_argument("friction estimate: the rig needs two sensor pairs and two aux bearings");
-  const model::rotor::RotorModel rotor = model::rotor::build_rotor_model(rig.rotor);
   const int h = std::max(2, static_cast<int>(std::lround(o.smoothing_half_window_s * m.sample_rate_hz)));
   const int h2 = std::max(2, h / 2);
   const size_t first = static_cast<size_t>(m.trigger_index) + std::max(static_cast<size_t>(h), static_cast<size_t>(std::lround(o.skip_s * m.sample_rate_hz)));
@@ -590,15 +595,15 @@ FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantP
 
   FrictionEstimateOptions o_rigid = o;
   o_rigid.bending_modes = 0;
-  const Pass rigid_base = prepare_pass(m, rig, o_rigid, first, last, h, rotor, true);
-  FrictionEstimate rigid = finish_estimate(rigid_base, m, rig, o, 0, first, last, h2, rotor);
+  const Pass rigid_base = prepare_pass(m, rig, o_rigid, first, last, h, rm, true);
+  FrictionEstimate rigid = finish_estimate(rigid_base, m, rig, o, 0, first, last, h2, rm);
   rigid.free_flight_samples = rigid_base.free_flight.samples;
   rigid.free_flight_force_rms_n = {rigid_base.free_flight.force_rms_n, 0.0};
   rigid.free_flight_noise_rms_n = {rigid_base.free_flight.noise_rms_n, 0.0};
   if (o.bending_modes == 0) return rigid;
-  const Pass bent_base = prepare_pass(m, rig, o, first, last, h, rotor, true);
+  const Pass bent_base = prepare_pass(m, rig, o, first, last, h, rm, true);
   if (bent_base.free_flight.bending_modes == 0) return rigid;  // the inverse is not stable for this rig
-  FrictionEstimate bent = finish_estimate(bent_base, m, rig, o, o.bending_modes, first, last, h2, rotor);
+  FrictionEstimate bent = finish_estimate(bent_base, m, rig, o, o.bending_modes, first, last, h2, rm);
   for (auto* e : {&rigid, &bent}) {
     e->free_flight_samples = rigid_base.free_flight.samples;
     e->free_flight_force_rms_n = {rigid_base.free_flight.force_rms_n, bent_base.free_flight.force_rms_n};

@@ -30,6 +30,7 @@
 
 #include "host-tools/core/fit/drop_measurement.hpp"
 #include "model/plant/plant_params.hpp"
+#include "model/rig/rig_model.hpp"
 
 namespace amb::host::fit {
 
@@ -177,6 +178,9 @@ struct FrictionEstimate {
 /// Estimate from `m` (amplifiers cut at the trigger) on the rig `rig`. Throws
 /// std::invalid_argument for unusable options or a record too short to analyse.
 FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantParams& rig,
+                                   const FrictionEstimateOptions& o = {});
+/// The same on the rig model built once by the caller (its rotor and planes must be `rig`'s).
+FrictionEstimate estimate_friction(const DropMeasurement& m, const model::PlantParams& rig, const model::RigModel& rig_model,
                                    const FrictionEstimateOptions& o = {});
 
 }  // namespace amb::host::fit

@@ -326,9 +326,11 @@ ContactRunout estimate_contact_runout(const Readings& sensor_m, const SpinAngle&
   return out;
 }
 
-std::array<double, 2> unbalance_contact_signature_m(const model::PlantParams& rig, const std::array<double, 2>& force_n,
+std::array<double, 2> unbalance_contact_signature_m(const model::PlantParams& rig, const model::RigModel& rig_model,
+                                                     const std::array<double, 2>& force_n,
                                                      const std::array<double, 2>& axial_m, double spin_hz) {
-  const auto rm = model::rotor::build_rotor_model(rig.rotor);
+  rig_model.check_same_rig(rig, "drop contact");
+  const model::rotor::RotorModel& rm = rig_model.rotor();
   const Eigen::Index nd = rm.planar_stiffness.rows();
   const double w = 2.0 * M_PI * spin_hz;
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(nd + 2, nd + 2);
@@ -365,8 +367,9 @@ std::array<double, 2> unbalance_contact_signature_m(const model::PlantParams& ri
   return out;
 }
 
-SagViewShift gravity_sag_view_shift_m(const model::PlantParams& rig) {
-  const auto rm = model::rotor::build_rotor_model(rig.rotor);
+SagViewShift gravity_sag_view_shift_m(const model::PlantParams& rig, const model::RigModel& rig_model) {
+  rig_model.check_same_rig(rig, "drop contact");
+  const model::rotor::RotorModel& rm = rig_model.rotor();
   const Eigen::Index nd = rm.planar_stiffness.rows();
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(nd + 2, nd + 2);
   a.topLeftCorner(nd, nd) = rm.planar_stiffness;
@@ -413,12 +416,14 @@ Readings remove_runout(const Readings& sensor_m, const SpinAngle& angle, const m
   return out;
 }
 
-ContactCompliance estimate_contact_compliance(const Readings& sensor_m, const model::PlantParams& rig, double fs_hz,
+ContactCompliance estimate_contact_compliance(const Readings& sensor_m, const model::PlantParams& rig,
+                                              const model::RigModel& rig_model, double fs_hz,
                                               const std::array<std::array<double, 2>, 2>& centre_m,
                                               const ContactGeometryOptions& o) {
   ContactCompliance out;
   const size_t n = sensor_m.size();
-  const auto rm = model::rotor::build_rotor_model(rig.rotor);
+  rig_model.check_same_rig(rig, "drop contact");
+  const model::rotor::RotorModel& rm = rig_model.rotor();
   struct {
     double mass_kg, z_cm_m, jt_kg_m2;
   } rr{rm.mass_kg, rm.centre_of_mass_m, rm.transverse_inertia_kg_m2};

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "model/rig/rig_model.hpp"
 #include "model/effects/effect_set.hpp"
 #include "model/plant/plant_params.hpp"
 
@@ -77,7 +78,9 @@ ContactRunout estimate_contact_runout(const std::vector<std::array<double, 4>>& 
 /// the sensors see that bending as a spin-locked vector; the modulation of the contact
 /// deflection (|F| times the contact compliance at the weight share) is added. Magnitudes
 /// summed (an upper bound over the phases).
-std::array<double, 2> unbalance_contact_signature_m(const model::PlantParams& rig, const std::array<double, 2>& force_n,
+/// `rig_model`: the board's rig model (model/rig), whose rotor and planes are `rig`'s.
+std::array<double, 2> unbalance_contact_signature_m(const model::PlantParams& rig, const model::RigModel& rig_model,
+                                                     const std::array<double, 2>& force_n,
                                                      const std::array<double, 2>& axial_m, double spin_hz);
 
 /// How the straight-line sensor view misplaces the aux-bearing centres of a flexible rotor
@@ -90,7 +93,7 @@ struct SagViewShift {
   std::array<double, 2> shift_m{};  ///< per aux plane, along y (negative: the view sits low), m
   double weight_n = 0.0;            ///< the rotor's weight that makes it, N
 };
-SagViewShift gravity_sag_view_shift_m(const model::PlantParams& rig);
+SagViewShift gravity_sag_view_shift_m(const model::PlantParams& rig, const model::RigModel& rig_model);
 
 /// Readings with the runout removed (each sensor's projection of the plane's vector), where
 /// the angle is known; elsewhere unchanged.
@@ -145,7 +148,7 @@ struct ContactCompliance {
 };
 
 ContactCompliance estimate_contact_compliance(const std::vector<std::array<double, 4>>& sensor_m,
-                                              const model::PlantParams& rig, double fs_hz,
+                                              const model::PlantParams& rig, const model::RigModel& rig_model, double fs_hz,
                                               const std::array<std::array<double, 2>, 2>& centre_m,
                                               const ContactGeometryOptions& o = {});
 

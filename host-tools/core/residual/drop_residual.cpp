@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "model/signal/pearson.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
 #include "host-tools/core/residual/candidate_report.hpp"
 #include "host-tools/core/residual/engine/elements.hpp"
@@ -79,21 +80,7 @@ std::vector<double> band_psd(const std::vector<double>& x, double fs, size_t seg
   return out;
 }
 
-double pearson(const std::vector<double>& a, const std::vector<double>& b) {
-  const size_t n = std::min(a.size(), b.size());
-  if (n < 3) return 0.0;
-  double ma = 0, mb = 0;
-  for (size_t i = 0; i < n; ++i) ma += a[i], mb += b[i];
-  ma /= static_cast<double>(n);
-  mb /= static_cast<double>(n);
-  double sab = 0, saa = 0, sbb = 0;
-  for (size_t i = 0; i < n; ++i) {
-    sab += (a[i] - ma) * (b[i] - mb);
-    saa += (a[i] - ma) * (a[i] - ma);
-    sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
-}
+using model::signal::pearson;  // one definition: model/signal/pearson.hpp
 
 // `sag`: the board rotor's sag bias of the straight-line view (gravity_sag_view_shift_m),
 // computed once per event (it does not depend on the aux-bearing offsets the refits move).
@@ -407,6 +394,13 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   DropResidualOutcome out;
   const double fs = r.sample_rate_hz;
   const auto trig = static_cast<size_t>(r.trigger_index);
+  // The board's rig model, built once and shared by every model of this run (model/rig).
+  const std::shared_ptr<const model::RigModel> rig_model = o.loop.rig_model ? o.loop.rig_model : model::RigModel::make(b.plant);
+  LoopOptions loop = o.loop;
+  loop.rig_model = rig_model;
+  const auto say = [&o](const std::string& line) {
+    if (o.progress) o.progress(line);
+  };
 
   size_t lev_window_start = 0;
   std::optional<SteadyData> lev_data;
@@ -421,7 +415,8 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     so.window_s = std::min(so.window_s, lev_s - 0.05);
     try {
       const SteadyData d = extract_steady(pre, b, so);
-      out.levitated = run_residual_loop(d, b, o.loop);
+      say("levitated part (" + std::to_string(static_cast<int>(lev_s * 1000.0)) + " ms): steady loop");
+      out.levitated = run_residual_loop(d, b, loop);
       lev_data = d;
       out.levitated_analysed = true;
       lev_window_start = d.window_start;
@@ -467,12 +462,15 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   angle_after.known.assign(angle.known.begin() + static_cast<long>(first), angle.known.end());
 
   fit::DropFitOptions fo;
+  fo.rig_model = rig_model;
+  fo.progress = o.progress;
   fo.max_window_s = o.window_s;
   fo.choose_rotor_structure = !o.board_rotor_structure;
   // Model updating of the drop part: the contact law is an uncertain part of the drop model
   // (a real touchdown contact is compliant; the board states one law). With the option the
   // drop model is fitted with each law (board's first) and the lowest Phase C cost is kept.
   board::BoardConfig bu = b;
+  say("drop part: fitting the drop model (base)");
   fit::DropFitResult base = fit::fit_drop(m, bu, fo);
   const char* law_name[3] = {"rigid", "hertz", "linear"};
   if (o.update_contact_law) {
@@ -495,7 +493,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     }
   }
   out.contact_law = law_name[static_cast<int>(bu.plant.aux[0].contact_law)];
-  const SagViewShift sag = gravity_sag_view_shift_m(b.plant);
+  const SagViewShift sag = gravity_sag_view_shift_m(b.plant, *rig_model);
   out.drop_before = evaluate(m, base, bu.plant, o, sag);
   out.drop_after = out.drop_before;
   out.drop_notes.push_back(fmt("drop model fitted: friction coefficient %.3f, Phase C cost %.4g", base.friction_coefficient,
@@ -555,7 +553,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     }
     const double spin = lev_spin_hz > 0.0 ? lev_spin_hz : m.speed_at_trigger_hz;
     try {
-      const auto sig = unbalance_contact_signature_m(bu.plant, fu, zu, spin);
+      const auto sig = unbalance_contact_signature_m(bu.plant, *rig_model, fu, zu, spin);
       for (size_t p = 0; p < 2; ++p) out.runout_floor_m[p] = o.spin_locked_factor * sig[p];
     } catch (const std::exception& e) {
       out.drop_notes.push_back(std::string("unbalance contact signature not computed: ") + e.what());
@@ -669,7 +667,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       // 2x contact residual at 8.5 sigma whose runout raised the levitated rms 0.12 -> 6.2).
       if (lev_data && !out.levitated.after.effects.runout) {
         try {
-          lev_with_runout = evaluate_steady(*lev_data, b, out.levitated.after.effects, &apply);
+          lev_with_runout = evaluate_steady(*lev_data, b, out.levitated.after.effects, &apply, rig_model);
           ce.decision.push_back({"levitated part: rms error with the runout held", "1", out.levitated.after.error.rms,
                                  lev_with_runout->error.rms});
         } catch (const std::exception& e) {
@@ -862,6 +860,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       return c2;
     };
     board::BoardConfig b2 = with_offset(delta);
+    say("drop part: refit with aux_bearing_offset");
     fit::DropFitResult refit = fit::fit_drop(m, b2, fo);
     DropErrors after = evaluate(m, refit, b2.plant, o, sag);
     for (int it = 0; it < o.max_offset_iterations; ++it) {
@@ -872,6 +871,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       for (size_t k = 0; k < 2; ++k)
         for (size_t c = 0; c < 2; ++c) next[k][c] += after.measured_circle[k].centre_m[c] - after.simulated_circle[k].centre_m[c];
       board::BoardConfig bn = with_offset(next);
+      say("drop part: aux_bearing_offset fixed-point refit " + std::to_string(it + 1));
       fit::DropFitResult rn = fit::fit_drop(m, bn, fo);
       DropErrors an = evaluate(m, rn, bn.plant, o, sag);
       const double c2n = centre_chi2(an, nullptr);
@@ -954,7 +954,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       centres[k] = out.drop_runout.testable ? out.drop_runout.centre_m[k]
                    : out.drop_after.measured_circle[k].valid ? out.drop_after.measured_circle[k].centre_m
                                                              : rig_centre(bu.plant, static_cast<int>(k));
-    out.compliance = estimate_contact_compliance(meas, bu.plant, fs, centres, geo);
+    out.compliance = estimate_contact_compliance(meas, bu.plant, *rig_model, fs, centres, geo);
     CandidateScore sc;
     sc.name = "aux_support_compliance";
     const auto& cc = out.compliance;

@@ -21,6 +21,7 @@
 //    residuals not added, a compliance asymmetry not added) is reported as unexplained.
 // Nothing here reads declared faults or knows which effect a record carries.
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,8 @@
 namespace amb::host::residual {
 
 struct DropResidualOptions {
+  /// Progress lines (stage names, the drop fits' own lines), stderr in the command; null: silent.
+  std::function<void(const std::string&)> progress;
   double window_s = 0.4;            ///< drop window compared after the trigger, s
   double min_levitated_s = 1.0;     ///< shortest pre-trigger history the steady loop is run on, s
   double orbit_error_window_s = 0.015; ///< time-domain orbit error over the first this-many s after the trigger (the Phase C cost's orbit window: free fall and first impacts; later bouncing is chaotic), s

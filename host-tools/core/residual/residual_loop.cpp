@@ -98,10 +98,11 @@ struct Fitter {
   const board::BoardConfig& b;
   Bounds bd;
   int max_eval;
+  std::shared_ptr<const model::RigModel> rig;  // built once per run
 
   double nll(const EffectSet& e) const {
     try {
-      const double v = evaluate_steady(d, b, e).nll;
+      const double v = evaluate_steady(d, b, e, nullptr, rig).nll;
       return std::isfinite(v) ? v : k_inf;
     } catch (const std::exception&) {
       return k_inf;
@@ -548,21 +549,21 @@ std::vector<UnexplainedItem> unexplained_items(const SteadyData& d, const board:
 
 ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig& b, const LoopOptions& o) {
   ResidualOutcome out;
-  Fitter fit{d, b, {}, o.max_evaluations};
+  Fitter fit{d, b, {}, o.max_evaluations, o.rig_model ? o.rig_model : model::RigModel::make(b.plant)};
   fit.bd.f_max_hz = d.bands.empty() ? 1000.0 : 0.9 * d.bands.back().f_hz;
-  fit.bd.rotor_mass_kg = model::rotor::build_rotor_model(b.plant.rotor).mass_kg;
+  fit.bd.rotor_mass_kg = fit.rig->mass_kg();
   fit.bd.bias_a = b.plant.amb[0].bias_current_a;
   fit.bd.fs_hz = d.fs_hz;
   fit.bd.update = o.update_model;
 
   EffectSet current;
-  out.before = evaluate_steady(d, b, current);
+  out.before = evaluate_steady(d, b, current, nullptr, fit.rig);
   SteadyEvaluation now = out.before;
   // Model updating first: the base model's own uncertain parameters (loop delay, actuator
   // force scale; the force-noise level is closed-form in every evaluation).
   if (o.update_model) {
     current = fit.update_base(current);
-    now = evaluate_steady(d, b, current);
+    now = evaluate_steady(d, b, current, nullptr, fit.rig);
     out.model_update = {true, current.update.loop_delay_s, current.update.force_scale, now.force_noise_rms_n, now.noise_rms_m,
                         out.before.bic - now.bic};
   }
@@ -627,7 +628,7 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
         continue;
       }
       const EffectSet e = fit.fit_candidate(current, k, peaks);
-      const SteadyEvaluation ev = evaluate_steady(d, b, e);
+      const SteadyEvaluation ev = evaluate_steady(d, b, e, nullptr, fit.rig);
       c.delta_bic = now.bic - ev.bic;
       const double z = effect_size_sigma(d, b, ev, now);
       const bool bound = at_bound(e, k, fit.bd) || !fit.identified(e, k);
@@ -681,9 +682,9 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
       ce.evidence = scores[idx[0]].evidence;
       return ce;
     };
-    SteadyEvaluation ev = evaluate_steady(d, b, fitted[idx[0]]);
+    SteadyEvaluation ev = evaluate_steady(d, b, fitted[idx[0]], nullptr, fit.rig);
     {
-      const SteadyEvaluation joint = evaluate_steady(d, b, fit.refine(fitted[idx[0]]));
+      const SteadyEvaluation joint = evaluate_steady(d, b, fit.refine(fitted[idx[0]]), nullptr, fit.rig);
       if (joint.bic <= ev.bic && engine::decide(final_evidence(joint), o.criterion).kept) ev = joint;
     }
     const engine::CandidateEvidence fe = final_evidence(ev);

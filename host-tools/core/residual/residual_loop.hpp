@@ -24,6 +24,9 @@ struct LoopOptions {
   /// (a statistically "significant" fix of a 4 % PSD mismatch is a modelling detail, not a
   /// missing effect; half of it with a BIC decrease >= criterion.strong_delta_ic).
   engine::Criterion criterion;
+  /// The board's rig model (model/rig), built once by the caller and shared by every model
+  /// evaluation; null: run_residual_loop builds it once.
+  std::shared_ptr<const model::RigModel> rig_model;
   int max_effects = 3;           ///< elements added at most
   int max_evaluations = 50;      ///< per refinement
   /// Fit the base model's own uncertain parameters (loop delay, force scale; EffectSet::update)

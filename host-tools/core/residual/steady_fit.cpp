@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "model/signal/pearson.hpp"
 #include "model/amb/amb_force.hpp"
 #include "model/effects/effect_loop_model.hpp"
 
@@ -25,20 +26,7 @@ std::array<double, 2> unbalance_planes(const board::BoardConfig& b) {
   return z;
 }
 
-double pearson(const std::vector<double>& a, const std::vector<double>& b) {
-  const double n = static_cast<double>(a.size());
-  double ma = 0, mb = 0;
-  for (size_t i = 0; i < a.size(); ++i) { ma += a[i]; mb += b[i]; }
-  ma /= n;
-  mb /= n;
-  double sab = 0, saa = 0, sbb = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb);
-    saa += (a[i] - ma) * (a[i] - ma);
-    sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
-}
+using model::signal::pearson;  // one definition: model/signal/pearson.hpp
 
 }  // namespace
 
@@ -58,10 +46,12 @@ int element_parameters(EffectKind k) {
 }
 
 SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& b, const model::effects::EffectSet& fx,
-                                 const model::effects::SensorRunout* known_runout) {
+                                 const model::effects::SensorRunout* known_runout,
+                                 const std::shared_ptr<const model::RigModel>& rig_in) {
   SteadyEvaluation ev;
   ev.effects = fx;
-  const model::effects::EffectLoopModel m(b.plant, b.controller, b.rate_hz, d.spin_hz, fx);
+  const std::shared_ptr<const model::RigModel> rig = rig_in ? rig_in : model::RigModel::make(b.plant);
+  const model::effects::EffectLoopModel m(rig, b.plant, b.controller, b.rate_hz, d.spin_hz, fx);
   const double t = d.window_s;
 
   // ---- PSD: two white noise sources, sensor noise (variance sigma_s^2 per sample at every
@@ -216,14 +206,14 @@ SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& 
       // Columns: sensitivity of the rest readings to each offset (exactly linear).
       model::effects::EffectSet zero = fx;
       zero.aux_offset = model::effects::AuxBearingOffset{};
-      const model::effects::EffectLoopModel m0(b.plant, b.controller, b.rate_hz, d.spin_hz, zero);
+      const model::effects::EffectLoopModel m0(rig, b.plant, b.controller, b.rate_hz, d.spin_hz, zero);
       base = m0.rest_sensors_m();
       Eigen::Matrix4d a;
       for (int j = 0; j < 4; ++j) {
         model::effects::EffectSet one = zero;
         if (j < 2) one.aux_offset->x_m[static_cast<size_t>(j)] = 1e-4;
         else one.aux_offset->y_m[static_cast<size_t>(j - 2)] = 1e-4;
-        const model::effects::EffectLoopModel m1(b.plant, b.controller, b.rate_hz, d.spin_hz, one);
+        const model::effects::EffectLoopModel m1(rig, b.plant, b.controller, b.rate_hz, d.spin_hz, one);
         const auto r1 = m1.rest_sensors_m();
         for (int k = 0; k < 4; ++k) a(k, j) = (r1[static_cast<size_t>(k)] - base[static_cast<size_t>(k)]) / 1e-4;
       }

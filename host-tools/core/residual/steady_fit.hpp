@@ -18,9 +18,11 @@
 //   rest       Gaussian, variance std^2/N plus (0.5 um)^2
 #include <array>
 #include <complex>
+#include <memory>
 #include <vector>
 
 #include "firmware/board/board.hpp"
+#include "model/rig/rig_model.hpp"
 #include "host-tools/core/residual/steady_data.hpp"
 #include "model/effects/effect_set.hpp"
 
@@ -60,9 +62,11 @@ struct SteadyEvaluation {
 /// values are ignored). Throws std::invalid_argument for a model that cannot be built.
 /// `known_runout` (optional): a sensor runout known from elsewhere (a drop event's contact
 /// geometry, in the record's angle reference), held in the prediction of the speed-order lines
-/// instead of fitted (ignored when `effects` has a runout of its own).
+/// instead of fitted (ignored when `effects` has a runout of its own). `rig`: the board's rig
+/// model built once by the caller (model/rig); null: built here.
 SteadyEvaluation evaluate_steady(const SteadyData& d, const board::BoardConfig& b, const model::effects::EffectSet& effects,
-                                 const model::effects::SensorRunout* known_runout = nullptr);
+                                 const model::effects::SensorRunout* known_runout = nullptr,
+                                 const std::shared_ptr<const model::RigModel>& rig = nullptr);
 
 /// Number of fitted parameters an element adds.
 int element_parameters(model::effects::EffectKind k);

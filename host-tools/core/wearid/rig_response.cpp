@@ -20,8 +20,9 @@ RigResponse::RigResponse(const board::BoardConfig& board, double speed_hz, std::
   if (!board.journal.present) throw std::invalid_argument("wear-id: board '" + board.name + "' has no [journal_bearing]");
   if (!(speed_hz > 0.0)) throw std::invalid_argument("wear-id: speed must be > 0 Hz");
   const model::PlantParams& p = board.plant;
-  fe_ = model::rotor::build_rotor_model(p.rotor);
-  red_ = model::rotor::reduce_rotor(fe_, p.rotor, p.rotor.modes_kept);
+  const model::RigModel rig(p);  // one FE build and eigen solve for the response and its statics
+  fe_ = rig.rotor();
+  red_ = rig.board_reduction().reduced;
   m_ = red_.modes;
   for (size_t b = 0; b < 2; ++b) {
     b_amb_[b] = model::rotor::modal_interpolation(fe_, red_, p.amb[b].axial_m);
@@ -39,7 +40,7 @@ RigResponse::RigResponse(const board::BoardConfig& board, double speed_hz, std::
   // AMB operating point: static AMB forces and positions are affine in the film force.
   for (int k = 0; k < 3; ++k) {
     const model::journal::RigStatics st = model::journal::static_state(
-        p, board.journal.axial_m, board.journal.axial_m, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0);
+        rig, board.journal.axial_m, board.journal.axial_m, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0);
     amb_force_basis_[static_cast<size_t>(k)] = st.amb_force_n;
     amb_disp_basis_[static_cast<size_t>(k)] = st.amb_displacement_m;
   }
