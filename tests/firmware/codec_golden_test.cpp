@@ -1,6 +1,6 @@
 // The AMBE and AMBW codecs against files written by an earlier encoder (tests/firmware/data/,
 // written once by the encoder of commit 0e43c0e, the last one with mirrored encode/decode
-// lists, before the field tables of event_fields.hpp / wear_record.cpp): every file decodes,
+// lists, before the field tables of event_codec.cpp / wear_record.cpp): every file decodes,
 // re-encodes byte for byte, and the record below (every field set to a distinct value, so a
 // swapped, dropped or retyped field changes the bytes) encodes to the same bytes.
 //
