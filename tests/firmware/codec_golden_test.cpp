@@ -24,7 +24,9 @@ namespace {
 
 namespace fw = amb::fw;
 
-/// A record whose every stored field holds a value of its own (distinct bit patterns).
+/// A record whose every stored field holds a value of its own (distinct bit patterns). Every
+/// value is exact in binary (integers, dyadic fractions): a compiler that fuses a multiply and
+/// an add (aarch64) computes the same bits as one that does not.
 fw::EventRecord golden_event() {
   fw::EventRecord r;
   auto& m = r.meta;
@@ -55,8 +57,8 @@ fw::EventRecord golden_event() {
   m.integrator_limit_n = 550.0;
   m.current_limit_a = 6.6;
   for (size_t k = 0; k < 4; ++k) {
-    m.sensors[k] = {0.1 + 0.01 * static_cast<double>(k), 45.0 - 90.0 * static_cast<double>(k)};
-    m.actuators[k] = {0.2 + 0.01 * static_cast<double>(k), -45.0 + 30.0 * static_cast<double>(k), 100.0 + static_cast<double>(k)};
+    m.sensors[k] = {0.125 + 0.0625 * static_cast<double>(k), 45.0 - 90.0 * static_cast<double>(k)};
+    m.actuators[k] = {0.25 + 0.0625 * static_cast<double>(k), -45.0 + 30.0 * static_cast<double>(k), 100.0 + static_cast<double>(k)};
   }
   m.orbit_trigger_limit_m = 2.5e-4;
   m.current_trigger_limit_a = 7.5;
@@ -66,7 +68,7 @@ fw::EventRecord golden_event() {
     s.seq = 100 + static_cast<uint64_t>(i);
     s.t_ns = 1000 + 1000 * i;
     for (size_t k = 0; k < 4; ++k) {
-      s.displacement_m[k] = 1e-5f * (f + 1.0f) + 1e-6f * static_cast<float>(k);
+      s.displacement_m[k] = 0x1p-17f * static_cast<float>(4 * i + static_cast<int>(k) + 1);
       s.coil_current_a[k] = 0.5f * f - 0.125f * static_cast<float>(k);
       s.current_demand_a[k] = 0.25f * f + 0.0625f * static_cast<float>(k);
     }
@@ -112,7 +114,7 @@ fw::EventRecord golden_event() {
     a.aux[b].peak_force_n = 1500.0 + 10.0 * static_cast<double>(b);
     a.aux[b].peak_angle_deg = 33.0 + static_cast<double>(b);
     a.aux[b].life_fraction = 1e-4 * static_cast<double>(b + 1);
-    a.aux[b].contact_time_s = 0.02 + 0.01 * static_cast<double>(b);
+    a.aux[b].contact_time_s = 0.03125 + 0.015625 * static_cast<double>(b);
   }
   return r;
 }
@@ -136,7 +138,7 @@ fw::WearRecord golden_wear() {
     x.backward_rub_s = 0.375f + static_cast<float>(b);
     x.friction_energy_j = 1500.0f + static_cast<float>(b);
     x.peak_force_n = 4200.0f + static_cast<float>(b);
-    x.life_used_fraction = 0.075f + 0.001f * static_cast<float>(b);
+    x.life_used_fraction = 0.0625f + 0x1p-10f * static_cast<float>(b);
   }
   return w;
 }
