@@ -68,6 +68,11 @@ TEST(WearRecordFile, WrittenWholeAndReadBackEqual) {
   EXPECT_NE(error_of((d / "missing.ambw").string()).find("cannot open wear record"), std::string::npos);
   std::ofstream((d / "short.ambw").string(), std::ios::binary) << "AMBW";
   EXPECT_NE(error_of((d / "short.ambw").string()).find("is not a usable wear record (AMBW v1)"), std::string::npos);
+  {
+    std::ofstream big((d / "big.ambw").string(), std::ios::binary);
+    big << std::string(5 * amb::fw::wear_record_size(), 'A');
+  }
+  EXPECT_NE(error_of((d / "big.ambw").string()).find("larger than"), std::string::npos);
   EXPECT_NE(hw::wear_record_path_problem((d / "no-such-folder" / "w.ambw").string()).find("does not exist"), std::string::npos);
   EXPECT_EQ(hw::wear_record_path_problem(p), "");
   EXPECT_THROW(hw::write_wear_record_file((d / "no-such-folder" / "w.ambw").string(), r), std::runtime_error);

@@ -16,8 +16,11 @@ fw::WearRecord read_wear_record_file(const std::string& path, const std::string&
   // a bounded prefix so a wrong file cannot exhaust memory, the decoder names the size.
   std::vector<uint8_t> bytes;
   const size_t limit = 4 * fw::wear_record_size();
-  for (std::istreambuf_iterator<char> it(in), end; it != end && bytes.size() <= limit; ++it)
-    bytes.push_back(static_cast<uint8_t>(*it));
+  std::istreambuf_iterator<char> it(in), end;
+  for (; it != end && bytes.size() < limit; ++it) bytes.push_back(static_cast<uint8_t>(*it));
+  if (it != end)
+    throw std::invalid_argument("'" + path + "' is not a usable wear record (AMBW v1): larger than " + std::to_string(limit) +
+                                " bytes (a record has " + std::to_string(fw::wear_record_size()) + ")");
   fw::WearRecord r;
   std::string err;
   if (!fw::decode_wear_record(bytes, r, err))
