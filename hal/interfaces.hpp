@@ -98,4 +98,16 @@ class Storage {
   virtual uint64_t free_bytes() = 0;
 };
 
+/// Scheduling of the board's ordinary (non-real-time) threads: each such thread applies it to
+/// itself once, when it starts (never from the loop; the loop's own real-time set-up is the
+/// backend's, e.g. hal/linux/rt_thread.hpp). Linux sets nice values; a backend with nothing to
+/// schedule (sim, replay) passes no ThreadScheduling at all.
+class ThreadScheduling {
+ public:
+  virtual ~ThreadScheduling() = default;
+  /// Put the calling thread below the board's other ordinary threads (background work that
+  /// may only take what they leave). Returns false, changing nothing, when refused (not fatal).
+  virtual bool make_current_thread_background() = 0;
+};
+
 }  // namespace amb::hal

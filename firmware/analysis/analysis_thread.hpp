@@ -1,21 +1,26 @@
 #pragma once
 // The analysis thread: calls AnalysisTask::poll() every poll period and, every status
 // period, hands the newest analysis and loop status to a callback (the linux backend sends
-// the CAN board-status frame from it). Ordinary (non-real-time) thread at nice 10 on Linux
-// (below the board's other ordinary threads); the loop never waits for it. The sim backend uses the same thread in `amb-firmware --backend sim`.
+// the CAN board-status frame from it). Ordinary (non-real-time) thread, put in the background
+// by the backend's hal::ThreadScheduling (linux: nice 10, below the board's other ordinary
+// threads); the loop never waits for it. The sim backend uses the same thread in
+// `amb-firmware --backend sim` (no scheduling there).
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <thread>
 
 #include "firmware/analysis/analysis_task.hpp"
+#include "hal/interfaces.hpp"
 
 namespace amb::fw {
 
 class AnalysisThread {
  public:
   using StatusCallback = std::function<void(const AnalysisStatus&)>;
-  AnalysisThread() = default;
+  /// `scheduling`: the backend's, applied by the thread to itself when it starts (nullptr:
+  /// none, the thread keeps the scheduling it inherits); must outlive the thread.
+  explicit AnalysisThread(hal::ThreadScheduling* scheduling = nullptr) : scheduling_(scheduling) {}
   AnalysisThread(const AnalysisThread&) = delete;
   AnalysisThread& operator=(const AnalysisThread&) = delete;
   ~AnalysisThread() { stop(); }
@@ -30,6 +35,7 @@ class AnalysisThread {
   std::thread::native_handle_type native_handle() { return thread_.native_handle(); }
 
  private:
+  hal::ThreadScheduling* scheduling_ = nullptr;
   std::atomic<bool> running_{false};
   std::thread thread_;
 };

@@ -1,6 +1,13 @@
 #pragma once
 // Explicit little-endian encoding for on-disk and on-wire formats (independent of the host's
 // byte order and struct padding).
+//
+// A format's field list is written once, as a function template over the coder
+// (`template <class Coder, class Rec> void fields(Coder& c, Rec& r)`): ByteWriter's calls take
+// the values (Rec is const), ByteReader's same-named calls fill them. So encoder and decoder
+// cannot disagree on the order, width or presence of a field.
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -22,6 +29,19 @@ class ByteWriter {
   void str(const std::string& s, size_t width) {
     for (size_t i = 0; i < width; ++i) out_.push_back(i < s.size() ? static_cast<uint8_t>(s[i]) : 0);
   }
+
+  // Field-list calls (the same names on ByteReader).
+  static constexpr bool k_reads = false;
+  /// An enum or bool stored in one byte.
+  template <class T> void u8_of(const T& v) { u8(static_cast<uint8_t>(v)); }
+  /// A signed value stored as one two's-complement byte.
+  template <class T> void i8_of(const T& v) { u8(static_cast<uint8_t>(static_cast<int8_t>(v))); }
+  /// Reserved bytes: written as zeros.
+  void zeros(size_t bytes) { for (size_t i = 0; i < bytes; ++i) u8(0); }
+  /// Text in a `width`-byte field, at most `max_chars` of it stored (the rest zero padding).
+  void text(const std::string& s, size_t width, size_t max_chars) { str(s.substr(0, std::min(max_chars, s.size())), width); }
+  template <size_t N> void f32s(const std::array<float, N>& a) { for (float v : a) f32(v); }
+  template <size_t N> void f64s(const std::array<double, N>& a) { for (double v : a) f64(v); }
 
  private:
   std::vector<uint8_t>& out_;
@@ -48,6 +68,23 @@ class ByteReader {
     s.resize(s.find('\0') == std::string::npos ? s.size() : s.find('\0'));
     return s;
   }
+
+  // Field-list calls (the same names on ByteWriter): each fills its argument.
+  static constexpr bool k_reads = true;
+  void u8(uint8_t& v) { v = u8(); }
+  void u16(uint16_t& v) { v = u16(); }
+  void u32(uint32_t& v) { v = u32(); }
+  void u64(uint64_t& v) { v = u64(); }
+  void i64(int64_t& v) { v = i64(); }
+  void f32(float& v) { v = f32(); }
+  void f64(double& v) { v = f64(); }
+  template <class T> void u8_of(T& v) { v = static_cast<T>(u8()); }
+  template <class T> void i8_of(T& v) { v = static_cast<T>(static_cast<int8_t>(u8())); }
+  /// Reserved bytes: skipped (a format that requires them zero checks that itself).
+  void zeros(size_t bytes) { for (size_t i = 0; i < bytes; ++i) (void)u8(); }
+  void text(std::string& s, size_t width, size_t /*max_chars*/) { s = str(width); }
+  template <size_t N> void f32s(std::array<float, N>& a) { for (float& v : a) v = f32(); }
+  template <size_t N> void f64s(std::array<double, N>& a) { for (double& v : a) v = f64(); }
 
  private:
   bool need(size_t k) {

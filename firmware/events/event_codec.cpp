@@ -10,179 +10,100 @@
 namespace amb::fw {
 namespace {
 
-void write_meta(ByteWriter& w, const EventMetadata& m) {
-  w.str(m.board_name, 64);
-  w.str(m.rig_name, 64);
-  w.str(m.firmware_version, 32);
-  w.str(m.board_source, 128);
-  w.u64(m.event_number);
-  w.u64(m.capture_number);
-  w.f64(m.rate_hz);
-  w.f64(m.pre_trigger_s);
-  w.f64(m.post_trigger_s);
-  w.u8(static_cast<uint8_t>(m.cause));
-  w.u8(m.cutoff_channels);
-  w.u16(0);
-  w.u32(m.cause_mask);
-  w.u32(m.trigger_index);
-  w.u32(m.seq_gaps);
-  w.u64(m.trigger_seq);
-  w.i64(m.trigger_t_ns);
-  w.f64(m.speed_at_trigger_hz);
-  w.i64(m.first_t_ns);
-  w.i64(m.last_t_ns);
-  w.u64(m.events_lost_before);
-  for (double g : {m.kp_n_per_m, m.ki_n_per_m_s, m.kd_n_s_per_m, m.derivative_filter_hz, m.integrator_limit_n,
-                   m.current_limit_a})
-    w.f64(g);
-  for (const auto& s : m.sensors) { w.f64(s.axial_m); w.f64(s.angle_deg); }
-  for (const auto& a : m.actuators) { w.f64(a.axial_m); w.f64(a.angle_deg); w.f64(a.ki_n_per_a); }
-  w.f64(m.orbit_trigger_limit_m);
-  w.f64(m.current_trigger_limit_a);
+// The field lists of AMBE, each written once (byte_codec.hpp): Coder is ByteWriter (Rec const)
+// or ByteReader. Layout and sizes: docs/event-format.md.
+
+template <class Coder, class Meta>
+void meta_fields(Coder& c, Meta& m) {
+  c.text(m.board_name, 64, 64);
+  c.text(m.rig_name, 64, 64);
+  c.text(m.firmware_version, 32, 32);
+  c.text(m.board_source, 128, 128);
+  c.u64(m.event_number);
+  c.u64(m.capture_number);
+  c.f64(m.rate_hz);
+  c.f64(m.pre_trigger_s);
+  c.f64(m.post_trigger_s);
+  c.u8_of(m.cause);
+  c.u8(m.cutoff_channels);
+  c.zeros(2);
+  c.u32(m.cause_mask);
+  c.u32(m.trigger_index);
+  c.u32(m.seq_gaps);
+  c.u64(m.trigger_seq);
+  c.i64(m.trigger_t_ns);
+  c.f64(m.speed_at_trigger_hz);
+  c.i64(m.first_t_ns);
+  c.i64(m.last_t_ns);
+  c.u64(m.events_lost_before);
+  c.f64(m.kp_n_per_m);
+  c.f64(m.ki_n_per_m_s);
+  c.f64(m.kd_n_s_per_m);
+  c.f64(m.derivative_filter_hz);
+  c.f64(m.integrator_limit_n);
+  c.f64(m.current_limit_a);
+  for (auto& s : m.sensors) { c.f64(s.axial_m); c.f64(s.angle_deg); }
+  for (auto& a : m.actuators) { c.f64(a.axial_m); c.f64(a.angle_deg); c.f64(a.ki_n_per_a); }
+  c.f64(m.orbit_trigger_limit_m);
+  c.f64(m.current_trigger_limit_a);
 }
 
-void read_meta(ByteReader& r, EventMetadata& m) {
-  m.board_name = r.str(64);
-  m.rig_name = r.str(64);
-  m.firmware_version = r.str(32);
-  m.board_source = r.str(128);
-  m.event_number = r.u64();
-  m.capture_number = r.u64();
-  m.rate_hz = r.f64();
-  m.pre_trigger_s = r.f64();
-  m.post_trigger_s = r.f64();
-  m.cause = static_cast<TriggerCause>(r.u8());
-  m.cutoff_channels = r.u8();
-  (void)r.u16();
-  m.cause_mask = r.u32();
-  m.trigger_index = r.u32();
-  m.seq_gaps = r.u32();
-  m.trigger_seq = r.u64();
-  m.trigger_t_ns = r.i64();
-  m.speed_at_trigger_hz = r.f64();
-  m.first_t_ns = r.i64();
-  m.last_t_ns = r.i64();
-  m.events_lost_before = r.u64();
-  for (double* g : {&m.kp_n_per_m, &m.ki_n_per_m_s, &m.kd_n_s_per_m, &m.derivative_filter_hz, &m.integrator_limit_n,
-                    &m.current_limit_a})
-    *g = r.f64();
-  for (auto& s : m.sensors) { s.axial_m = r.f64(); s.angle_deg = r.f64(); }
-  for (auto& a : m.actuators) { a.axial_m = r.f64(); a.angle_deg = r.f64(); a.ki_n_per_a = r.f64(); }
-  m.orbit_trigger_limit_m = r.f64();
-  m.current_trigger_limit_a = r.f64();
+template <class Coder, class Sample>
+void sample_fields(Coder& c, Sample& s, uint16_t version) {
+  c.u64(s.seq);
+  c.i64(s.t_ns);
+  c.f32s(s.displacement_m);
+  c.f32s(s.coil_current_a);
+  c.f32s(s.current_demand_a);
+  c.f32(s.speed_hz);
+  c.f32(s.speed_command_hz);
+  c.u8(s.state);
+  c.u8(s.phase);
+  c.u8(s.fault);
+  c.u8(s.speed_quality);
+  c.u32(s.flags);
+  if (version >= 3) c.f32(s.tach_hz);
+  else if constexpr (Coder::k_reads) s.tach_hz = -1.0f;  // older files: no tachometer channel recorded
 }
 
-void write_sample(ByteWriter& w, const LoopSample& s, uint16_t version) {
-  w.u64(s.seq);
-  w.i64(s.t_ns);
-  for (float v : s.displacement_m) w.f32(v);
-  for (float v : s.coil_current_a) w.f32(v);
-  for (float v : s.current_demand_a) w.f32(v);
-  w.f32(s.speed_hz);
-  w.f32(s.speed_command_hz);
-  w.u8(s.state);
-  w.u8(s.phase);
-  w.u8(s.fault);
-  w.u8(s.speed_quality);
-  w.u32(s.flags);
-  if (version >= 3) w.f32(s.tach_hz);
+template <class Coder, class Diag>
+void diagnosis_fields(Coder& c, Diag& d) {
+  c.u8_of(d.type);
+  c.u8(d.cutoff_channels);
+  c.u8(d.disturbance_channels);
+  c.i8_of(d.misalignment_plane);
+  c.zeros(4);
+  c.f64(d.confidence);
+  c.f64s(d.current_factor);
+  c.f64(d.disturbance_frequency_hz);
+  c.f64(d.disturbance_amplitude_a);
+  c.f64(d.current_lead_s);
+  c.f64(d.speed_hz);
+  c.f64s(d.radius_1x_start_m);
+  c.f64s(d.radius_1x_end_m);
+  c.f64s(d.centre_shift_m);
+  c.f64(d.misalignment_direction_deg);
+  c.text(d.summary, 256, 255);
 }
 
-void read_sample(ByteReader& r, LoopSample& s, uint16_t version) {
-  s.seq = r.u64();
-  s.t_ns = r.i64();
-  for (float& v : s.displacement_m) v = r.f32();
-  for (float& v : s.coil_current_a) v = r.f32();
-  for (float& v : s.current_demand_a) v = r.f32();
-  s.speed_hz = r.f32();
-  s.speed_command_hz = r.f32();
-  s.state = r.u8();
-  s.phase = r.u8();
-  s.fault = r.u8();
-  s.speed_quality = r.u8();
-  s.flags = r.u32();
-  s.tach_hz = version >= 3 ? r.f32() : -1.0f;  // older files: no tachometer channel recorded
-}
-
-void write_diagnosis(ByteWriter& w, const diag::Diagnosis& d) {
-  w.u8(static_cast<uint8_t>(d.type));
-  w.u8(d.cutoff_channels);
-  w.u8(d.disturbance_channels);
-  w.u8(static_cast<uint8_t>(static_cast<int8_t>(d.misalignment_plane)));
-  w.u32(0);
-  w.f64(d.confidence);
-  for (double f : d.current_factor) w.f64(f);
-  w.f64(d.disturbance_frequency_hz);
-  w.f64(d.disturbance_amplitude_a);
-  w.f64(d.current_lead_s);
-  w.f64(d.speed_hz);
-  for (double v : d.radius_1x_start_m) w.f64(v);
-  for (double v : d.radius_1x_end_m) w.f64(v);
-  for (double v : d.centre_shift_m) w.f64(v);
-  w.f64(d.misalignment_direction_deg);
-  w.str(d.summary.substr(0, 255), 256);
-}
-
-void read_diagnosis(ByteReader& r, diag::Diagnosis& d) {
-  d.type = static_cast<diag::FaultType>(r.u8());
-  d.cutoff_channels = r.u8();
-  d.disturbance_channels = r.u8();
-  d.misalignment_plane = static_cast<int8_t>(r.u8());
-  (void)r.u32();
-  d.confidence = r.f64();
-  for (double& f : d.current_factor) f = r.f64();
-  d.disturbance_frequency_hz = r.f64();
-  d.disturbance_amplitude_a = r.f64();
-  d.current_lead_s = r.f64();
-  d.speed_hz = r.f64();
-  for (double& v : d.radius_1x_start_m) v = r.f64();
-  for (double& v : d.radius_1x_end_m) v = r.f64();
-  for (double& v : d.centre_shift_m) v = r.f64();
-  d.misalignment_direction_deg = r.f64();
-  d.summary = r.str(256);
-}
-
-void write_analysis(ByteWriter& w, const EventAnalysis& a) {
-  w.u8(a.speed_source);
-  w.u8(a.speed_lost_at_trigger ? 1 : 0);
-  w.u8(a.quick_look_valid ? 1 : 0);
-  w.u8(0);
-  w.u32(0);
-  w.f64(a.speed_confidence_at_trigger);
-  w.f64(a.quick_look_spin_hz);
-  w.f64(a.aux_contact_constant_n_per_m1p5);
-  w.f64(a.aux_dynamic_load_rating_n);
-  for (const AuxQuickLook& q : a.aux) {
-    w.u8(q.valid ? 1 : 0);
-    w.u8(0);
-    w.u16(0);
-    w.u32(q.samples_in_contact);
-    w.f64(q.peak_force_n);
-    w.f64(q.peak_angle_deg);
-    w.f64(q.life_fraction);
-    w.f64(q.contact_time_s);
-  }
-}
-
-void read_analysis(ByteReader& r, EventAnalysis& a) {
-  a.speed_source = r.u8();
-  a.speed_lost_at_trigger = r.u8() != 0;
-  a.quick_look_valid = r.u8() != 0;
-  (void)r.u8();
-  (void)r.u32();
-  a.speed_confidence_at_trigger = r.f64();
-  a.quick_look_spin_hz = r.f64();
-  a.aux_contact_constant_n_per_m1p5 = r.f64();
-  a.aux_dynamic_load_rating_n = r.f64();
-  for (AuxQuickLook& q : a.aux) {
-    q.valid = r.u8() != 0;
-    (void)r.u8();
-    (void)r.u16();
-    q.samples_in_contact = r.u32();
-    q.peak_force_n = r.f64();
-    q.peak_angle_deg = r.f64();
-    q.life_fraction = r.f64();
-    q.contact_time_s = r.f64();
+template <class Coder, class Analysis>
+void analysis_fields(Coder& c, Analysis& a) {
+  c.u8(a.speed_source);
+  c.u8_of(a.speed_lost_at_trigger);
+  c.u8_of(a.quick_look_valid);
+  c.zeros(5);
+  c.f64(a.speed_confidence_at_trigger);
+  c.f64(a.quick_look_spin_hz);
+  c.f64(a.aux_contact_constant_n_per_m1p5);
+  c.f64(a.aux_dynamic_load_rating_n);
+  for (auto& q : a.aux) {
+    c.u8_of(q.valid);
+    c.zeros(3);
+    c.u32(q.samples_in_contact);
+    c.f64(q.peak_force_n);
+    c.f64(q.peak_angle_deg);
+    c.f64(q.life_fraction);
+    c.f64(q.contact_time_s);
   }
 }
 
@@ -213,10 +134,11 @@ std::vector<uint8_t> encode(const EventRecord& r, uint16_t version) {
   w.u32(static_cast<uint32_t>(n));
   w.u32(static_cast<uint32_t>(sample_bytes));
   w.u32(static_cast<uint32_t>(diag_bytes));
-  write_meta(w, r.meta);
-  for (const LoopSample& s : r.samples) write_sample(w, s, version);
-  if (r.has_diagnosis) write_diagnosis(w, r.diagnosis);
-  if (version >= 2) write_analysis(w, r.has_analysis ? r.analysis : EventAnalysis{});
+  meta_fields(w, r.meta);
+  for (const LoopSample& s : r.samples) sample_fields(w, s, version);
+  if (r.has_diagnosis) diagnosis_fields(w, r.diagnosis);
+  const EventAnalysis analysis = r.has_analysis ? r.analysis : EventAnalysis{};
+  if (version >= 2) analysis_fields(w, analysis);
   w.u32(crc32(out));
   return out;
 }
@@ -286,13 +208,13 @@ bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string&
   }
   EventRecord r;
   ByteReader rd(bytes.data() + k_event_preamble_bytes, size - k_event_preamble_bytes - 4);
-  read_meta(rd, r.meta);
+  meta_fields(rd, r.meta);
   r.samples.resize(count);
-  for (LoopSample& s : r.samples) read_sample(rd, s, version);
+  for (LoopSample& s : r.samples) sample_fields(rd, s, version);
   r.has_diagnosis = diag_bytes != 0;
-  if (r.has_diagnosis) read_diagnosis(rd, r.diagnosis);
+  if (r.has_diagnosis) diagnosis_fields(rd, r.diagnosis);
   r.has_analysis = version >= 2;
-  if (r.has_analysis) read_analysis(rd, r.analysis);
+  if (r.has_analysis) analysis_fields(rd, r.analysis);
   r.format_version = version;
   if (!rd.ok() || rd.remaining() != 0) {
     error = "inconsistent sizes: body does not match the declared layout";

@@ -42,6 +42,7 @@
 #include "hal/linux/modbus_tcp_server.hpp"
 #include "hal/linux/process_memory.hpp"
 #include "hal/linux/rt_thread.hpp"
+#include "hal/linux/thread_scheduling.hpp"
 #include "hal/linux/service_notify.hpp"
 #include "hal/linux/socketcan_bus.hpp"
 
@@ -251,7 +252,8 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     return 1;
   }
   writer.start();
-  fw::AnalysisThread analysis_thread;
+  lx::LinuxThreadScheduling thread_scheduling;
+  fw::AnalysisThread analysis_thread(&thread_scheduling);
   std::atomic<uint64_t> status_frames{0};
   if (run_analysis) {
     uint64_t last_disagreements = 0;

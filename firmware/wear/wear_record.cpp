@@ -29,6 +29,28 @@ bool text_field_ok(const uint8_t* p, size_t width) {
 
 /// Loads, durations, energies, forces and fractions are finite and not negative.
 bool quantity_ok(float v) { return std::isfinite(v) && v >= 0.0f; }
+
+/// The record's fields after the header (magic, version, reserved), written once: Coder is
+/// ByteWriter (Rec const) or ByteReader (firmware/common/byte_codec.hpp).
+template <class Coder, class Rec>
+void record_fields(Coder& c, Rec& r) {
+  c.u32(r.sequence);
+  c.text(r.board_name, k_name_width, k_name_width - 1);
+  c.text(r.life_model, k_model_width, k_model_width - 1);
+  c.u32(r.event_count);
+  c.f32(r.last_friction_coefficient);
+  c.i64(r.updated_unix_s);
+  for (auto& b : r.bearing) {
+    c.f32s(b.event_load_n);
+    c.f32s(b.cumulative_load_n);
+    c.f32(b.swing_s);
+    c.f32(b.forward_rub_s);
+    c.f32(b.backward_rub_s);
+    c.f32(b.friction_energy_j);
+    c.f32(b.peak_force_n);
+    c.f32(b.life_used_fraction);
+  }
+}
 }  // namespace
 
 std::vector<uint8_t> encode_wear_record(const WearRecord& r) {
@@ -37,22 +59,7 @@ std::vector<uint8_t> encode_wear_record(const WearRecord& r) {
   w.u32(WearRecord::k_magic);
   w.u16(WearRecord::k_version);
   w.u16(0);
-  w.u32(r.sequence);
-  w.str(r.board_name.substr(0, k_name_width - 1), k_name_width);
-  w.str(r.life_model.substr(0, k_model_width - 1), k_model_width);
-  w.u32(r.event_count);
-  w.f32(r.last_friction_coefficient);
-  w.i64(r.updated_unix_s);
-  for (const AuxBearingWear& b : r.bearing) {
-    for (float v : b.event_load_n) w.f32(v);
-    for (float v : b.cumulative_load_n) w.f32(v);
-    w.f32(b.swing_s);
-    w.f32(b.forward_rub_s);
-    w.f32(b.backward_rub_s);
-    w.f32(b.friction_energy_j);
-    w.f32(b.peak_force_n);
-    w.f32(b.life_used_fraction);
-  }
+  record_fields(w, r);
   w.u32(crc32(out));
   return out;
 }
@@ -99,22 +106,7 @@ bool decode_wear_record(const std::vector<uint8_t>& bytes, WearRecord& out, std:
     error = "wear record name fields are not NUL-terminated printable text";
     return false;
   }
-  w.sequence = r.u32();
-  w.board_name = r.str(k_name_width);
-  w.life_model = r.str(k_model_width);
-  w.event_count = r.u32();
-  w.last_friction_coefficient = r.f32();
-  w.updated_unix_s = r.i64();
-  for (AuxBearingWear& b : w.bearing) {
-    for (float& v : b.event_load_n) v = r.f32();
-    for (float& v : b.cumulative_load_n) v = r.f32();
-    b.swing_s = r.f32();
-    b.forward_rub_s = r.f32();
-    b.backward_rub_s = r.f32();
-    b.friction_energy_j = r.f32();
-    b.peak_force_n = r.f32();
-    b.life_used_fraction = r.f32();
-  }
+  record_fields(r, w);
   if (!r.ok()) {
     error = "wear record malformed";
     return false;

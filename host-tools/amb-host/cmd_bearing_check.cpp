@@ -15,10 +15,13 @@
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/bearing/bearing_check.hpp"
 #include "host-tools/core/io/mat_file.hpp"
+#include "host-tools/core/io/number_text.hpp"
 #include "model/bearing/catalogue.hpp"
 #include "model/bearing/geometry.hpp"
 
 namespace {
+
+using amb::host::io::printf_text;
 
 namespace mb = amb::model::bearing;
 namespace hb = amb::host::bearing;
@@ -39,12 +42,6 @@ constexpr double k_fs_min_hz = 1000.0, k_fs_max_hz = 1e7;
 constexpr double k_rpm_min = 1.0, k_rpm_max = 1e6;
 
 nlohmann::json opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
 
 std::string known_bearings() {
   std::string known;
@@ -76,7 +73,7 @@ std::optional<double> file_scalar(const std::string& file, const std::string& na
 std::optional<double> resolve(const char* option, const std::optional<double>& cli, const std::optional<double>& file,
                               const char* file_var) {
   if (file && cli && std::abs(*cli - *file) > 1e-3 * std::abs(*file))
-    warn(std::string(option) + " " + num(*cli) + " disagrees with the file's " + file_var + " = " + num(*file) +
+    warn(std::string(option) + " " + printf_text("%.6g", *cli) + " disagrees with the file's " + file_var + " = " + printf_text("%.6g", *file) +
          "; using the file's value");
   return file ? file : cli;
 }
@@ -89,10 +86,10 @@ int run(Args a) {
   if (!std::filesystem::exists(a.mat_file)) return bad_input("--mat file '" + a.mat_file + "' does not exist");
   // Non-finite or absurd values are refused before anything else is read.
   if (a.fs_hz && !(std::isfinite(*a.fs_hz) && *a.fs_hz >= k_fs_min_hz && *a.fs_hz <= k_fs_max_hz))
-    return bad_input("--fs " + num(*a.fs_hz) + " is not a sample rate in [" + num(k_fs_min_hz) + ", " + num(k_fs_max_hz) +
+    return bad_input("--fs " + printf_text("%.6g", *a.fs_hz) + " is not a sample rate in [" + printf_text("%.6g", k_fs_min_hz) + ", " + printf_text("%.6g", k_fs_max_hz) +
                      "] Hz");
   if (a.rpm && !(std::isfinite(*a.rpm) && *a.rpm >= k_rpm_min && *a.rpm <= k_rpm_max))
-    return bad_input("--rpm " + num(*a.rpm) + " is not a shaft speed in [" + num(k_rpm_min) + ", " + num(k_rpm_max) +
+    return bad_input("--rpm " + printf_text("%.6g", *a.rpm) + " is not a shaft speed in [" + printf_text("%.6g", k_rpm_min) + ", " + printf_text("%.6g", k_rpm_max) +
                      "] rpm");
   if (!a.end.empty() && a.end != "drive" && a.end != "fan")
     return bad_input("--end '" + a.end + "' must be 'drive' or 'fan'");
@@ -115,11 +112,11 @@ int run(Args a) {
   if (!fs) return bad_input("--fs is needed: the file has no scalar 'fs'");
   if (!rpm) return bad_input("--rpm is needed: the file has no scalar 'RPM'");
   if (!(*fs >= k_fs_min_hz && *fs <= k_fs_max_hz))
-    return bad_input("the file's fs " + num(*fs) + " is not a sample rate in [" + num(k_fs_min_hz) + ", " +
-                     num(k_fs_max_hz) + "] Hz");
+    return bad_input("the file's fs " + printf_text("%.6g", *fs) + " is not a sample rate in [" + printf_text("%.6g", k_fs_min_hz) + ", " +
+                     printf_text("%.6g", k_fs_max_hz) + "] Hz");
   if (!(*rpm >= k_rpm_min && *rpm <= k_rpm_max))
-    return bad_input("the file's RPM " + num(*rpm) + " is not a shaft speed in [" + num(k_rpm_min) + ", " +
-                     num(k_rpm_max) + "] rpm");
+    return bad_input("the file's RPM " + printf_text("%.6g", *rpm) + " is not a shaft speed in [" + printf_text("%.6g", k_rpm_min) + ", " +
+                     printf_text("%.6g", k_rpm_max) + "] rpm");
   // Where the record cannot hold the defect lines, say so instead of giving a verdict: every
   // line examined must lie below the Nyquist frequency, and the record must span enough
   // revolutions of the cage (the slowest line) to resolve it.
@@ -127,21 +124,21 @@ int run(Args a) {
   const mb::DefectFrequencies defect = mb::defect_frequencies(*geometry, *rpm / 60.0);
   const double highest_hz = harmonics * defect.bpfi_hz + 3.0 * defect.shaft_hz;
   if (highest_hz >= 0.5 * *fs)
-    return bad_input("--rpm " + num(*rpm) + " with --fs " + num(*fs) + ": the defect lines examined reach " +
-                     num(highest_hz) + " Hz (" + std::to_string(harmonics) +
-                     " x BPFI + 3 x shaft), above the Nyquist frequency " + num(0.5 * *fs) +
+    return bad_input("--rpm " + printf_text("%.6g", *rpm) + " with --fs " + printf_text("%.6g", *fs) + ": the defect lines examined reach " +
+                     printf_text("%.6g", highest_hz) + " Hz (" + std::to_string(harmonics) +
+                     " x BPFI + 3 x shaft), above the Nyquist frequency " + printf_text("%.6g", 0.5 * *fs) +
                      " Hz; nothing can be analysed (check --rpm and --fs)");
   const double duration_s = static_cast<double>(x.size()) / *fs;
   if (duration_s * defect.ftf_hz < 10.0)
-    return bad_input("--rpm " + num(*rpm) + " with --fs " + num(*fs) + ": the record (" +
-                     std::to_string(x.size()) + " samples, " + num(duration_s) + " s) spans " +
-                     num(duration_s * defect.ftf_hz) + " cage revolutions; at least 10 are needed to resolve the lines "
+    return bad_input("--rpm " + printf_text("%.6g", *rpm) + " with --fs " + printf_text("%.6g", *fs) + ": the record (" +
+                     std::to_string(x.size()) + " samples, " + printf_text("%.6g", duration_s) + " s) spans " +
+                     printf_text("%.6g", duration_s * defect.ftf_hz) + " cage revolutions; at least 10 are needed to resolve the lines "
                      "(check --rpm and --fs)");
   hb::BearingCheckResult r;
   try {
     r = hb::check_bearing(x, *fs, *rpm / 60.0, *geometry);
   } catch (const std::invalid_argument& e) {
-    return bad_input(std::string(e.what()) + " (--fs " + num(*fs) + ", --rpm " + num(*rpm) + ")");
+    return bad_input(std::string(e.what()) + " (--fs " + printf_text("%.6g", *fs) + ", --rpm " + printf_text("%.6g", *rpm) + ")");
   }
   const auto& p = r.predicted;
   const auto& q = r.refined;
@@ -212,7 +209,7 @@ int run(Args a) {
               "decision");
   for (const auto& f : r.families)
     std::printf("  %-5s %10.2f %10s %8.1f %10.1f %-13s %s\n", f.name.c_str(), f.predicted_hz,
-                f.found_hz ? num(std::round(*f.found_hz * 100) / 100).c_str() : "-", f.score, f.log10_p,
+                f.found_hz ? printf_text("%.6g", std::round(*f.found_hz * 100) / 100).c_str() : "-", f.score, f.log10_p,
                 r.bands[f.band_index].name.c_str(), f.reason.c_str());
   std::printf("verdict: %s (%s)\n", r.verdict.c_str(), r.reason.c_str());
   return 0;

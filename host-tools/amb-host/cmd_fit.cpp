@@ -1,27 +1,22 @@
 // amb-host fit EVENT: Phase C of seed 000: fit the multibody drop model to a measured drop
 // (measured-event format) by implicit filtering; optionally fold the fitted event into a
 // wear record (Phase D/E). Logic: host-tools/core/fit/, host-tools/core/wear/.
-#include <chrono>
 #include <cstdio>
 #include <exception>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "firmware/board/board.hpp"
 #include "firmware/wear/wear_record.hpp"
 #include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
+#include "host-tools/core/fit/fit_result_json.hpp"
 #include "host-tools/core/events/event_board_choice.hpp"
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/events/measured_event.hpp"
-#include "host-tools/core/wear/load_map.hpp"
 #include "host-tools/core/ui/progress_lines.hpp"
+#include "host-tools/core/wear/wear_record_file.hpp"
 #include "host-tools/core/wear/wear_update.hpp"
 
 namespace {
@@ -46,10 +41,6 @@ int bad_input(const std::string& what) {
   return 1;
 }
 
-nlohmann::json durations(const amb::model::drop::RubbingDurations& d) {
-  return {{"swing", d.swing_s}, {"forward", d.forward_s}, {"backward", d.backward_s}};
-}
-
 int run(const Args& a) {
   namespace hf = amb::host::fit;
   namespace hw = amb::host::wear;
@@ -66,20 +57,14 @@ int run(const Args& a) {
   // must not cost a fit.
   amb::fw::WearRecord prev;
   if (!a.wear_in.empty() && a.wear_out.empty()) return bad_input("--wear-in needs --wear-out (where the updated record goes)");
-  if (!a.wear_out.empty()) {
-    const std::filesystem::path parent = std::filesystem::path(a.wear_out).parent_path();
-    if (!parent.empty() && !std::filesystem::is_directory(parent))
-      return bad_input("--wear-out '" + a.wear_out + "': folder '" + parent.string() + "' does not exist");
-  }
+  if (!a.wear_out.empty())
+    if (const std::string e = hw::wear_record_path_problem(a.wear_out); !e.empty()) return bad_input("--wear-out " + e);
   if (!a.wear_in.empty()) {
-    std::ifstream in(a.wear_in, std::ios::binary);
-    if (!in) return bad_input("--wear-in '" + a.wear_in + "' cannot be read");
-    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::string err;
-    if (!amb::fw::decode_wear_record(bytes, prev, err)) return bad_input("--wear-in '" + a.wear_in + "': " + err);
-    if (prev.board_name != board.name)
-      return bad_input("--wear-in '" + a.wear_in + "' is the wear record of board '" + prev.board_name + "', not of '" +
-                       board.name + "'");
+    try {
+      prev = hw::read_wear_record_file(a.wear_in, board.name);
+    } catch (const std::invalid_argument& e) {
+      return bad_input(std::string("--wear-in: ") + e.what());
+    }
   }
   hf::DropFitOptions o;
   o.max_window_s = a.window_s;
@@ -104,127 +89,25 @@ int run(const Args& a) {
   // Optional Phase D/E: fold the fitted event into a wear record.
   std::string wear_note;
   if (!a.wear_out.empty()) {
-    hw::WearEvent ev;
-    ev.load = hw::event_load(r.trace.contact_steps);
-    ev.rubbing = r.rubbing;
-    ev.friction_coefficient = r.friction_coefficient;
-    const auto now = std::chrono::duration_cast<std::chrono::seconds>(std::chrono::system_clock::now().time_since_epoch()).count();
     amb::fw::WearRecord next;
     try {
-      next = hw::update_wear_record(prev, ev, board.name, now, hw::WearOptions{});
+      next = hw::account_drop(prev, r.trace.contact_steps, r.rubbing, r.friction_coefficient, board.name,
+                              hw::wall_clock_unix_s(), hw::WearOptions{})
+                 .record;
     } catch (const std::invalid_argument& e) {
       return bad_input(e.what());
     }
-    // Written whole or not at all: a temporary file renamed over the target.
-    const auto bytes = amb::fw::encode_wear_record(next);
-    const std::string tmp = a.wear_out + ".tmp";
-    {
-      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-      if (!out) {
-        std::error_code ec;
-        std::filesystem::remove(tmp, ec);
-        std::fprintf(stderr, "amb-host fit: error: --wear-out '%s' cannot be written\n", a.wear_out.c_str());
-        return 2;
-      }
+    try {
+      hw::write_wear_record_file(a.wear_out, next);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "amb-host fit: error: --wear-out: %s\n", e.what());
+      return 2;
     }
-    std::filesystem::rename(tmp, a.wear_out);
     wear_note = "wear record sequence " + std::to_string(next.sequence) + " written to " + a.wear_out;
   }
 
   if (a.json) {
-    nlohmann::json j;
-    j["friction_coefficient"] = r.friction_coefficient;
-    j["rubbing_s"] = durations(r.rubbing[0]);
-    j["rubbing_s_per_bearing"] = {durations(r.rubbing[0]), durations(r.rubbing[1])};
-    j["measured_rubbing_s_per_bearing"] = {durations(r.measured_rubbing[0]), durations(r.measured_rubbing[1])};
-    j["cost"] = r.cost.total;
-    j["cost_terms"] = {{"rubbing", r.cost.rubbing}, {"orbit", r.cost.orbit},   {"speed", r.cost.speed},
-                       {"spin_down", r.cost.spin_down}, {"contact", r.cost.contact}, {"whirl", r.cost.whirl},
-                       {"bounce", r.cost.bounce}};
-    j["friction_uncertainty"] = r.friction_uncertainty;
-    j["friction_method"] = r.friction_method;
-    {
-      const auto& fe = r.friction_estimate;
-      nlohmann::json windows = nlohmann::json::array();
-      for (const auto& w : fe.windows)
-        windows.push_back({{"bearing", w.bearing}, {"start_s", w.start_s}, {"normal_impulse_n_s", w.normal_impulse_n_s},
-                           {"friction_impulse_n_s", w.friction_impulse_n_s}, {"ratio", w.ratio}, {"sliding", w.sliding},
-                           {"next_to_rolling", w.next_to_rolling}});
-      j["friction_estimate"] = {{"valid", fe.valid},
-                                {"friction", fe.friction},
-                                {"uncertainty", fe.uncertainty},
-                                {"standard_error", fe.standard_error},
-                                {"smoothing_change", fe.smoothing_change},
-                                {"windows_used", fe.windows_used},
-                                {"windows_total", fe.windows_total},
-                                {"window_s", fe.window_s},
-                                {"sliding_time_s", fe.sliding_time_s},
-                                {"measured_spin_down_rad_s2", fe.measured_spin_down_rad_s2},
-                                {"force_spin_down_rad_s2", fe.force_spin_down_rad_s2},
-                                {"force_spin_down_scatter_rad_s2", fe.force_spin_down_scatter_rad_s2},
-                                {"synchronous_removed", fe.synchronous_removed},
-                                {"synchronous_force_n", fe.synchronous_force_n},
-                                {"synchronous_moment_n_m", fe.synchronous_moment_n_m},
-                                {"bending_modes", fe.bending_modes},
-                                {"rotor_choice", fe.rotor_choice},
-                                {"free_flight_samples", fe.free_flight_samples},
-                                {"free_flight_force_rms_n", {{"rigid", fe.free_flight_force_rms_n[0]}, {"bent", fe.free_flight_force_rms_n[1]}}},
-                                {"free_flight_noise_rms_n", {{"rigid", fe.free_flight_noise_rms_n[0]}, {"bent", fe.free_flight_noise_rms_n[1]}}},
-                                {"note", fe.note},
-                                {"windows", windows}};
-    }
-    j["bound_active"] = r.bound_active;
-    j["contact_law"] = r.contact_law;
-    j["contact_stiffness_n_per_m"] = r.contact_stiffness_n_per_m;
-    j["contact_damping_n_s_per_m"] = r.contact_damping_n_s_per_m;
-    j["ring_drag_n_m"] = r.ring_drag_n_m;
-    j["spin_down_rad_s2"] = r.spin_down_rad_s2;
-    j["fitted_spin_down_rad_s2"] = r.fitted_spin_down_rad_s2;
-    j["polish_evaluations"] = r.polish_evaluations;
-    nlohmann::json unknowns = nlohmann::json::array();
-    for (const auto& u : r.unknowns)
-      unknowns.push_back({{"name", u.name}, {"value", u.value}, {"uncertainty", u.uncertainty}, {"lower", u.lower},
-                          {"upper", u.upper}, {"bound_active", u.bound_active}});
-    j["unknowns"] = unknowns;
-    const auto whirl_json = [](const std::array<hf::WhirlSummary, 2>& w) {
-      nlohmann::json list = nlohmann::json::array();
-      for (const auto& x : w)
-        list.push_back({{"direction", x.direction}, {"frequency_hz", x.frequency_hz}, {"onset_s", x.onset_s},
-                     {"contact_share", x.contact_share}, {"whirl_rate_rad_s", x.whirl_rate_rad_s},
-                     {"bounce_rate_per_s", x.bounce_rate_per_s}});
-      return list;
-    };
-    j["whirl"] = whirl_json(r.whirl);
-    j["fitted_whirl"] = whirl_json(r.fitted_whirl);
-    const auto lock_in_json = [](const hf::LockInFeatures& f) {
-      return nlohmann::json{{"valid", f.valid},
-                            {"own", f.own},
-                            {"start_s", f.start_s},
-                            {"speed_level_rad_s", f.speed_level_rad_s},
-                            {"spin_down_rad_s2", f.spin_down_rad_s2},
-                            {"whirling", {f.whirling[0], f.whirling[1]}},
-                            {"centripetal_m_s2", {f.centripetal_m_s2[0], f.centripetal_m_s2[1]}},
-                            {"penetration_m", {f.penetration_m[0], f.penetration_m[1]}}};
-    };
-    j["cost_lock_in"] = r.cost.lock_in;
-    j["lock_in"] = lock_in_json(r.lock_in);
-    j["fitted_lock_in"] = lock_in_json(r.fitted_lock_in);
-    nlohmann::json trials = nlohmann::json::array();
-    for (const auto& t : r.structure_trials)
-      trials.push_back({{"modes_per_plane", t.modes_per_plane}, {"cost", t.cost}, {"converged", t.converged}, {"bound_active", t.bound_active}});
-    j["rotor_structure"] = {{"modes_per_plane", r.rotor_modes_per_plane},
-                            {"model", r.rotor_modes_per_plane == 2 ? "rigid" : "flexible"},
-                            {"trials", trials}};
-    j["evaluations"] = r.evaluations;
-    j["wall_s"] = r.wall_s;
-    j["converged"] = r.converged;
-    j["stop_reason"] = r.stop_reason;
-    j["restitution"] = r.restitution;
-    j["centre_offset_m"] = {r.centre_offset_m[0], r.centre_offset_m[1]};
-    j["cost_history"] = r.cost_history;
-    if (!wear_note.empty()) j["wear"] = wear_note;
-    std::printf("%s\n", j.dump(2).c_str());
+    std::printf("%s\n", hf::fit_result_json({board.name, a.event, wear_note, r}).dump(2).c_str());
     return 0;
   }
   std::printf("friction coefficient %.4f +- %.4f (%s contact), cost %.4f (rubbing %.4f, orbit %.4f, speed %.4f, spin-down %.4f, "

@@ -15,6 +15,7 @@
 
 #include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
+#include "host-tools/core/fit/fit_result_json.hpp"
 #include "host-tools/core/fleet/fleet_report.hpp"
 #include "host-tools/core/fleet/fleet_schema.hpp"
 #include "host-tools/core/fleet/fleet_store.hpp"
@@ -47,7 +48,7 @@ std::string default_store() {
 bool other_json(const std::string& path) {
   std::ifstream f(path);
   const nlohmann::json j = nlohmann::json::parse(f, nullptr, false);
-  return j.is_discarded() || !j.is_object() || (!j.contains("friction_coefficient") && !j.contains("effects_added"));
+  return j.is_discarded() || !j.is_object() || (!amb::host::fit::is_fit_result_json(j) && !j.contains("effects_added"));
 }
 
 /// Files to import: each file given, and the .ambe/.ambw/.json files in each directory given

@@ -4,8 +4,6 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,6 +18,7 @@
 #include "host-tools/core/report/report_builder.hpp"
 #include "host-tools/core/report/report_html.hpp"
 #include "host-tools/core/ui/progress_bar.hpp"
+#include "host-tools/core/wear/wear_record_file.hpp"
 
 namespace {
 
@@ -48,14 +47,7 @@ int run(const Options& o) {
   try {
     ev = replay::read_event_file(o.event);
     board = replay::board_for_event(ev, o.board);
-    if (!o.wear.empty()) {
-      std::ifstream in(o.wear, std::ios::binary);
-      if (!in) return bad_input("cannot open wear record '" + o.wear + "'");
-      const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-      std::string err;
-      if (!amb::fw::decode_wear_record(bytes, wear, err))
-        return bad_input("'" + o.wear + "' is not a usable wear record (AMBW v1): " + err);
-    }
+    if (!o.wear.empty()) wear = wear::read_wear_record_file(o.wear);
   } catch (const std::exception& e) {
     return bad_input(e.what());
   }

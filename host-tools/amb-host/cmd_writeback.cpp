@@ -5,7 +5,6 @@
 // --arm-key, or the environment variable AMB_ARM_KEY).
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -19,6 +18,7 @@
 #include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/link/board_link.hpp"
+#include "host-tools/core/wear/wear_record_file.hpp"
 
 namespace {
 
@@ -56,19 +56,15 @@ uint32_t arm_key_of(const Args& a) {
 
 int run(const Args& a) {
   // The record first: a bad file is named as such, whatever else is missing.
-  std::ifstream in(a.record_path, std::ios::binary);
-  if (!in) {
-    std::fprintf(stderr, "amb-host writeback: error: cannot open %s\n", a.record_path.c_str());
-    return 1;
-  }
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   amb::fw::WearRecord rec;
-  std::string err;
-  if (!amb::fw::decode_wear_record(bytes, rec, err)) {
-    std::fprintf(stderr, "amb-host writeback: error: '%s' is not a usable wear record (AMBW v1): %s\n", a.record_path.c_str(),
-                 err.c_str());
+  try {
+    rec = amb::host::wear::read_wear_record_file(a.record_path);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "amb-host writeback: error: %s\n", e.what());
     return 1;
   }
+  // The file's bytes: the decoder accepts only what the encoder writes (fuzz_wear_ambw).
+  std::vector<uint8_t> bytes = amb::fw::encode_wear_record(rec);
   const uint32_t key = arm_key_of(a);
   lk::ModbusLink link(a.link);
   const lk::BoardIdentity id = lk::read_identity(link);

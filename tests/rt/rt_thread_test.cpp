@@ -1,17 +1,25 @@
 // Real-time thread set-up and the loop on the Linux clock: affinity and SCHED_FIFO are
 // really applied (or the reason is reported), and a 1 s loop at 10 kHz on absolute
-// deadlines runs against the sim plant with its latency histogram filled.
+// deadlines runs against the sim plant with its latency histogram filled. Also the ordinary
+// threads' scheduling (hal::ThreadScheduling).
 #include <gtest/gtest.h>
 #include <pthread.h>
 #include <sched.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <thread>
 
+#include "firmware/analysis/analysis_thread.hpp"
 #include "firmware/app/loop_runner.hpp"
+#include "firmware/board/board.hpp"
 #include "firmware/sil/sil_rig.hpp"
 #include "hal/linux/linux_clock.hpp"
 #include "hal/linux/rt_thread.hpp"
+#include "hal/linux/thread_scheduling.hpp"
 
 using namespace amb;
 
@@ -77,4 +85,53 @@ TEST(RtThread, PinsToTheHighestAllowedCpu) {
     EXPECT_EQ(sched_getcpu(), highest);
   });
   t.join();
+}
+
+// The ordinary threads' scheduling through the HAL (hal::ThreadScheduling): the linux
+// backend's nice value is the calling thread's only, and the analysis thread applies the
+// scheduling it is given to itself, once, in its own thread.
+TEST(ThreadScheduling, LinuxBackgroundNiceIsTheCallingThreadsOnly) {
+  const int before = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()));
+  if (before > 10) GTEST_SKIP() << "the test runs at nice " << before << " already (lowering it needs privilege)";
+  hal::linux_hw::LinuxThreadScheduling s(10);
+  bool applied = false;
+  int nice_in_thread = -100;
+  std::thread t([&] {
+    applied = s.make_current_thread_background();
+    nice_in_thread = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()));
+  });
+  t.join();
+  EXPECT_TRUE(applied);  // raising one's own nice value needs no privilege
+  EXPECT_EQ(nice_in_thread, 10);
+  EXPECT_EQ(::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid())), before);
+}
+
+namespace {
+struct RecordingScheduling final : hal::ThreadScheduling {
+  std::atomic<int> calls{0};
+  std::thread::id caller;
+  bool make_current_thread_background() override {
+    caller = std::this_thread::get_id();
+    calls.fetch_add(1);
+    return true;
+  }
+};
+}  // namespace
+
+TEST(ThreadScheduling, AnalysisThreadAppliesItToItselfOnce) {
+  const board::BoardConfig board = board::load_board("bath-amb-rig");
+  fw::AnalysisTask task;
+  ASSERT_EQ(task.configure(board, nullptr), "");
+  RecordingScheduling s;
+  fw::AnalysisThread thread(&s);
+  thread.start(task, 0.002);
+  for (int i = 0; i < 500 && s.calls.load() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a few polls more
+  thread.stop();
+  EXPECT_EQ(s.calls.load(), 1);
+  EXPECT_NE(s.caller, std::this_thread::get_id());
+  // Without a scheduling (the sim backend) the thread runs as it is.
+  fw::AnalysisThread plain;
+  plain.start(task, 0.002);
+  plain.stop();
 }

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "host-tools/core/fit/drop_cost.hpp"
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/wear/load_map.hpp"
 #include "host-tools/core/wear/wear_update.hpp"
 #include "model/drop/drop_simulation.hpp"
@@ -15,12 +16,6 @@ namespace amb::host::envelope {
 namespace {
 
 namespace md = amb::model::drop;
-
-std::string g17(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
 
 md::ContactLawChoice law_choice(const std::string& s) {
   if (s == "rigid") return md::ContactLawChoice::rigid;
@@ -52,11 +47,11 @@ std::string CaseResult::whirl_worst() const { return whirl_rank(whirl[1]) > whir
 
 std::string case_key(const StudySettings& s, const CaseParams& c) {
   // Version tag first: a change of what a case computes must change every hash.
-  return "envelope-case/1;board=" + s.board + ";law=" + s.contact_law + ";settle_s=" + g17(s.settle_s) +
-         ";window_s=" + g17(s.window_s) + ";rate_hz=" + g17(s.sample_rate_hz) + ";step_s=" + g17(s.step_s) +
-         ";budget_j=" + g17(s.friction_energy_budget_j) + ";speed_hz=" + g17(c.speed_hz) + ";friction=" + g17(c.friction) +
-         ";unbalance_factor=" + g17(c.unbalance_factor) + ";clearance_m=" + g17(c.clearance_m) +
-         ";offset_x_m=" + g17(c.offset_x_m) + ";offset_y_m=" + g17(c.offset_y_m) +
+  return "envelope-case/1;board=" + s.board + ";law=" + s.contact_law + ";settle_s=" + io::exact_text(s.settle_s) +
+         ";window_s=" + io::exact_text(s.window_s) + ";rate_hz=" + io::exact_text(s.sample_rate_hz) + ";step_s=" + io::exact_text(s.step_s) +
+         ";budget_j=" + io::exact_text(s.friction_energy_budget_j) + ";speed_hz=" + io::exact_text(c.speed_hz) + ";friction=" + io::exact_text(c.friction) +
+         ";unbalance_factor=" + io::exact_text(c.unbalance_factor) + ";clearance_m=" + io::exact_text(c.clearance_m) +
+         ";offset_x_m=" + io::exact_text(c.offset_x_m) + ";offset_y_m=" + io::exact_text(c.offset_y_m) +
          ";failed=" + channels_name(c.failed_channels);
 }
 
@@ -86,8 +81,8 @@ CaseResult run_case(const board::BoardConfig& board, const std::shared_ptr<const
     a.centre_offset_x_m = c.offset_x_m;
     a.centre_offset_y_m = c.offset_y_m;
     if (std::hypot(a.centre_offset_x_m, a.centre_offset_y_m) >= a.clearance_m)
-      throw std::invalid_argument("centre offset (" + g17(c.offset_x_m) + ", " + g17(c.offset_y_m) + ") m reaches the clearance " +
-                                  g17(a.clearance_m) + " m");
+      throw std::invalid_argument("centre offset (" + io::exact_text(c.offset_x_m) + ", " + io::exact_text(c.offset_y_m) + ") m reaches the clearance " +
+                                  io::exact_text(a.clearance_m) + " m");
   }
   md::DropOptions mo;
   mo.step_s = s.step_s;
@@ -112,14 +107,12 @@ CaseResult run_case(const board::BoardConfig& board, const std::shared_ptr<const
   const md::DropTrace trace = md::simulate_drop(model, sc, true);
 
   CaseResult r;
-  const auto load = wear::event_load(trace.contact_steps);
   wear::WearOptions wo;
   wo.friction_energy_budget_j = s.friction_energy_budget_j;
-  wear::WearEvent ev;
-  ev.load = load;
-  ev.friction_coefficient = c.friction;
   // The life fraction of this one drop, computed by the wear record's own update.
-  const fw::WearRecord one = wear::update_wear_record(fw::WearRecord{}, ev, board.name, 0, wo);
+  const wear::WearAccounting acc = wear::account_drop(fw::WearRecord{}, trace.contact_steps, {}, c.friction, board.name, 0, wo);
+  const auto& load = acc.event.load;
+  const fw::WearRecord& one = acc.record;
 
   const double period = trace.sample_period_s;
   const double spin_sign = c.speed_hz >= 0.0 ? 1.0 : -1.0;

@@ -6,18 +6,13 @@
 #include <map>
 #include <set>
 
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/report/svg_plot.hpp"
 
 namespace amb::host::envelope {
 namespace {
 
 namespace rp = amb::host::report;
-
-std::string num(double v, const char* f = "%.4g") {
-  char b[48];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
 
 /// Colour of t in [0, 1] on a blue -> yellow -> red scale.
 std::string ramp(double t) {
@@ -109,12 +104,12 @@ std::string scatter_svg(const std::string& id, const std::string& title, const S
     for (const auto& [v, text] : tk) {
       if (v < lo || v > hi) continue;
       if (is_x)
-        out += "<line x1=\"" + num(px(v)) + "\" x2=\"" + num(px(v)) + "\" y1=\"" + std::to_string(h - b) + "\" y2=\"" +
-               std::to_string(h - b + 5) + "\" stroke=\"#333\"/><text x=\"" + num(px(v)) + "\" y=\"" + std::to_string(h - b + 18) +
+        out += "<line x1=\"" + io::printf_text("%.4g", px(v)) + "\" x2=\"" + io::printf_text("%.4g", px(v)) + "\" y1=\"" + std::to_string(h - b) + "\" y2=\"" +
+               std::to_string(h - b + 5) + "\" stroke=\"#333\"/><text x=\"" + io::printf_text("%.4g", px(v)) + "\" y=\"" + std::to_string(h - b + 18) +
                "\" text-anchor=\"middle\" font-size=\"11\">" + rp::escape_xml(text) + "</text>";
       else
-        out += "<line x1=\"" + std::to_string(l - 5) + "\" x2=\"" + std::to_string(l) + "\" y1=\"" + num(py(v)) + "\" y2=\"" +
-               num(py(v)) + "\" stroke=\"#333\"/><text x=\"" + std::to_string(l - 8) + "\" y=\"" + num(py(v) + 4) +
+        out += "<line x1=\"" + std::to_string(l - 5) + "\" x2=\"" + std::to_string(l) + "\" y1=\"" + io::printf_text("%.4g", py(v)) + "\" y2=\"" +
+               io::printf_text("%.4g", py(v)) + "\" stroke=\"#333\"/><text x=\"" + std::to_string(l - 8) + "\" y=\"" + io::printf_text("%.4g", py(v) + 4) +
                "\" text-anchor=\"end\" font-size=\"11\">" + rp::escape_xml(text) + "</text>";
     }
     return out;
@@ -132,8 +127,8 @@ std::string scatter_svg(const std::string& id, const std::string& title, const S
   std::stable_sort(order.begin(), order.end(), [&](const CaseOutcome* p, const CaseOutcome* q) { return rank(*p) < rank(*q); });
   for (const CaseOutcome* cp : order) {
     const CaseOutcome& c = *cp;
-    o += "<rect class=\"case\" x=\"" + num(px(value_of(c, m.x)) - side / 2) + "\" y=\"" + num(py(value_of(c, m.y)) - side / 2) +
-         "\" width=\"" + num(side) + "\" height=\"" + num(side) + "\" fill=\"" + colour(c) + "\" fill-opacity=\"0.85\"><title>case " +
+    o += "<rect class=\"case\" x=\"" + io::printf_text("%.4g", px(value_of(c, m.x)) - side / 2) + "\" y=\"" + io::printf_text("%.4g", py(value_of(c, m.y)) - side / 2) +
+         "\" width=\"" + io::printf_text("%.4g", side) + "\" height=\"" + io::printf_text("%.4g", side) + "\" fill=\"" + colour(c) + "\" fill-opacity=\"0.85\"><title>case " +
          std::to_string(c.index) + "</title></rect>";
   }
   o += "<text x=\"" + std::to_string(l) + "\" y=\"" + std::to_string(t - 6) + "\" font-size=\"11\">" + rp::escape_xml(legend) + "</text>";
@@ -147,12 +142,12 @@ std::string worst_table(const StudySummary& s, const std::vector<size_t>& rows, 
                   "<th>friction energy (J)</th><th>life fraction</th></tr>";
   for (size_t k : rows) {
     const CaseOutcome& c = s.outcomes[k];
-    o += "<tr><td>" + std::to_string(c.index) + "</td><td>" + num(c.params.speed_hz) + "</td><td>" + num(c.params.friction) +
-         "</td><td>" + num(c.params.unbalance_factor) + "</td><td>" + (c.params.clearance_m > 0 ? num(c.params.clearance_m * 1e3) : "board") +
-         "</td><td>" + num(c.params.offset_x_m * 1e6) + ", " + num(c.params.offset_y_m * 1e6) + "</td><td>" +
-         channels_name(c.params.failed_channels) + "</td><td>" + num(c.result.peak_force_max_n(), "%.1f") + "</td><td>" +
-         c.result.whirl_worst() + "</td><td>" + num(c.result.friction_energy_total_j()) + "</td><td>" +
-         num(c.result.life_fraction_max(), "%.3e") + "</td></tr>";
+    o += "<tr><td>" + std::to_string(c.index) + "</td><td>" + io::printf_text("%.4g", c.params.speed_hz) + "</td><td>" + io::printf_text("%.4g", c.params.friction) +
+         "</td><td>" + io::printf_text("%.4g", c.params.unbalance_factor) + "</td><td>" + (c.params.clearance_m > 0 ? io::printf_text("%.4g", c.params.clearance_m * 1e3) : "board") +
+         "</td><td>" + io::printf_text("%.4g", c.params.offset_x_m * 1e6) + ", " + io::printf_text("%.4g", c.params.offset_y_m * 1e6) + "</td><td>" +
+         channels_name(c.params.failed_channels) + "</td><td>" + io::printf_text("%.1f", c.result.peak_force_max_n()) + "</td><td>" +
+         c.result.whirl_worst() + "</td><td>" + io::printf_text("%.4g", c.result.friction_energy_total_j()) + "</td><td>" +
+         io::printf_text("%.3e", c.result.life_fraction_max()) + "</td></tr>";
   }
   return o + "</table>";
 }
@@ -187,14 +182,14 @@ std::string render_envelope_report(const StudySpec& spec, const StudySummary& s)
   row("method", spec.method == "lhs" ? "Latin hypercube, seed " + std::to_string(spec.seed) : "grid");
   row("cases", std::to_string(s.cases) + " (" + std::to_string(s.cases_run) + " simulated, " + std::to_string(s.cases_reused) +
                    " reused, " + std::to_string(s.cases_failed) + " failed)");
-  row("drop", "levitated " + num(spec.settings.settle_s) + " s, then " + num(spec.settings.window_s) + " s after the cut; step " +
-                  num(spec.settings.step_s) + " s; contact law " + spec.settings.contact_law);
-  row("life model", "friction-energy budget " + num(spec.settings.friction_energy_budget_j, "%.0f") + " J per aux bearing");
+  row("drop", "levitated " + io::printf_text("%.4g", spec.settings.settle_s) + " s, then " + io::printf_text("%.4g", spec.settings.window_s) + " s after the cut; step " +
+                  io::printf_text("%.4g", spec.settings.step_s) + " s; contact law " + spec.settings.contact_law);
+  row("life model", "friction-energy budget " + io::printf_text("%.0f", spec.settings.friction_energy_budget_j) + " J per aux bearing");
   std::string wl;
   for (const auto& [k, n] : whirls) wl += (wl.empty() ? "" : ", ") + k + " " + std::to_string(n);
   row("whirl (worse bearing)", wl);
-  row("largest peak force", num(fmax, "%.1f") + " N");
-  row("largest life fraction per drop", num(lmax, "%.3e"));
+  row("largest peak force", io::printf_text("%.1f", fmax) + " N");
+  row("largest life fraction per drop", io::printf_text("%.3e", lmax));
   o += "</table></section><section id=\"maps\"><h2>Maps</h2><div class=\"maps\">";
   for (const MapPair& m : map_pairs(spec)) {
     const std::string suffix = m.x + "-" + m.y;
@@ -202,12 +197,12 @@ std::string render_envelope_report(const StudySpec& spec, const StudySummary& s)
         "map-force-" + suffix, "peak contact force", s, m,
         [&](const CaseOutcome& c) { return ramp(fmax > 0 ? c.result.peak_force_max_n() / fmax : 0.0); },
         [](const CaseOutcome& c) { return c.result.peak_force_max_n(); },
-        "colour: 0 (blue) .. " + num(fmax, "%.0f") + " N (red)");
+        "colour: 0 (blue) .. " + io::printf_text("%.0f", fmax) + " N (red)");
     o += scatter_svg(
         "map-life-" + suffix, "life fraction per drop", s, m,
         [&](const CaseOutcome& c) { return ramp(lmax > 0 ? c.result.life_fraction_max() / lmax : 0.0); },
         [](const CaseOutcome& c) { return c.result.life_fraction_max(); },
-        "colour: 0 (blue) .. " + num(lmax, "%.2e") + " (red)");
+        "colour: 0 (blue) .. " + io::printf_text("%.2e", lmax) + " (red)");
     o += scatter_svg(
         "map-whirl-" + suffix, "whirl type", s, m, [&](const CaseOutcome& c) { return std::string(whirl_colour(c.result.whirl_worst())); },
         [](const CaseOutcome& c) { return static_cast<double>(whirl_rank(c.result.whirl_worst())); },

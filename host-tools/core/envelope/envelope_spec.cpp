@@ -1,5 +1,6 @@
 #include "host-tools/core/envelope/envelope_spec.hpp"
 #include "firmware/board/board_text.hpp"
+#include "host-tools/core/io/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,12 +15,6 @@ namespace amb::host::envelope {
 namespace {
 
 const char* const k_channel_names[4] = {"A1", "A2", "B1", "B2"};
-
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
 
 /// Strict reader of one spec table: every key must be read (else "unknown key").
 class Reader {
@@ -38,10 +33,10 @@ class Reader {
     return number_of(*n, k, lo, hi);
   }
   double number_of(const toml::node& n, const std::string& k, double lo, double hi) const {
-    if (!n.is_number()) fail(k, "must be a number in [" + fmt(lo) + ", " + fmt(hi) + "]");
+    if (!n.is_number()) fail(k, "must be a number in [" + io::printf_text("%g", lo) + ", " + io::printf_text("%g", hi) + "]");
     const double v = *n.value<double>();
     if (!std::isfinite(v) || v < lo || v > hi)
-      fail(k, "value " + fmt(v) + " is out of range; allowed [" + fmt(lo) + ", " + fmt(hi) + "]");
+      fail(k, "value " + io::printf_text("%g", v) + " is out of range; allowed [" + io::printf_text("%g", lo) + ", " + io::printf_text("%g", hi) + "]");
     return v;
   }
   long long integer_or(const std::string& k, long long fallback, long long lo, long long hi) {
@@ -90,7 +85,7 @@ class Reader {
       if (!t->contains("max")) r.fail("max", "missing; a range needs min and max");
       a.min = r.number_or("min", 0.0, lo, hi);
       a.max = r.number_or("max", 0.0, lo, hi);
-      if (!(a.max > a.min)) r.fail("max", "must be > min (" + fmt(a.min) + ")");
+      if (!(a.max > a.min)) r.fail("max", "must be > min (" + io::printf_text("%g", a.min) + ")");
       a.points = static_cast<int>(r.integer_or("points", 2, 2, 10000));
       r.finish();
       return a;
@@ -260,13 +255,13 @@ StudySpec parse_spec(const std::string& toml_text, const std::string& source) {
   if (pt->contains("clearance_m") && !(axis_min(s.clearance_m) > 0.0)) p.fail("clearance_m", "must be > 0 m");
   const double off = std::hypot(axis_max_abs(s.offset_x_m), axis_max_abs(s.offset_y_m));
   if (pt->contains("clearance_m") && off >= axis_min(s.clearance_m))
-    p.fail("offset_x_m", "centre offsets up to " + fmt(off) + " m reach the smallest clearance " + fmt(axis_min(s.clearance_m)) + " m");
+    p.fail("offset_x_m", "centre offsets up to " + io::printf_text("%g", off) + " m reach the smallest clearance " + io::printf_text("%g", axis_min(s.clearance_m)) + " m");
   if (s.method == "grid") {
     double n = 1.0;
     for (const NumericAxis* a : {&s.speed_hz, &s.friction, &s.unbalance_factor, &s.clearance_m, &s.offset_x_m, &s.offset_y_m})
       n *= static_cast<double>(grid_levels(*a).size());
     n *= static_cast<double>(s.failed_channels.size());
-    if (n > 1e7) throw SpecError(source, "parameters", "the grid has " + fmt(n) + " cases (at most 1e7)");
+    if (n > 1e7) throw SpecError(source, "parameters", "the grid has " + io::printf_text("%g", n) + " cases (at most 1e7)");
   }
   return s;
 }

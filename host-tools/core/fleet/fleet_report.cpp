@@ -5,18 +5,13 @@
 #include <algorithm>
 #include <set>
 
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/report/svg_plot.hpp"
 
 namespace amb::host::fleet {
 namespace {
 
 namespace rp = amb::host::report;
-
-std::string num(double v, const char* f) {
-  char b[48];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
 
 std::string bearing_name(int b) { return "aux " + std::to_string(b + 1); }
 
@@ -43,10 +38,10 @@ std::string render_fleet_page(const FleetPageData& d) {
     for (const BearingStatus& s : d.nearest) {
       const double pct = 100.0 * s.life_used_fraction;
       const char* cls = s.life_used_fraction >= 0.8 ? "bar" : s.life_used_fraction >= 0.5 ? "bar warn" : "bar ok";
-      o += "<tr><td>" + rp::escape_xml(s.machine) + "</td><td>" + bearing_name(s.bearing) + "</td><td class=\"n\">" + num(pct, "%.2f") +
-           " %</td><td><span class=\"" + cls + "\" style=\"width:" + num(std::min(100.0, std::max(0.0, pct)) * 2.0, "%.1f") +
+      o += "<tr><td>" + rp::escape_xml(s.machine) + "</td><td>" + bearing_name(s.bearing) + "</td><td class=\"n\">" + io::printf_text("%.2f", pct) +
+           " %</td><td><span class=\"" + cls + "\" style=\"width:" + io::printf_text("%.1f", std::min(100.0, std::max(0.0, pct)) * 2.0) +
            "px\"></span></td><td>" + (s.source == "wear" ? "wear record" : "quick-look (no wear record)") + "</td><td class=\"n\">" +
-           num(s.peak_force_n, "%.1f") + "</td><td class=\"n\">" + std::to_string(s.events) + "</td></tr>";
+           io::printf_text("%.1f", s.peak_force_n) + "</td><td class=\"n\">" + std::to_string(s.events) + "</td></tr>";
     }
     o += "</table>";
   }

@@ -13,6 +13,7 @@
 #include "firmware/events/event_codec.hpp"
 #include "firmware/wear/wear_record.hpp"
 #include "host-tools/core/fleet/fleet_schema.hpp"
+#include "host-tools/core/fit/fit_result_json.hpp"
 #include "host-tools/core/fleet/sha256.hpp"
 
 namespace amb::host::fleet {
@@ -130,30 +131,46 @@ AddResult FleetStore::add_file(const std::string& path, const std::string& machi
   }
   if (!j.is_object()) throw std::invalid_argument(path + ": JSON is not an object");
   if (j.contains("effects_added")) r.kind = "residual";
-  else if (j.contains("friction_coefficient")) r.kind = "fit";
-  else throw std::invalid_argument(path + ": JSON is neither a fit (friction_coefficient) nor a residual result (effects_added)");
-  r.machine = machine_override;
-  if (r.machine.empty() && j.contains("board") && j["board"].is_string()) r.machine = j["board"].get<std::string>();
-  if (r.machine.empty()) throw std::invalid_argument(path + ": a " + r.kind + " result names no board; give --machine");
-  std::string whirl, verdict, event_ref;
-  if (j.contains("whirl") && j["whirl"].is_array())
-    for (const auto& w : j["whirl"])
-      if (w.is_object() && w.contains("direction") && w["direction"].is_string())
-        whirl += (whirl.empty() ? "" : ",") + w["direction"].get<std::string>();
-  if (j.contains("verdict") && j["verdict"].is_string()) verdict = j["verdict"].get<std::string>();
-  if (j.contains("event") && j["event"].is_string()) event_ref = j["event"].get<std::string>();
-  std::optional<double> converged;
-  if (j.contains("converged") && j["converged"].is_boolean()) converged = j["converged"].get<bool>() ? 1.0 : 0.0;
+  else if (fit::is_fit_result_json(j)) r.kind = "fit";
+  else throw std::invalid_argument(path + ": JSON is neither a fit (" + fit::k_fit_result_format +
+                                   ", or friction_coefficient) nor a residual result (effects_added)");
+  std::string board, whirl, verdict, event_ref;
+  std::optional<double> converged, friction, cost;
   std::optional<double> rms_before, rms_after;
-  if (j.contains("error_before") && j["error_before"].is_object()) rms_before = json_number(j["error_before"], "rms");
-  if (j.contains("error_after") && j["error_after"].is_object()) rms_after = json_number(j["error_after"], "rms");
+  if (r.kind == "fit") {
+    // The fit's JSON is read by its own module (host-tools/core/fit/fit_result_json.hpp).
+    fit::FitResultDocument doc;
+    try {
+      doc = fit::read_fit_result_json(j);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(path + ": " + e.what());
+    }
+    board = doc.board;
+    event_ref = doc.event;
+    friction = doc.result.friction_coefficient;
+    if (j.contains("cost")) cost = doc.result.cost.total;
+    if (j.contains("converged")) converged = doc.result.converged ? 1.0 : 0.0;
+    if (j.contains("whirl"))
+      for (const auto& w : doc.result.whirl) whirl += (whirl.empty() ? "" : ",") + w.direction;
+  } else {
+    if (j.contains("board") && j["board"].is_string()) board = j["board"].get<std::string>();
+    if (j.contains("verdict") && j["verdict"].is_string()) verdict = j["verdict"].get<std::string>();
+    if (j.contains("event") && j["event"].is_string()) event_ref = j["event"].get<std::string>();
+    if (j.contains("converged") && j["converged"].is_boolean()) converged = j["converged"].get<bool>() ? 1.0 : 0.0;
+    friction = json_number(j, "friction_coefficient");
+    cost = json_number(j, "cost");
+    if (j.contains("error_before") && j["error_before"].is_object()) rms_before = json_number(j["error_before"], "rms");
+    if (j.contains("error_after") && j["error_after"].is_object()) rms_after = json_number(j["error_after"], "rms");
+  }
+  r.machine = machine_override.empty() ? board : machine_override;
+  if (r.machine.empty()) throw std::invalid_argument(path + ": a " + r.kind + " result names no board; give --machine");
   Transaction t(*db_);
   const std::int64_t mid = machine_id(r.machine, "");
   const auto ins = db_->query(
       "INSERT INTO results (content_hash, machine_id, kind, event_ref, friction_coefficient, cost, converged, whirl, verdict,"
       " rms_before, rms_after, document, source) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"
       " ON CONFLICT (content_hash) DO NOTHING RETURNING id",
-      {r.content_hash, mid, r.kind, event_ref, opt(json_number(j, "friction_coefficient")), opt(json_number(j, "cost")),
+      {r.content_hash, mid, r.kind, event_ref, opt(friction), opt(cost),
        converged ? Value{static_cast<std::int64_t>(*converged)} : Value{}, whirl, verdict, opt(rms_before), opt(rms_after),
        j.dump(), path});
   if (ins.empty()) return r;

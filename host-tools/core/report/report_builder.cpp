@@ -1,5 +1,6 @@
 #include "host-tools/core/report/report_builder.hpp"
 
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/residual/candidate_report.hpp"
 
 #include <cmath>
@@ -16,11 +17,6 @@ namespace amb::host::report {
 namespace {
 constexpr double k_two_pi = 6.283185307179586;
 
-std::string fmt(const char* f, double v) {
-  char b[96];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
 std::string yes_no(bool b) { return b ? "yes" : "no"; }
 
 /// A Unix time as UTC, ISO 8601 ("2026-11-27 16:20:05 UTC").
@@ -80,22 +76,22 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
   f.emplace_back("firmware", m.firmware_version);
   f.emplace_back("event number", std::to_string(m.event_number));
   f.emplace_back("trigger cause", std::string(fw::to_string(m.cause)));
-  f.emplace_back("trigger time", fmt("%.4f s (HAL clock)", static_cast<double>(m.trigger_t_ns) * 1e-9));
+  f.emplace_back("trigger time", io::printf_text("%.4f s (HAL clock)", static_cast<double>(m.trigger_t_ns) * 1e-9));
   if (std::isfinite(m.speed_at_trigger_hz))
-    f.emplace_back("speed at trigger", fmt("%.2f Hz", m.speed_at_trigger_hz) + fmt(" (%.0f rpm)", m.speed_at_trigger_hz * 60.0));
+    f.emplace_back("speed at trigger", io::printf_text("%.2f Hz", m.speed_at_trigger_hz) + io::printf_text(" (%.0f rpm)", m.speed_at_trigger_hz * 60.0));
   else
     f.emplace_back("speed at trigger", "none: the board's speed estimate was lost");
   if (e.has_analysis) {
     const fw::EventAnalysis& a = e.analysis;
     f.emplace_back("speed source", std::string(fw::to_string(static_cast<fw::SpeedSource>(a.speed_source))) +
                                        (a.speed_lost_at_trigger ? " (LOST at the trigger)"
-                                                                : fmt(" (confidence %.2f at the trigger)", a.speed_confidence_at_trigger)));
+                                                                : io::printf_text(" (confidence %.2f at the trigger)", a.speed_confidence_at_trigger)));
     QuickLookSummary q;
     q.rows = {{"model", "momentum balance of the rigid rotor on its orbit at the aux-bearing planes (extrapolated from the sensor planes), "
                         "normal force while at the clearance, Hertz impact peak K^0.4 (5/4 m v^2)^0.6 at each new contact; post-trigger window"},
-              {"contact constant K", fmt("%.3g N/m^1.5", a.aux_contact_constant_n_per_m1p5)},
-              {"load rating C", fmt("%.0f N", a.aux_dynamic_load_rating_n)},
-              {"inner-race spin for the life fraction", fmt("%.2f Hz", a.quick_look_spin_hz)}};
+              {"contact constant K", io::printf_text("%.3g N/m^1.5", a.aux_contact_constant_n_per_m1p5)},
+              {"load rating C", io::printf_text("%.0f N", a.aux_dynamic_load_rating_n)},
+              {"inner-race spin for the life fraction", io::printf_text("%.2f Hz", a.quick_look_spin_hz)}};
     for (size_t b = 0; b < 2; ++b) {
       const fw::AuxQuickLook& x = a.aux[b];
       if (!x.valid) {
@@ -103,14 +99,14 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
         continue;
       }
       const std::string peak = define_figure(
-          d, std::string("peak contact force ") + ab(b) + ", board quick-look", fmt("%.0f N", x.peak_force_n),
+          d, std::string("peak contact force ") + ab(b) + ", board quick-look", io::printf_text("%.0f N", x.peak_force_n),
           "computed on the board right after the drop: rigid-rotor momentum balance on the orbit extrapolated to the "
           "aux-bearing plane, plus the Hertz impact peak at each new contact; post-trigger window. Quick and "
           "model-free, it overstates impacts the real (flexible) rotor cushions");
       q.bearing[b] = {{std::string("peak contact force ") + ab(b) + ", board quick-look", peak},
-                      {"peak angle", fmt("%.1f deg from +x towards +y", x.peak_angle_deg)},
-                      {"life fraction", fmt("%.3g", x.life_fraction)},
-                      {"contact time", fmt("%.3f s", x.contact_time_s)}};
+                      {"peak angle", io::printf_text("%.1f deg from +x towards +y", x.peak_angle_deg)},
+                      {"life fraction", io::printf_text("%.3g", x.life_fraction)},
+                      {"contact time", io::printf_text("%.3f s", x.contact_time_s)}};
     }
     if (a.quick_look_valid)
       d.quick_look.set(std::move(q), source + ": the board's bearing task after the drop (AMBE v2 analysis section)");
@@ -119,11 +115,11 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
   } else {
     d.quick_look.unavailable("the event file is AMBE v1: written before the board computed a quick-look load");
   }
-  f.emplace_back("window", std::to_string(n) + " samples at " + fmt("%.0f Hz", rate) + fmt(" (%.3f s before, ", trig / rate) +
-                               fmt("%.3f s after the trigger)", (static_cast<double>(n - trig)) / rate));
+  f.emplace_back("window", std::to_string(n) + " samples at " + io::printf_text("%.0f Hz", rate) + io::printf_text(" (%.3f s before, ", trig / rate) +
+                               io::printf_text("%.3f s after the trigger)", (static_cast<double>(n - trig)) / rate));
   f.emplace_back("lost samples (seq gaps)", std::to_string(m.seq_gaps));
   if (e.has_diagnosis) {
-    f.emplace_back("Phase B", std::string(fw::diag::to_string(e.diagnosis.type)) + fmt(" (confidence %.2f)", e.diagnosis.confidence));
+    f.emplace_back("Phase B", std::string(fw::diag::to_string(e.diagnosis.type)) + io::printf_text(" (confidence %.2f)", e.diagnosis.confidence));
     if (!e.diagnosis.summary.empty()) f.emplace_back("Phase B summary", e.diagnosis.summary);
   }
   if (n == 0) return;
@@ -168,9 +164,9 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
     const char* state_names[3] = {"swinging", "forward rub", "backward rub"};
     for (size_t k = 0; k < 3; ++k) {
       const std::string name = std::string(state_names[k]) + " " + ab(b) + ", measured orbit (post-trigger window)";
-      t.rows.emplace_back(name, define_figure(d, name, fmt("%.3f s", t.durations_s[k]),
+      t.rows.emplace_back(name, define_figure(d, name, io::printf_text("%.3f s", t.durations_s[k]),
                                               "time in this state over the whole post-trigger window (" +
-                                                  fmt("%.3f s", window_s) +
+                                                  io::printf_text("%.3f s", window_s) +
                                                   "), classified from the measured orbit at the aux-bearing plane"));
     }
     rub.push_back(std::move(t));
@@ -189,7 +185,7 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
     double r_max = 0.0;
     for (size_t i = trig; i < planes[b].aux_x_m.size(); ++i) r_max = std::max(r_max, std::hypot(planes[b].aux_x_m[i], planes[b].aux_y_m[i]));
     define_figure(d, std::string("largest orbit radius ") + ab(b) + " at the aux-bearing plane, rigid extrapolation",
-                  fmt("%.0f \u00b5m", r_max * 1e6) + fmt(" (clearance %.0f \u00b5m)", planes[b].clearance_m * 1e6),
+                  io::printf_text("%.0f \u00b5m", r_max * 1e6) + io::printf_text(" (clearance %.0f \u00b5m)", planes[b].clearance_m * 1e6),
                   "not measured: extrapolated from the two sensor planes as if the rotor were rigid, after the trigger. "
                   "The rotor bends in the drop, so the extrapolation can pass the clearance circle the journal cannot; "
                   "its error is given below where the run is simulated (rigid-extrapolation error), and unknown otherwise");
@@ -200,7 +196,7 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
   }
   d.orbit.set(std::move(planes), source + ": sensors [A1, A2, B1, B2] through the sensor view (aux plane: rigid-rotor extrapolation)");
   d.rubbing.set(std::move(rub), source + ": measured orbit at the aux planes, model/drop/rubbing_states (contact at " +
-                                    fmt("%.2f", ro.contact_radius_fraction) + " x clearance)");
+                                    io::printf_text("%.2f", ro.contact_radius_fraction) + " x clearance)");
   d.speed.set(std::move(sp), source + ": the firmware's speed estimate, drive command and the rig's tachometer per "
                                       "sample; shaded: the board had no valid speed (\"not tracked\")");
 }
@@ -230,8 +226,8 @@ void add_replay(ReportData& d, const replay::ReplayResult& r) {
             {"Phase B", phase_b}};
   if (!r.comparison.differences.empty()) {
     const auto& x = r.comparison.differences.front();
-    v.rows.emplace_back("first difference", "sample " + std::to_string(x.index) + fmt(" (%+.4f s), ", x.t_from_trigger_s) + x.channel +
-                                                fmt(": %.9g", x.recorded) + fmt(" -> %.9g", x.replayed));
+    v.rows.emplace_back("first difference", "sample " + std::to_string(x.index) + io::printf_text(" (%+.4f s), ", x.t_from_trigger_s) + x.channel +
+                                                io::printf_text(": %.9g", x.recorded) + io::printf_text(" -> %.9g", x.replayed));
   }
   d.replay.set(std::move(v), "amb-host replay: fresh supervisor on the replay HAL backend");
 }
@@ -281,10 +277,10 @@ void add_fit(ReportData& d, const fit::DropFitResult& r, const std::string& sour
     for (size_t s = 0; s < 3; ++s) {
       const std::string fit_name = std::string(state_names[s]) + " " + ab(b) + ", fitted drop model (fit window)";
       const std::string meas_name = std::string(state_names[s]) + " " + ab(b) + ", measured orbit (fit window)";
-      const std::string why = "over the fit window only (the first " + fmt("%.3f s", window_s) +
+      const std::string why = "over the fit window only (the first " + io::printf_text("%.3f s", window_s) +
                               " after the trigger, amb-host fit --window), not the whole post-trigger window";
-      c.rows.emplace_back(fit_name, define_figure(d, fit_name, fmt("%.3f s", fitted[s]), "time in this state in the fitted model, " + why));
-      c.rows.emplace_back(meas_name, define_figure(d, meas_name, fmt("%.3f s", measured[s]), "time in this state in the measurement, " + why));
+      c.rows.emplace_back(fit_name, define_figure(d, fit_name, io::printf_text("%.3f s", fitted[s]), "time in this state in the fitted model, " + why));
+      c.rows.emplace_back(meas_name, define_figure(d, meas_name, io::printf_text("%.3f s", measured[s]), "time in this state in the measurement, " + why));
     }
   }
   d.fit.set(std::move(c), source);
@@ -297,7 +293,7 @@ void add_wear_record(ReportData& d, const fw::WearRecord& w, const std::string& 
             {"sequence", std::to_string(w.sequence)},
             {"events accounted", std::to_string(w.event_count)},
             {"life model", w.life_model},
-            {"last friction coefficient", fmt("%.4f", w.last_friction_coefficient)},
+            {"last friction coefficient", io::printf_text("%.4f", w.last_friction_coefficient)},
             {"updated", utc(w.updated_unix_s)}};
   LoadMap m = d.load.data.value_or(LoadMap{});
   for (size_t b = 0; b < 2; ++b) {
@@ -305,18 +301,18 @@ void add_wear_record(ReportData& d, const fw::WearRecord& w, const std::string& 
     // Named by bearing and by what they sum (every event of the record, each over its fit
     // window), apart from one event's measured or fitted times.
     const std::string all = std::string(" ") + ab(b) + ", wear record (all events)";
-    s.bearing[b] = {{"swinging" + all, fmt("%.3f s", x.swing_s)},
-                    {"forward rub" + all, fmt("%.3f s", x.forward_rub_s)},
-                    {"backward rub" + all, fmt("%.3f s", x.backward_rub_s)},
-                    {"friction energy", fmt("%.2f J", x.friction_energy_j)},
+    s.bearing[b] = {{"swinging" + all, io::printf_text("%.3f s", x.swing_s)},
+                    {"forward rub" + all, io::printf_text("%.3f s", x.forward_rub_s)},
+                    {"backward rub" + all, io::printf_text("%.3f s", x.backward_rub_s)},
+                    {"friction energy", io::printf_text("%.2f J", x.friction_energy_j)},
                     {std::string("peak contact force ") + ab(b) + ", fitted drop model (wear record)",
                      define_figure(d, std::string("peak contact force ") + ab(b) + ", fitted drop model (wear record)",
-                                   fmt("%.0f N", x.peak_force_n),
+                                   io::printf_text("%.0f N", x.peak_force_n),
                                    "largest step-mean normal contact force of the fitted drop model (Phase C/D, the host's "
                                    "fit) over the events in the wear record; it is the estimate of record for the wear, "
                                    "and differs from the quick-look by the model (flexible rotor, fitted contact) and by "
                                    "the averaging over each integration step")},
-                    {"life used", fmt("%.3f %%", 100.0 * x.life_used_fraction)}};
+                    {"life used", io::printf_text("%.3f %%", 100.0 * x.life_used_fraction)}};
     m.cumulative_n[b].assign(x.cumulative_load_n.begin(), x.cumulative_load_n.end());
     if (m.event_n[b].empty()) {
       bool any = false;
@@ -356,14 +352,14 @@ void add_residual(ReportData& d, const residual::SteadyData& data, const residua
       const std::string all = " (all four sensors)";
       r.figures = {{"verdict", o.verdict},
                    {"residual spectral error before" + all,
-                    define_figure(d, "residual spectral error before" + all, fmt("%.2f dB", o.before.error.spectral),
+                    define_figure(d, "residual spectral error before" + all, io::printf_text("%.2f dB", o.before.error.spectral),
                                   "the residual loop's spectral error of the base model against the steady record, over "
                                   "the four sensors together")},
                    {"residual spectral error after" + all,
-                    define_figure(d, "residual spectral error after" + all, fmt("%.2f dB", o.after.error.spectral),
+                    define_figure(d, "residual spectral error after" + all, io::printf_text("%.2f dB", o.after.error.spectral),
                                   "the same after the effects the loop added (" + (added.empty() ? std::string("none") : added) +
                                       "); equal to 'before' when an added effect changes the spectra little")},
-                   {"rms error before / after" + all, fmt("%.3f", o.before.error.rms) + fmt(" / %.3f", o.after.error.rms)}};
+                   {"rms error before / after" + all, io::printf_text("%.3f", o.before.error.rms) + io::printf_text(" / %.3f", o.after.error.rms)}};
     }
     out.push_back(std::move(r));
   }
@@ -374,13 +370,13 @@ void add_residual(ReportData& d, const residual::SteadyData& data, const residua
 void add_drop_residual(ReportData& d, const residual::DropResidualOutcome& o, const std::string& source) {
   DropResidualSummary r;
   auto figs = [](const residual::ErrorFigures& e) {
-    return fmt("rms %.4f, ", e.rms) + fmt("spectral %.2f dB, ", e.spectral) + fmt("pearson %.3f, ", e.pearson) +
-           fmt("statics %.4f", e.statics);
+    return io::printf_text("rms %.4f, ", e.rms) + io::printf_text("spectral %.2f dB, ", e.spectral) + io::printf_text("pearson %.3f, ", e.pearson) +
+           io::printf_text("statics %.4f", e.statics);
   };
   r.rows.emplace_back("verdict", o.verdict);
   for (const auto& e : o.effects_added) {
     std::string p;
-    for (const auto& [k, v] : e.parameters) p += (p.empty() ? "" : ", ") + k + fmt(" = %.4g", v);
+    for (const auto& [k, v] : e.parameters) p += (p.empty() ? "" : ", ") + k + io::printf_text(" = %.4g", v);
     r.rows.emplace_back("added " + e.name, p);
     r.rows.emplace_back("evidence (" + e.name + ")", e.evidence);
   }
@@ -392,8 +388,8 @@ void add_drop_residual(ReportData& d, const residual::DropResidualOutcome& o, co
   } else {
     r.rows.emplace_back("levitated part", o.levitated_note);
   }
-  r.rows.emplace_back("drop part before", figs(o.drop_before.error) + fmt(", friction %.3f", o.drop_before.friction_coefficient));
-  r.rows.emplace_back("drop part after", figs(o.drop_after.error) + fmt(", friction %.3f", o.drop_after.friction_coefficient));
+  r.rows.emplace_back("drop part before", figs(o.drop_before.error) + io::printf_text(", friction %.3f", o.drop_before.friction_coefficient));
+  r.rows.emplace_back("drop part after", figs(o.drop_after.error) + io::printf_text(", friction %.3f", o.drop_after.friction_coefficient));
   for (const auto& n : o.drop_notes) r.rows.emplace_back("drop part", n);
   // Every candidate's decision under the engine's one criterion (evidence, value, threshold, reason).
   for (const auto& c : o.drop_ranking) r.rows.emplace_back("candidate (drop part)", residual::candidate_text(c));
@@ -401,11 +397,11 @@ void add_drop_residual(ReportData& d, const residual::DropResidualOutcome& o, co
     const auto& m = o.drop_before.measured_circle[b];
     const auto& s = o.drop_before.simulated_circle[b];
     const auto& c = o.drop_before.model_centre_m[b];
-    auto um = [](const std::array<double, 2>& v) { return fmt("%+.1f / ", v[0] * 1e6) + fmt("%+.1f um", v[1] * 1e6); };
+    auto um = [](const std::array<double, 2>& v) { return io::printf_text("%+.1f / ", v[0] * 1e6) + io::printf_text("%+.1f um", v[1] * 1e6); };
     r.bearing[b] = {{"model centre (board)", um(c)},
-                    {"contact circle, measured", m.valid ? um(m.centre_m) + fmt(" (sigma %.1f um)", m.sigma_m * 1e6) : "too few contact points"},
+                    {"contact circle, measured", m.valid ? um(m.centre_m) + io::printf_text(" (sigma %.1f um)", m.sigma_m * 1e6) : "too few contact points"},
                     {"contact circle, fitted model", s.valid ? um(s.centre_m) : "too few contact points"},
-                    {"effective radius, measured", m.valid ? fmt("%.1f um", m.radius_m * 1e6) : "-"},
+                    {"effective radius, measured", m.valid ? io::printf_text("%.1f um", m.radius_m * 1e6) : "-"},
                     {"contact points", std::to_string(m.points)}};
   }
   d.drop_residual.set(std::move(r), source);
@@ -443,11 +439,11 @@ void add_scenario_trace(ReportData& d, const DropScenarioSummary& s) {
       }
       if (p.truth_x_m.empty()) continue;
       define_figure(d, std::string("largest orbit radius ") + ab(b) + " at the aux-bearing plane, simulated plant (SIL truth)",
-                    fmt("%.0f \u00b5m", truth_max * 1e6),
+                    io::printf_text("%.0f \u00b5m", truth_max * 1e6),
                     "the plant's rotor centre at the aux-bearing plane after the trigger (flexible rotor; the journal "
                     "stops at the clearance plus the contact's penetration)");
       define_figure(d, std::string("rigid-extrapolation error ") + ab(b) + " at the aux-bearing plane",
-                    fmt("%.0f \u00b5m", err_max * 1e6),
+                    io::printf_text("%.0f \u00b5m", err_max * 1e6),
                     "largest distance, after the trigger, between the rigid-rotor extrapolation of the recorded sensors "
                     "and the plant's rotor centre at the aux-bearing plane (the error of the dashed orbit)");
     }
@@ -460,14 +456,14 @@ void add_scenario_trace(ReportData& d, const DropScenarioSummary& s) {
     d.speed.set(std::move(sp), "SIL drop scenario (simulated rotor speed, time from the AMB cut)");
   }
   const std::string peak_name = "peak contact force, simulated plant (SIL truth)";
-  define_figure(d, peak_name, fmt("%.0f N", s.max_contact_force_n),
+  define_figure(d, peak_name, io::printf_text("%.0f N", s.max_contact_force_n),
                 "largest instantaneous contact force of either aux bearing in the simulated plant (the scenario's ground "
                 "truth, at the plant's integration sub-steps; no rig has it). Higher than the step-mean and quick-look "
                 "figures: impacts last less than one loop period");
   // The cause chain: what was injected, what the board saw first, what latched, where it ended.
   d.cause_chain = {"all AMB channels cut in the plant (injected; the firmware is not told)",
-                   "Phase A trigger: " + s.trigger_cause + fmt(" (%.1f ms after the cut)", s.trigger_delay_ms),
-                   "fault latched: " + s.fault_reason + fmt(" (%.1f ms after the cut)", s.detection_delay_ms),
+                   "Phase A trigger: " + s.trigger_cause + io::printf_text(" (%.1f ms after the cut)", s.trigger_delay_ms),
+                   "fault latched: " + s.fault_reason + io::printf_text(" (%.1f ms after the cut)", s.detection_delay_ms),
                    "safe state: " + s.final_state};
   d.notes.push_back("scenario: " + s.board + ", levitated " + yes_no(s.levitated) + "; the cause chain and the peak contact "
                     "forces (with their definitions) are in the Figures section");

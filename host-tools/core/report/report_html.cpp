@@ -6,6 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/report/svg_plot.hpp"
 
 namespace amb::host::report {
@@ -68,12 +69,6 @@ std::string source_line(const std::string& src) {
   return src.empty() ? std::string() : "<p class=\"src\">source: " + escape_xml(src) + "</p>\n";
 }
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 /// Contiguous runs of equal non-zero state as shaded intervals.
 std::vector<Interval> state_intervals(const RubbingTrace& r) {
   std::vector<Interval> out;
@@ -116,7 +111,7 @@ std::string section_orbit(const ReportData& d) {
     // Dashed: not measured but extrapolated (rigid rotor); the caption says so.
     if (!o.aux_x_m.empty()) p.series.push_back({"aux plane (rigid)", um(o.aux_x_m), um(o.aux_y_m), palette(1), 1.0, true, true});
     if (!o.truth_x_m.empty()) p.series.push_back({"aux plane (plant)", um(o.truth_x_m), um(o.truth_y_m), palette(2), 1.0, false, true});
-    if (o.clearance_m > 0.0) p.circles.push_back({0.0, 0.0, o.clearance_m * 1e6, "clearance " + fmt("%.0f \u00b5m", o.clearance_m * 1e6)});
+    if (o.clearance_m > 0.0) p.circles.push_back({0.0, 0.0, o.clearance_m * 1e6, "clearance " + io::printf_text("%.0f \u00b5m", o.clearance_m * 1e6)});
     s += render_line_plot(p);
   }
   return s + "</div>\n<p class=\"caption\">The aux-plane orbit (dashed) is not measured: it is extrapolated from the two "
@@ -170,8 +165,8 @@ std::string section_rubbing(const ReportData& d) {
     s += "</div>\n";
     if (!r.rows.empty()) s += table(r.rows);
     else
-      s += "<p>" + escape_xml(r.name) + ": swinging " + fmt("%.3f s", r.durations_s[0]) + ", forward rub " +
-           fmt("%.3f s", r.durations_s[1]) + ", backward rub " + fmt("%.3f s", r.durations_s[2]) + "</p>\n";
+      s += "<p>" + escape_xml(r.name) + ": swinging " + io::printf_text("%.3f s", r.durations_s[0]) + ", forward rub " +
+           io::printf_text("%.3f s", r.durations_s[1]) + ", backward rub " + io::printf_text("%.3f s", r.durations_s[2]) + "</p>\n";
   }
   return s + source_line(d.rubbing.source) + "</section>\n";
 }
@@ -263,12 +258,12 @@ std::string section_fit(const ReportData& d) {
   for (size_t k = 0; k < it.size(); ++k) it[k] = static_cast<double>(k);
   p.series.push_back({"best cost", it, f.cost_history, palette(0), 1.8});
   std::vector<std::pair<std::string, std::string>> rows{
-      {"friction coefficient", fmt("%.4f", f.friction_coefficient)},
+      {"friction coefficient", io::printf_text("%.4f", f.friction_coefficient)},
       {"converged", f.converged ? "yes" : "no"},
       {"evaluations", std::to_string(f.evaluations)},
-      {"wall time", fmt("%.2f s", f.wall_s)},
+      {"wall time", io::printf_text("%.2f s", f.wall_s)},
       {"stop reason", f.stop_reason}};
-  for (const auto& [k, v] : f.figures) rows.emplace_back(k, fmt("%.6g", v));
+  for (const auto& [k, v] : f.figures) rows.emplace_back(k, io::printf_text("%.6g", v));
   rows.insert(rows.end(), f.rows.begin(), f.rows.end());
   return s + "<div class=\"row\">" + render_line_plot(p) + table(rows) + "</div>\n" + source_line(d.fit.source) + "</section>\n";
 }

@@ -1,3 +1,4 @@
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/report/svg_plot.hpp"
 
 #include <algorithm>
@@ -11,12 +12,6 @@ namespace amb::host::report {
 namespace {
 constexpr double k_pi = 3.14159265358979323846;
 constexpr int k_max_path_points = 4000;
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.2f", v);
-  return b;
-}
 
 struct Frame {
   double x0, x1, y0, y1;           // data ranges
@@ -86,7 +81,7 @@ std::string polyline(const Series& s, const Frame& f, const std::string& color) 
   std::string pts;
   auto close = [&] {
     if (pts.empty()) return;
-    out += "<polyline fill=\"none\" stroke=\"" + escape_xml(color) + "\" stroke-width=\"" + num(s.width_px) + "\"" +
+    out += "<polyline fill=\"none\" stroke=\"" + escape_xml(color) + "\" stroke-width=\"" + io::printf_text("%.2f", s.width_px) + "\"" +
            (s.dashed ? " stroke-dasharray=\"5 3\"" : "") + " stroke-linejoin=\"round\" points=\"" + pts + "\"/>\n";
     pts.clear();
   };
@@ -96,14 +91,14 @@ std::string polyline(const Series& s, const Frame& f, const std::string& color) 
       close();
       continue;
     }
-    pts += num(f.px(x)) + "," + num(f.py(y)) + " ";
+    pts += io::printf_text("%.2f", f.px(x)) + "," + io::printf_text("%.2f", f.py(y)) + " ";
   }
   close();
   return out;
 }
 
 std::string text(double x, double y, const std::string& t, const char* anchor, int size = 12, const char* extra = "") {
-  return "<text x=\"" + num(x) + "\" y=\"" + num(y) + "\" font-size=\"" + std::to_string(size) + "\" text-anchor=\"" +
+  return "<text x=\"" + io::printf_text("%.2f", x) + "\" y=\"" + io::printf_text("%.2f", y) + "\" font-size=\"" + std::to_string(size) + "\" text-anchor=\"" +
          anchor + "\"" + extra + ">" + escape_xml(t) + "</text>\n";
 }
 }  // namespace
@@ -243,15 +238,15 @@ std::string render_line_plot(const LinePlot& p) {
        "\" fill=\"white\"/>\n";
   s += text(f.left + f.width / 2, 18, p.title, "middle", 14, " font-weight=\"bold\"");
   // Clip the data to the plot area.
-  s += "<clipPath id=\"" + escape_xml(p.id) + "-clip\"><rect x=\"" + num(f.left) + "\" y=\"" + num(f.top) + "\" width=\"" +
-       num(f.width) + "\" height=\"" + num(f.height) + "\"/></clipPath>\n";
+  s += "<clipPath id=\"" + escape_xml(p.id) + "-clip\"><rect x=\"" + io::printf_text("%.2f", f.left) + "\" y=\"" + io::printf_text("%.2f", f.top) + "\" width=\"" +
+       io::printf_text("%.2f", f.width) + "\" height=\"" + io::printf_text("%.2f", f.height) + "\"/></clipPath>\n";
 
   // Ticks and grid.
   const auto xt = nice_ticks(f.x0, f.x1, std::max(3, static_cast<int>(f.width / 90)));
   const double xstep = xt.size() > 1 ? xt[1] - xt[0] : 1.0;
   for (double v : xt) {
     const double x = f.px(v);
-    s += "<line x1=\"" + num(x) + "\" y1=\"" + num(f.top) + "\" x2=\"" + num(x) + "\" y2=\"" + num(f.top + f.height) +
+    s += "<line x1=\"" + io::printf_text("%.2f", x) + "\" y1=\"" + io::printf_text("%.2f", f.top) + "\" x2=\"" + io::printf_text("%.2f", x) + "\" y2=\"" + io::printf_text("%.2f", f.top + f.height) +
          "\" stroke=\"#e4e4e4\"/>\n";
     s += text(x, f.top + f.height + 15, format_tick(v, xstep), "middle", 11);
   }
@@ -279,7 +274,7 @@ std::string render_line_plot(const LinePlot& p) {
   const double ystep = yt.size() > 1 ? yt[1] - yt[0] : 1.0;
   for (double v : yt) {
     const double y = f.top + f.height - (v - f.y0) / (f.y1 - f.y0) * f.height;
-    s += "<line x1=\"" + num(f.left) + "\" y1=\"" + num(y) + "\" x2=\"" + num(f.left + f.width) + "\" y2=\"" + num(y) +
+    s += "<line x1=\"" + io::printf_text("%.2f", f.left) + "\" y1=\"" + io::printf_text("%.2f", y) + "\" x2=\"" + io::printf_text("%.2f", f.left + f.width) + "\" y2=\"" + io::printf_text("%.2f", y) +
          "\" stroke=\"#e4e4e4\"/>\n";
     std::string label;
     if (p.log_y) {
@@ -299,12 +294,12 @@ std::string render_line_plot(const LinePlot& p) {
   for (const Interval& iv : p.intervals) {
     const double a = f.px(std::max(iv.x0, f.x0)), b = f.px(std::min(iv.x1, f.x1));
     if (b <= a) continue;
-    s += "<rect class=\"interval\" x=\"" + num(a) + "\" y=\"" + num(f.top) + "\" width=\"" + num(b - a) + "\" height=\"" +
-         num(f.height) + "\" fill=\"" + escape_xml(iv.color) + "\" fill-opacity=\"0.25\"/>\n";
+    s += "<rect class=\"interval\" x=\"" + io::printf_text("%.2f", a) + "\" y=\"" + io::printf_text("%.2f", f.top) + "\" width=\"" + io::printf_text("%.2f", b - a) + "\" height=\"" +
+         io::printf_text("%.2f", f.height) + "\" fill=\"" + escape_xml(iv.color) + "\" fill-opacity=\"0.25\"/>\n";
   }
   for (const Circle& c : p.circles) {
     const double rx = c.r / (f.x1 - f.x0) * f.width, ry = c.r / (f.y1 - f.y0) * f.height;
-    s += "<ellipse cx=\"" + num(f.px(c.cx)) + "\" cy=\"" + num(f.py(c.cy)) + "\" rx=\"" + num(rx) + "\" ry=\"" + num(ry) +
+    s += "<ellipse cx=\"" + io::printf_text("%.2f", f.px(c.cx)) + "\" cy=\"" + io::printf_text("%.2f", f.py(c.cy)) + "\" rx=\"" + io::printf_text("%.2f", rx) + "\" ry=\"" + io::printf_text("%.2f", ry) +
          "\" fill=\"none\" stroke=\"" + escape_xml(c.color) + "\" stroke-width=\"1.5\"" +
          (c.dashed ? " stroke-dasharray=\"6 4\"" : "") + "/>\n";
   }
@@ -312,11 +307,11 @@ std::string render_line_plot(const LinePlot& p) {
   s += "</g>\n";
 
   // Axes frame and labels.
-  s += "<rect x=\"" + num(f.left) + "\" y=\"" + num(f.top) + "\" width=\"" + num(f.width) + "\" height=\"" + num(f.height) +
+  s += "<rect x=\"" + io::printf_text("%.2f", f.left) + "\" y=\"" + io::printf_text("%.2f", f.top) + "\" width=\"" + io::printf_text("%.2f", f.width) + "\" height=\"" + io::printf_text("%.2f", f.height) +
        "\" fill=\"none\" stroke=\"#333\"/>\n";
   s += text(f.left + f.width / 2, f.top + f.height + 36, p.x_label, "middle", 12);
   const double ly = f.top + f.height / 2;
-  s += "<text x=\"16\" y=\"" + num(ly) + "\" font-size=\"12\" text-anchor=\"middle\" transform=\"rotate(-90 16 " + num(ly) +
+  s += "<text x=\"16\" y=\"" + io::printf_text("%.2f", ly) + "\" font-size=\"12\" text-anchor=\"middle\" transform=\"rotate(-90 16 " + io::printf_text("%.2f", ly) +
        ")\">" + escape_xml(p.y_label) + "</text>\n";
 
   if (has_legend) {
@@ -324,13 +319,13 @@ std::string render_line_plot(const LinePlot& p) {
     const double x = f.left + f.width + 14;
     s += "<g class=\"legend\">\n";
     for (const LegendLine& l : legend) {
-      s += "<line x1=\"" + num(x) + "\" y1=\"" + num(y) + "\" x2=\"" + num(x + 18) + "\" y2=\"" + num(y) + "\" stroke=\"" +
+      s += "<line x1=\"" + io::printf_text("%.2f", x) + "\" y1=\"" + io::printf_text("%.2f", y) + "\" x2=\"" + io::printf_text("%.2f", x + 18) + "\" y2=\"" + io::printf_text("%.2f", y) + "\" stroke=\"" +
            escape_xml(l.colour) + "\" stroke-width=\"2.5\"" + (l.dashed ? " stroke-dasharray=\"5 3\"" : "") + "/>\n";
       s += text(x + 24, y + 4, l.label, "start", 11);
       y += 17;
     }
     for (const auto& [label, colour] : band_legend) {
-      s += "<rect x=\"" + num(x) + "\" y=\"" + num(y - 6) + "\" width=\"18\" height=\"12\" fill=\"" + escape_xml(colour) +
+      s += "<rect x=\"" + io::printf_text("%.2f", x) + "\" y=\"" + io::printf_text("%.2f", y - 6) + "\" width=\"18\" height=\"12\" fill=\"" + escape_xml(colour) +
            "\" fill-opacity=\"0.35\"/>\n";
       s += text(x + 24, y + 4, label, "start", 11);
       y += 17;
@@ -366,18 +361,18 @@ std::string render_polar_plot(const PolarPlot& p) {
   s += text(cx, 18, p.title, "middle", 14, " font-weight=\"bold\"");
   for (double r : rt) {
     if (r <= 0.0) continue;
-    s += "<circle cx=\"" + num(cx) + "\" cy=\"" + num(cy) + "\" r=\"" + num(r / rtop * radius) +
+    s += "<circle cx=\"" + io::printf_text("%.2f", cx) + "\" cy=\"" + io::printf_text("%.2f", cy) + "\" r=\"" + io::printf_text("%.2f", r / rtop * radius) +
          "\" fill=\"none\" stroke=\"#ddd\"/>\n";
     const auto q = pt(0.0, r);
     s += text(q[0] + 3, q[1] - 2, format_tick(r, rstep), "start", 10, " fill=\"#666\"");
   }
   for (int a = 0; a < 360; a += 30) {
     const auto q = pt(a, rtop), l = pt(a, rtop * 1.13);
-    s += "<line x1=\"" + num(cx) + "\" y1=\"" + num(cy) + "\" x2=\"" + num(q[0]) + "\" y2=\"" + num(q[1]) +
+    s += "<line x1=\"" + io::printf_text("%.2f", cx) + "\" y1=\"" + io::printf_text("%.2f", cy) + "\" x2=\"" + io::printf_text("%.2f", q[0]) + "\" y2=\"" + io::printf_text("%.2f", q[1]) +
          "\" stroke=\"#e4e4e4\"/>\n";
     s += text(l[0], l[1] + 4, std::to_string(a) + "\u00b0", "middle", 10);
   }
-  s += "<circle cx=\"" + num(cx) + "\" cy=\"" + num(cy) + "\" r=\"" + num(radius) + "\" fill=\"none\" stroke=\"#333\"/>\n";
+  s += "<circle cx=\"" + io::printf_text("%.2f", cx) + "\" cy=\"" + io::printf_text("%.2f", cy) + "\" r=\"" + io::printf_text("%.2f", radius) + "\" fill=\"none\" stroke=\"#333\"/>\n";
   double ly = 40.0;
   for (size_t i = 0; i < p.series.size(); ++i) {
     const PolarSeries& ps = p.series[i];
@@ -386,13 +381,13 @@ std::string render_polar_plot(const PolarPlot& p) {
     for (size_t k = 0; k < std::min(ps.angle_deg.size(), ps.r.size()); ++k) {
       if (!std::isfinite(ps.r[k]) || !std::isfinite(ps.angle_deg[k])) continue;
       const auto q = pt(ps.angle_deg[k], std::max(0.0, ps.r[k]));
-      pts += num(q[0]) + "," + num(q[1]) + " ";
+      pts += io::printf_text("%.2f", q[0]) + "," + io::printf_text("%.2f", q[1]) + " ";
     }
     s += "<polygon points=\"" + pts + "\" fill=\"" + escape_xml(colour) + "\" fill-opacity=\"" + (ps.fill ? "0.25" : "0") +
          "\" stroke=\"" + escape_xml(colour) + "\" stroke-width=\"1.5\"/>\n";
     if (!ps.label.empty()) {
       // The swatch is drawn as the series is: filled, or an outline.
-      s += "<rect x=\"" + num(p.size_px + 6.0) + "\" y=\"" + num(ly - 8) + "\" width=\"16\" height=\"10\" fill=\"" +
+      s += "<rect x=\"" + io::printf_text("%.2f", p.size_px + 6.0) + "\" y=\"" + io::printf_text("%.2f", ly - 8) + "\" width=\"16\" height=\"10\" fill=\"" +
            escape_xml(colour) + "\" fill-opacity=\"" + (ps.fill ? "0.25" : "0") + "\" stroke=\"" + escape_xml(colour) +
            "\" stroke-width=\"1.5\"/>\n";
       s += text(p.size_px + 28.0, ly + 1, ps.label, "start", 11);

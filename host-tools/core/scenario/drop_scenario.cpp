@@ -16,6 +16,7 @@
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/events/measured_event.hpp"
 #include "host-tools/core/fit/drop_fit.hpp"
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/replay/event_replay.hpp"
 #include "host-tools/core/report/report_builder.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
@@ -24,18 +25,10 @@
 #include "host-tools/core/scenario/steady_record.hpp"
 #include "model/effects/effect_set.hpp"
 #include "host-tools/core/report/report_html.hpp"
-#include "host-tools/core/wear/load_map.hpp"
+#include "host-tools/core/wear/wear_record_file.hpp"
 #include "host-tools/core/wear/wear_update.hpp"
 
 namespace amb::host {
-
-namespace {
-std::string fmt(const char* f, double a, double b = 0.0) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, f, a, b);
-  return buf;
-}
-}  // namespace
 
 DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   const auto wall0 = std::chrono::steady_clock::now();
@@ -101,13 +94,13 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   sum.levitated = rig.run_until(reached(fw::Phase::levitated), 5.0) && sup.state() != fw::State::fault;
   sum.liftoff_s = rig.time_s() - t_lev;
   if (sum.levitated) {
-    say(fmt("levitated after %.3f s; spinning up to %.1f Hz", sum.liftoff_s, board.lifecycle.operating_speed_hz));
+    say(io::printf_text("levitated after %.3f s; spinning up to %.1f Hz", sum.liftoff_s, board.lifecycle.operating_speed_hz));
     sup.post(fw::Command::run);
     const double spin_s = board.lifecycle.operating_speed_hz / board.lifecycle.spin_accel_hz_per_s;
     sum.reached_speed = rig.run_until(reached(fw::Phase::at_speed), spin_s + 5.0) && sup.state() != fw::State::fault;
   }
   if (sum.reached_speed) {
-    say(fmt("at speed; holding %.2f s", o.hold_s));
+    say(io::printf_text("at speed; holding %.2f s", o.hold_s));
     const double end = rig.time_s() + o.hold_s;
     while (rig.time_s() < end && sup.state() == fw::State::running) {
       rig.run_for(0.001);
@@ -128,11 +121,11 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   cut.current_factor = {0.0, 0.0, 0.0, 0.0};
   rig.plant().set_faults(cut);
   after_cut = true;
-  say(fmt("t=%.3f s: AMB channels cut at %.1f Hz", sum.cut_time_s, sum.speed_at_cut_hz));
+  say(io::printf_text("t=%.3f s: AMB channels cut at %.1f Hz", sum.cut_time_s, sum.speed_at_cut_hz));
   sum.fault_detected = rig.run_until([](const fw::Status& s) { return s.state == fw::State::fault; }, 0.5);
   sum.detection_delay_ms = (rig.time_s() - sum.cut_time_s) * 1e3;
   sum.fault_reason = fw::to_string(sup.status().fault);
-  if (sum.fault_detected) say(fmt("safe state after %.1f ms", sum.detection_delay_ms) + " (" + sum.fault_reason + ")");
+  if (sum.fault_detected) say(io::printf_text("safe state after %.1f ms", sum.detection_delay_ms) + " (" + sum.fault_reason + ")");
   // Long enough for the capture to record its post-trigger window and freeze it.
   const double after_s = std::max(o.after_cut_s, board.capture.post_trigger_s + 0.1);
   rig.run_for(std::max(0.0, sum.cut_time_s + after_s - rig.time_s()));
@@ -208,19 +201,14 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
   // accounted into the board's wear record (a fresh record here: first event).
   fw::WearRecord wear;
   if (fitted) {
-    wear::WearEvent we;
-    we.load = wear::event_load(fitted->trace.contact_steps);
-    we.rubbing = fitted->rubbing;
-    we.friction_coefficient = fitted->friction_coefficient;
     fw::WearRecord previous;
     previous.board_name = board.name;
-    const auto now_s = std::chrono::duration_cast<std::chrono::seconds>(
-                           std::chrono::system_clock::now().time_since_epoch()).count();
-    wear = wear::update_wear_record(previous, we, board.name, now_s, wear::WearOptions{});
-    const std::vector<uint8_t> bytes = fw::encode_wear_record(wear);
+    const wear::WearAccounting we = wear::account_drop(previous, fitted->trace.contact_steps, fitted->rubbing,
+                                                       fitted->friction_coefficient, board.name, wear::wall_clock_unix_s(),
+                                                       wear::WearOptions{});
+    wear = we.record;
     sum.wear_path = (std::filesystem::path(o.out_dir) / "wear_record.ambw").string();
-    std::ofstream(sum.wear_path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                                         static_cast<std::streamsize>(bytes.size()));
+    wear::write_wear_record_file(sum.wear_path, wear);
     sum.wear_written = true;
     sum.wear_sequence = wear.sequence;
     sum.wear_peak_force_n = std::max(wear.bearing[0].peak_force_n, wear.bearing[1].peak_force_n);
@@ -229,7 +217,7 @@ DropScenarioSummary run_drop_scenario(const DropScenarioOptions& o) {
       const auto& load = wear.bearing[b].event_load_n;
       sum.load_peak_bin_deg[b] = static_cast<int>(std::max_element(load.begin(), load.end()) - load.begin());
       for (float f : load) sum.load_sum_n[b] += f;
-      sum.load_whirl_hz[b] = we.load[b].whirl_hz;
+      sum.load_whirl_hz[b] = we.event.load[b].whirl_hz;
     }
   }
   // Close the loop with a steady run whose plant carries sensor runout (speed-locked: 1x at plane A,

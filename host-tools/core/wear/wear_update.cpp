@@ -1,6 +1,7 @@
 #include "host-tools/core/wear/wear_update.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <stdexcept>
 
@@ -44,6 +45,21 @@ fw::WearRecord update_wear_record(const fw::WearRecord& previous, const WearEven
     w.life_used_fraction = static_cast<float>(static_cast<double>(w.friction_energy_j) / o.friction_energy_budget_j);
   }
   return r;
+}
+
+WearAccounting account_drop(const fw::WearRecord& previous, const std::vector<model::drop::StepContact>& contact_steps,
+                            const std::array<model::drop::RubbingDurations, 2>& rubbing, double friction_coefficient,
+                            const std::string& board_name, std::int64_t now_unix_s, const WearOptions& o) {
+  WearAccounting a;
+  a.event.load = event_load(contact_steps);
+  a.event.rubbing = rubbing;
+  a.event.friction_coefficient = friction_coefficient;
+  a.record = update_wear_record(previous, a.event, board_name, now_unix_s, o);
+  return a;
+}
+
+std::int64_t wall_clock_unix_s() {
+  return std::chrono::duration_cast<std::chrono::seconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
 }  // namespace amb::host::wear

@@ -11,8 +11,10 @@
 // and the load map says where on the circumference it goes. The budget is a parameter to
 // calibrate against the bearing maker's permitted drops (the default is an assumption: no
 // seed paper gives one).
+#include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "firmware/wear/wear_record.hpp"
 #include "host-tools/core/wear/load_map.hpp"
@@ -40,5 +42,22 @@ std::string life_model_name(const WearOptions& o);
 /// `board_name` must match a non-empty previous board name (else std::invalid_argument).
 fw::WearRecord update_wear_record(const fw::WearRecord& previous, const WearEvent& event, const std::string& board_name,
                                   std::int64_t now_unix_s, const WearOptions& o);
+
+/// One drop accounted: the event and the record it made.
+struct WearAccounting {
+  WearEvent event;        ///< load maps, rubbing and friction of the drop
+  fw::WearRecord record;  ///< `previous` with the event added
+};
+
+/// The one path from a simulated drop (a fit's trace, or an envelope case's) to the wear
+/// record: the load maps from `contact_steps` (event_load), then update_wear_record.
+/// `rubbing`: per bearing, s (zeros when not classified); `friction_coefficient`: the drop's, 1.
+/// Throws std::invalid_argument as update_wear_record.
+WearAccounting account_drop(const fw::WearRecord& previous, const std::vector<model::drop::StepContact>& contact_steps,
+                            const std::array<model::drop::RubbingDurations, 2>& rubbing, double friction_coefficient,
+                            const std::string& board_name, std::int64_t now_unix_s, const WearOptions& o);
+
+/// The host's wall clock as stored in updated_unix_s, s since 1970.
+std::int64_t wall_clock_unix_s();
 
 }  // namespace amb::host::wear
