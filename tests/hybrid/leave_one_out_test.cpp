@@ -61,6 +61,8 @@ TEST(HybridLeaveOneOut, CwruThreeOperatingPoints) {
     std::printf("\n        band coverage log %.2f env %.2f, width log %.3f env %.2f; chosen: log [%s] env [%s]\n",
                 r.band_coverage_log, r.band_coverage_env, r.band_width_log, r.band_width_env_rel, r.chosen_log.c_str(),
                 r.chosen_env.c_str());
+    std::printf("        inner CV: log %.3f (transport %.3f), env %.3f (transport %.3f)\n", r.cv_log, r.cv_log_baseline, r.cv_env,
+                r.cv_env_baseline);
   }
   const std::string dir = amb::test::artefact_dir();
   std::filesystem::create_directories(dir);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <stdexcept>
 
@@ -109,6 +110,12 @@ void Correction::train(const std::vector<CorrectionCase>& cases, const Correctio
     rows += c.segments.size();
   }
   if (weights != nullptr && weights->size() != rows) throw std::invalid_argument("correction: one weight per segment");
+  change_max_ = 0.0;
+  for (const auto& c : cases) {
+    if (!(c.speed_change > 0) || !std::isfinite(c.speed_change))
+      throw std::invalid_argument("correction: a training case has no speed change (its source is its own operating point)");
+    change_max_ = std::max(change_max_, c.speed_change);
+  }
   // Features per case; their rms over the training rows standardises them.
   std::vector<std::vector<std::vector<double>>> feat(cases.size());
   size_t used = 0;
@@ -120,6 +127,9 @@ void Correction::train(const std::vector<CorrectionCase>& cases, const Correctio
     size_t r = 0;
     for (size_t c = 0; c < cases.size(); ++c) {
       features(cases[c], feat[c]);
+      const double d = cases[c].speed_change / change_max_;
+      for (auto& fk : feat[c])
+        for (double& v : fk) v *= d;
       double wc = 0.0;
       for (size_t s = 0; s < cases[c].segments.size(); ++s, ++r) wc += weights ? (*weights)[r] : 1.0;
       for (size_t k = 0; k < bins_; ++k)
@@ -168,12 +178,13 @@ void Correction::train(const std::vector<CorrectionCase>& cases, const Correctio
         }
       }
       if (nh > 0) {
+        const double d = cases[c].speed_change / change_max_;
         const Hat ht = hat(k, bins_, nh);
         idx.push_back(static_cast<long>(nb * used + ht.knot));
-        val.push_back(ht.w);
+        val.push_back(d * ht.w);
         if (ht.w < 1.0) {
           idx.push_back(static_cast<long>(nb * used + ht.knot + 1));
-          val.push_back(1.0 - ht.w);
+          val.push_back(d * (1.0 - ht.w));
         }
       }
       for (size_t a = 0; a < idx.size(); ++a) {
@@ -196,19 +207,25 @@ std::vector<double> Correction::predict(const CorrectionCase& in) const {
   features(in, f);
   const size_t used = scale_.size(), nb = static_cast<size_t>(o_.bands), nh = offset_hats();
   std::vector<double> y = in.base;
+  if (!(in.speed_change >= 0) || !std::isfinite(in.speed_change))
+    throw std::invalid_argument("correction: the speed change must be finite and >= 0");
+  const double d = change_max_ > 0 ? std::min(in.speed_change, change_max_) / change_max_ : 0.0;
+  if (d == 0.0) return y;
   for (size_t k = 0; k < bins_; ++k) {
+    double corr = 0.0;
     const Hat hb = hat(k, bins_, nb);
     for (size_t u = 0; u < used; ++u) {
       if (scale_[u] == 0.0) continue;
       const double x = f[k][u] / scale_[u];
       double g = hb.w * w_[hb.knot * used + u];
       if (nb > 1 && hb.w < 1.0) g += (1.0 - hb.w) * w_[(hb.knot + 1) * used + u];
-      y[k] += g * x;
+      corr += g * x;
     }
     if (nh > 0) {
       const Hat ht = hat(k, bins_, nh);
-      y[k] += ht.w * w_[nb * used + ht.knot] + (ht.w < 1.0 ? (1.0 - ht.w) * w_[nb * used + ht.knot + 1] : 0.0);
+      corr += ht.w * w_[nb * used + ht.knot] + (ht.w < 1.0 ? (1.0 - ht.w) * w_[nb * used + ht.knot + 1] : 0.0);
     }
+    y[k] += d * corr;
   }
   return y;
 }
@@ -220,6 +237,7 @@ nlohmann::json Correction::to_json() const {
           {"local_halfwidth_bins", o_.local_halfwidth_bins},
           {"lambda", o_.lambda},
           {"bins", bins_},
+          {"speed_change_max", change_max_},
           {"scale", scale_},
           {"w", w_}};
 }
@@ -234,6 +252,8 @@ Correction Correction::from_json(const nlohmann::json& j) {
   std::string why;
   if (!c.o_.valid(&why)) throw std::invalid_argument("correction: " + why);
   c.bins_ = j.at("bins");
+  c.change_max_ = j.at("speed_change_max");
+  if (!(c.change_max_ > 0) || !std::isfinite(c.change_max_)) throw std::invalid_argument("correction: speed_change_max must be > 0");
   c.scale_ = j.at("scale").get<std::vector<double>>();
   c.w_ = j.at("w").get<std::vector<double>>();
   size_t used = 0;
@@ -276,6 +296,7 @@ CvResult select_correction(const std::vector<CorrectionCase>& cases, const std::
         if (c.group == g) sum += pearson(m.predict(c), mean_of(c.segments));
     }
     const double mean = sum / static_cast<double>(n);
+    if (std::getenv("AMB_HY_DEBUG")) std::fprintf(stderr, "cv %.4f %s\n", mean, cand.describe().c_str());
     res.rows.push_back({cand, mean});
     if (mean > res.chosen_pearson) {  // strictly better; ties keep the earlier (simpler) one
       res.chosen = cand;
@@ -335,13 +356,23 @@ void CorrectionEnsemble::train(const std::vector<CorrectionCase>& cases, const s
   }
 }
 
-void CorrectionEnsemble::predict(const CorrectionCase& in, std::vector<double>& y, std::vector<double>& lo,
-                                 std::vector<double>& hi) const {
-  y = main.predict(in);
+void CorrectionEnsemble::predict(const std::vector<CorrectionCase>& in, const std::vector<double>& weights,
+                                 std::vector<double>& y, std::vector<double>& lo, std::vector<double>& hi) const {
+  if (in.empty() || in.size() != weights.size()) throw std::invalid_argument("correction: one weight per input");
+  auto mixed = [&](const Correction& c) {
+    std::vector<double> out;
+    for (size_t i = 0; i < in.size(); ++i) {
+      const auto yi = c.predict(in[i]);
+      if (out.empty()) out.assign(yi.size(), 0.0);
+      for (size_t k = 0; k < yi.size(); ++k) out[k] += weights[i] * yi[k];
+    }
+    return out;
+  };
+  y = mixed(main);
   lo = y;
   hi = y;
   for (const auto& m : members) {
-    const auto ym = m.predict(in);
+    const auto ym = mixed(m);
     for (size_t k = 0; k < y.size(); ++k) {
       lo[k] = std::min(lo[k], ym[k]);
       hi[k] = std::max(hi[k], ym[k]);

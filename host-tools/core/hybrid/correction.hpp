@@ -2,8 +2,11 @@
 // The learned part of the hybrid model with several training operating points (issue 34): a
 // correction of the transported measured spectrum (transport_base.hpp) from physics features.
 //
-//   y_k = b_k + sum_b B_b(k) sum_j w_bj f_j(k) / s_j + sum_t T_t(k) a_t
+//   y_k = b_k + d [ sum_b B_b(k) sum_j w_bj f_j(k) / s_j + sum_t T_t(k) a_t ]
 //
+// d = min(c, c_max) / c_max, c = |ln(target speed / source speed)|: the correction is first order
+// in the speed change of the transport (zero for a source at the target speed) and is not
+// extrapolated beyond the largest change seen in training (c_max).
 // b: the base, the training spectra of the state moved to the queried speed and interpolated
 // (the best no-learning baseline, so the correction starts from it: all weights 0 is the
 // baseline itself). Features f_j at bin k (each optional, chosen by inner cross-validation):
@@ -52,6 +55,11 @@ struct CorrectionOptions {
 /// One case of the correction: its inputs on the grid and its measured target(s).
 struct CorrectionCase {
   int group = 0;                     ///< operating point index (the cross-validation fold)
+  /// |ln(target speed / source speed)| of the transport (> 0 in training). The correction is
+  /// first order in it: the whole correction term is multiplied by min(change, c_max) / c_max,
+  /// c_max the largest change in training (a source at the target speed needs no correction;
+  /// the correction is not extrapolated beyond the speed changes it was trained on).
+  double speed_change = 0.0;
   std::vector<double> base, fixed, sim;   ///< inputs (see the header comment), grid bins each
   std::vector<std::vector<double>> segments;  ///< measured spectra of the case's segments (targets)
 };
@@ -78,6 +86,7 @@ class Correction {
   size_t bins_ = 0;
   std::vector<double> scale_;  // per feature (0: unused)
   std::vector<double> w_;      // [bands x used features | offset hats]
+  double change_max_ = 0.0;    // largest speed change in training
 };
 
 /// Inner cross-validation: every candidate is fitted with one operating point (group) left
@@ -106,8 +115,11 @@ struct CorrectionEnsemble {
   /// (std::mt19937_64 seeded with `seed`; reproducible bit for bit).
   void train(const std::vector<CorrectionCase>& cases, const std::vector<CorrectionOptions>& candidates, int members,
              uint64_t seed);
-  /// Point prediction and the band (elementwise min / max over main and members).
-  void predict(const CorrectionCase& in, std::vector<double>& y, std::vector<double>& lo, std::vector<double>& hi) const;
+  /// Point prediction and the band (elementwise min / max over main and members) of the
+  /// weighted mix of the corrected inputs `in` (one per transport source, `weights` summing to 1):
+  /// each source is corrected, then the corrected spectra are interpolated.
+  void predict(const std::vector<CorrectionCase>& in, const std::vector<double>& weights, std::vector<double>& y,
+               std::vector<double>& lo, std::vector<double>& hi) const;
   bool trained() const { return main.trained(); }
   nlohmann::json to_json() const;
   static CorrectionEnsemble from_json(const nlohmann::json& j);

@@ -368,25 +368,33 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
     std::vector<CorrectionCase> cp, ce;
     for (size_t c = 0; c < cases.size(); ++c) {
       const auto& [st, op] = cases[c];
-      const auto b = transported_base(m.references, st, op, psd_c, env_c, scales, h, &op);
-      if (!b.found) continue;
-      CorrectionCase a, e;
-      a.group = e.group = point_index(op);
-      a.base = b.interp_log_psd;
-      a.fixed = b.fixed_log_psd;
-      a.sim = phys[c].log_psd;
-      e.base = amplitude(b.interp_env_power);
-      e.fixed = amplitude(b.fixed_env_power);
-      e.sim = amplitude(power(phys[c].env, m.physics_env_scale));
-      for (size_t i = 0; i < segments.size(); ++i)
-        if (seg_case[i] == c) {
-          a.segments.push_back(y_psd[i]);
-          e.segments.push_back(amplitude(y_env[i]));
-        }
-      cp.push_back(std::move(a));
-      ce.push_back(std::move(e));
+      // One correction case per other operating point of the state: its training spectrum
+      // moved to this case's speed (single-source transports; prediction corrects each source
+      // of the interpolation and then interpolates).
+      const int g = point_index(op);
+      for (const auto& src : all_sources(m.references, st, op, psd_c, env_c, scales, h, op)) {
+        CorrectionCase a, e;
+        a.group = e.group = g;
+        a.speed_change = e.speed_change = std::abs(std::log(op.speed_rpm / src.speed_rpm));
+        a.base = src.moved_log_psd;
+        a.fixed = src.log_psd;
+        a.sim = phys[c].log_psd;
+        e.base = amplitude(src.moved_env_power);
+        e.fixed = amplitude(src.env_power);
+        e.sim = amplitude(power(phys[c].env, m.physics_env_scale));
+        for (size_t i = 0; i < segments.size(); ++i)
+          if (seg_case[i] == c) {
+            a.segments.push_back(y_psd[i]);
+            e.segments.push_back(amplitude(y_env[i]));
+          }
+        cp.push_back(std::move(a));
+        ce.push_back(std::move(e));
+      }
     }
-    if (points.size() >= 2) {
+    std::vector<int> groups;
+    for (const auto& c : cp)
+      if (std::find(groups.begin(), groups.end(), c.group) == groups.end()) groups.push_back(c.group);
+    if (groups.size() >= 2) {
       const auto cand = correction_candidates(h, o.psd_map.transfer_spacing_bins * 4);
       m.psd_correction.train(cp, cand, o.ensemble_members, o.seed);
       m.env_correction.train(ce, correction_candidates(h, o.env_map.transfer_spacing_bins), o.ensemble_members,
@@ -458,15 +466,21 @@ Prediction predict_hybrid(const HybridModel& m, BearingState state, const Operat
   p.log_psd_interp = b.interp_log_psd;
   p.env_interp = amp(b.interp_env_power);
   if (m.psd_correction.trained() && m.env_correction.trained()) {
-    CorrectionCase a, e;
-    a.base = b.interp_log_psd;
-    a.fixed = b.fixed_log_psd;
-    a.sim = phys.log_psd;
-    e.base = amplitude(b.interp_env_power);
-    e.fixed = amplitude(b.fixed_env_power);
-    e.sim = amplitude(power(phys.env, m.physics_env_scale));
-    m.psd_correction.predict(a, p.log_psd_hybrid, p.log_psd_hybrid_lo, p.log_psd_hybrid_hi);
-    m.env_correction.predict(e, p.env_hybrid, p.env_hybrid_lo, p.env_hybrid_hi);
+    std::vector<CorrectionCase> a(b.sources.size()), e(b.sources.size());
+    std::vector<double> w;
+    for (size_t i = 0; i < b.sources.size(); ++i) {
+      const auto& src = b.sources[i];
+      a[i].base = src.moved_log_psd;
+      a[i].fixed = src.log_psd;
+      a[i].sim = phys.log_psd;
+      e[i].base = amplitude(src.moved_env_power);
+      e[i].fixed = amplitude(src.env_power);
+      e[i].sim = amplitude(power(phys.env, m.physics_env_scale));
+      a[i].speed_change = e[i].speed_change = std::abs(std::log(op.speed_rpm / src.speed_rpm));
+      w.push_back(src.weight);
+    }
+    m.psd_correction.predict(a, w, p.log_psd_hybrid, p.log_psd_hybrid_lo, p.log_psd_hybrid_hi);
+    m.env_correction.predict(e, w, p.env_hybrid, p.env_hybrid_lo, p.env_hybrid_hi);
     const double g = std::sqrt(m.measured_env_scale);
     for (auto* v : {&p.env_hybrid, &p.env_hybrid_lo, &p.env_hybrid_hi})
       for (double& x : *v) x = std::max(0.0, x) * g;

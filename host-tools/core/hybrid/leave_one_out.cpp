@@ -62,6 +62,10 @@ LooResult leave_one_point_out(const std::vector<Record>& records, const TrainOpt
       if (m.psd_correction.trained()) {
         row.chosen_log = m.psd_correction.cv.chosen.describe();
         row.chosen_env = m.env_correction.cv.chosen.describe();
+        row.cv_log = m.psd_correction.cv.chosen_pearson;
+        row.cv_log_baseline = m.psd_correction.cv.baseline_pearson;
+        row.cv_env = m.env_correction.cv.chosen_pearson;
+        row.cv_env_baseline = m.env_correction.cv.baseline_pearson;
       }
       row.band_coverage_log = coverage(meas.log_psd, pr.log_psd_hybrid_lo, pr.log_psd_hybrid_hi);
       row.band_coverage_env = coverage(meas.env, pr.env_hybrid_lo, pr.env_hybrid_hi);
@@ -89,6 +93,8 @@ nlohmann::json loo_json(const LooResult& r) {
                     {"record", row.record},
                     {"hybrid_kind", row.hybrid_kind},
                     {"chosen", {{"log_spectrum", row.chosen_log}, {"envelope_spectrum", row.chosen_env}}},
+                    {"inner_cv", {{"log_spectrum", {{"chosen", row.cv_log}, {"transport", row.cv_log_baseline}}},
+                                  {"envelope_spectrum", {{"chosen", row.cv_env}, {"transport", row.cv_env_baseline}}}}},
                     {"band_coverage", {{"log_spectrum", row.band_coverage_log}, {"envelope_spectrum", row.band_coverage_env}}},
                     {"band_width", {{"log_spectrum_log10", row.band_width_log}, {"envelope_rel", row.band_width_env_rel}}},
                     {"models", models}});

@@ -21,6 +21,9 @@ struct LooRow {
   std::vector<ModelScore> models;     ///< score_table() order
   std::string hybrid_kind;            ///< Prediction::hybrid_kind
   std::string chosen_log, chosen_env; ///< correction chosen by the inner cross-validation ("" without)
+  /// Inner cross-validation (training points only): mean Pearson of the chosen correction and of
+  /// the uncorrected single-source transport.
+  double cv_log = 0, cv_log_baseline = 0, cv_env = 0, cv_env_baseline = 0;
   /// Fraction of grid bins where the measured spectrum lies inside the hybrid's band.
   double band_coverage_log = 0, band_coverage_env = 0;
   /// Mean band width: log10 units (log spectrum); relative to the mean measured amplitude (envelope).

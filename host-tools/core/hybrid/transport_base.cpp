@@ -53,6 +53,17 @@ TransportedBase transported_base(const std::vector<ReferenceSpectra>& refs, Bear
     return transport_log_psd(r.log_psd, psd_hz, op.speed_rpm / r.op.speed_rpm, scales, halfwidth_bins);
   };
   auto moved_env = [&](const ReferenceSpectra& r) { return transport_env(r.env_power, env_hz, op.speed_rpm / r.op.speed_rpm, scales); };
+  auto source = [&](const ReferenceSpectra& r, double w) {
+    TransportSource t;
+    t.case_name = case_name(r.state, r.op);
+    t.weight = w;
+    t.speed_rpm = r.op.speed_rpm;
+    t.moved_log_psd = moved_log(r);
+    t.moved_env_power = moved_env(r);
+    t.log_psd = r.log_psd;
+    t.env_power = r.env_power;
+    return t;
+  };
   b.nearest_log_psd = moved_log(*nearest);
   b.nearest_env_power = moved_env(*nearest);
   if (below != nullptr && above != nullptr && below != above && above->op.speed_rpm > below->op.speed_rpm) {
@@ -62,14 +73,34 @@ TransportedBase transported_base(const std::vector<ReferenceSpectra>& refs, Bear
     b.interp_env_power = mix(moved_env(*below), moved_env(*above), b.upper_weight);
     b.fixed_log_psd = mix(below->log_psd, above->log_psd, b.upper_weight);
     b.fixed_env_power = mix(below->env_power, above->env_power, b.upper_weight);
+    b.sources = {source(*below, 1.0 - b.upper_weight), source(*above, b.upper_weight)};
   } else {  // no bracket (outside the trained range, or one case): clamped to the nearest
     b.interp_cases = b.nearest_case;
     b.interp_log_psd = b.nearest_log_psd;
     b.interp_env_power = b.nearest_env_power;
     b.fixed_log_psd = nearest->log_psd;
     b.fixed_env_power = nearest->env_power;
+    b.sources = {source(*nearest, 1.0)};
   }
   return b;
+}
+
+std::vector<TransportSource> all_sources(const std::vector<ReferenceSpectra>& refs, BearingState state, const OperatingPoint& op,
+                                         const std::vector<double>& psd_hz, const std::vector<double>& env_hz,
+                                         const std::vector<double>& scales, int halfwidth_bins, const OperatingPoint& exclude) {
+  std::vector<TransportSource> out;
+  for (const auto& r : refs) {
+    if (r.state != state || same_point(r.op, exclude)) continue;
+    TransportSource t;
+    t.case_name = case_name(r.state, r.op);
+    t.speed_rpm = r.op.speed_rpm;
+    t.moved_log_psd = transport_log_psd(r.log_psd, psd_hz, op.speed_rpm / r.op.speed_rpm, scales, halfwidth_bins);
+    t.moved_env_power = transport_env(r.env_power, env_hz, op.speed_rpm / r.op.speed_rpm, scales);
+    t.log_psd = r.log_psd;
+    t.env_power = r.env_power;
+    out.push_back(std::move(t));
+  }
+  return out;
 }
 
 }  // namespace amb::host::hybrid

@@ -27,6 +27,15 @@ struct ReferenceSpectra {
   std::vector<double> env_power;  ///< mean envelope power of the segments / measured_env_scale
 };
 
+/// One training case moved to the queried speed.
+struct TransportSource {
+  std::string case_name;        ///< "state@rpm/load"
+  double weight = 1.0;          ///< its weight in the interpolation
+  double speed_rpm = 0.0;       ///< the case's speed, rpm
+  std::vector<double> moved_log_psd, moved_env_power;  ///< moved to the queried speed
+  std::vector<double> log_psd, env_power;              ///< as measured (not moved)
+};
+
 /// The transported baselines of one query, on the model's grids.
 struct TransportedBase {
   bool found = false;  ///< false: no training case of the state (every vector empty)
@@ -35,7 +44,14 @@ struct TransportedBase {
   std::vector<double> nearest_log_psd, nearest_env_power;  ///< nearest case, moved
   std::vector<double> interp_log_psd, interp_env_power;    ///< bracketing cases, moved, mixed
   std::vector<double> fixed_log_psd, fixed_env_power;      ///< bracketing cases, not moved, mixed
+  std::vector<TransportSource> sources;  ///< the case(s) of the interpolation (1 or 2), weights summing to 1
 };
+
+/// Every training case of `state` except those at `exclude` (same speed and load), each moved
+/// to `op` with weight 1: the single-source transports the learned correction is trained on.
+std::vector<TransportSource> all_sources(const std::vector<ReferenceSpectra>& refs, BearingState state, const OperatingPoint& op,
+                                         const std::vector<double>& psd_hz, const std::vector<double>& env_hz,
+                                         const std::vector<double>& scales, int halfwidth_bins, const OperatingPoint& exclude);
 
 /// Build the baselines of `state` at `op` from `refs`. Cases at the operating point
 /// `exclude` (same speed and load) are skipped when `exclude` is given (cross-fitting: a
