@@ -64,6 +64,43 @@ TEST(HybridLeaveOneOut, CwruThreeOperatingPoints) {
     std::printf("        inner CV: log %.3f (transport %.3f), env %.3f (transport %.3f)\n", r.cv_log, r.cv_log_baseline, r.cv_env,
                 r.cv_env_baseline);
   }
+  // Every prediction is the learned correction of the transported spectra (two training points
+  // per state in every fold).
+  double cover_log = 0, cover_env = 0;
+  for (const auto& r : res.rows) {
+    SCOPED_TRACE(std::to_string(r.held_out.speed_rpm) + " rpm " + hy::state_name(r.state));
+    EXPECT_EQ(r.hybrid_kind, "correction");
+    const auto& h = r.model("hybrid");
+    for (const char* m : k_models) {
+      if (std::string(m) == "hybrid") continue;
+      const auto& b = r.model(m);
+      ASSERT_TRUE(b.available) << m;
+      // Log spectrum: the hybrid above every baseline at every held-out point (Pearson and MSE).
+      EXPECT_GT(h.log_pearson, b.log_pearson) << m;
+      EXPECT_LT(h.log_mse, b.log_mse) << m;
+      if (r.held_out.speed_rpm == 1750) {
+        // Interpolation (1750 rpm): above every baseline in the envelope too.
+        EXPECT_GT(h.env_pearson, b.env_pearson) << m;
+        EXPECT_LT(h.env_mse, b.env_mse) << m;
+      }
+    }
+    // Extrapolations: the envelope above the physics alone and the data-only map (the
+    // transported baselines are the close competitors there: docs/hybrid.md).
+    EXPECT_GT(h.env_pearson, r.model("physics").env_pearson);
+    EXPECT_GT(h.env_pearson, r.model("data_only").env_pearson);
+    EXPECT_GT(r.band_coverage_log, 0.5);
+    EXPECT_GT(r.band_coverage_env, 0.5);
+    cover_log += r.band_coverage_log / static_cast<double>(res.rows.size());
+    cover_env += r.band_coverage_env / static_cast<double>(res.rows.size());
+  }
+  // The band's nominal coverage is 80 %: on the held-out points it covers 70-95 % of the bins.
+  std::printf("mean band coverage: log %.3f, envelope %.3f (nominal %.2f)\n", cover_log, cover_env, hy::k_band_coverage);
+  EXPECT_GT(cover_log, 0.7);
+  EXPECT_LT(cover_log, 0.95);
+  EXPECT_GT(cover_env, 0.7);
+  EXPECT_LT(cover_env, 0.95);
+  for (double t : res.train_wall_s) std::printf("fold training wall time %.2f s\n", t);
+
   const std::string dir = amb::test::artefact_dir();
   std::filesystem::create_directories(dir);
   std::ofstream(dir + "/hybrid_leave_one_out.json") << hy::loo_json(res).dump(2) << '\n';

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <random>
 #include <stdexcept>
 
@@ -57,6 +56,12 @@ Hat hat(size_t k, size_t bins, size_t count) {
   const double pos = static_cast<double>(k) * static_cast<double>(count - 1) / static_cast<double>(bins - 1);
   const auto t = std::min(static_cast<size_t>(std::floor(pos)), count - 2);
   return {t, 1.0 - (pos - static_cast<double>(t))};
+}
+
+double mean_abs(const std::vector<double>& y) {
+  double s = 0.0;
+  for (double v : y) s += std::abs(v);
+  return y.empty() || s <= 0 ? 1.0 : s / static_cast<double>(y.size());
 }
 
 std::vector<double> mean_of(const std::vector<std::vector<double>>& v) {
@@ -296,7 +301,6 @@ CvResult select_correction(const std::vector<CorrectionCase>& cases, const std::
         if (c.group == g) sum += pearson(m.predict(c), mean_of(c.segments));
     }
     const double mean = sum / static_cast<double>(n);
-    if (std::getenv("AMB_HY_DEBUG")) std::fprintf(stderr, "cv %.4f %s\n", mean, cand.describe().c_str());
     res.rows.push_back({cand, mean});
     if (mean > res.chosen_pearson) {  // strictly better; ties keep the earlier (simpler) one
       res.chosen = cand;
@@ -338,6 +342,39 @@ void CorrectionEnsemble::train(const std::vector<CorrectionCase>& cases, const s
     o.offset_spacing_bins = 0;
   }
   main.train(cases, o);
+  // Members trained with one operating point left out (the inner folds of the chosen
+  // correction); their held-out residuals give the predictive part of the band.
+  std::vector<int> groups;
+  for (const auto& c : cases)
+    if (std::find(groups.begin(), groups.end(), c.group) == groups.end()) groups.push_back(c.group);
+  const size_t bins = cases.front().base.size();
+  const size_t nb = static_cast<size_t>(k_residual_bands);
+  std::vector<std::vector<double>> resid(nb);
+  for (int g : groups) {
+    std::vector<CorrectionCase> tr;
+    for (const auto& c : cases)
+      if (c.group != g) tr.push_back(c);
+    Correction f;
+    f.train(tr, o);
+    for (const auto& c : cases) {
+      if (c.group != g) continue;
+      const auto y = f.predict(c);
+      const auto t = mean_of(c.segments);
+      const double unit = relative_residuals ? mean_abs(y) : 1.0;
+      for (size_t k = 0; k < bins; ++k) resid[std::min(nb - 1, k * nb / bins)].push_back((t[k] - y[k]) / unit);
+    }
+    members.push_back(std::move(f));
+  }
+  resid_lo.assign(nb, 0.0);
+  resid_hi.assign(nb, 0.0);
+  for (size_t b = 0; b < nb; ++b) {
+    auto& r = resid[b];
+    if (r.empty()) continue;
+    std::sort(r.begin(), r.end());
+    auto q = [&](double p) { return r[std::min(r.size() - 1, static_cast<size_t>(std::floor(p * static_cast<double>(r.size() - 1) + 0.5)))]; };
+    resid_lo[b] = q(0.5 * (1.0 - k_band_coverage));
+    resid_hi[b] = q(0.5 * (1.0 + k_band_coverage));
+  }
   std::mt19937_64 rng(seed);
   size_t rows = 0;
   for (const auto& c : cases) rows += c.segments.size();
@@ -378,6 +415,13 @@ void CorrectionEnsemble::predict(const std::vector<CorrectionCase>& in, const st
       hi[k] = std::max(hi[k], ym[k]);
     }
   }
+  const size_t nb = resid_lo.size();
+  const double unit = relative_residuals ? mean_abs(y) : 1.0;
+  for (size_t k = 0; k < y.size() && nb > 0; ++k) {
+    const size_t b = std::min(nb - 1, k * nb / y.size());
+    lo[k] += unit * std::min(0.0, resid_lo[b]);
+    hi[k] += unit * std::max(0.0, resid_hi[b]);
+  }
 }
 
 nlohmann::json CorrectionEnsemble::to_json() const {
@@ -387,6 +431,9 @@ nlohmann::json CorrectionEnsemble::to_json() const {
   for (const auto& r : cv.rows) rows.push_back({{"candidate", r.options.describe()}, {"mean_pearson", r.mean_pearson}});
   return {{"main", main.to_json()},
           {"members", mem},
+          {"residual_lo", resid_lo},
+          {"residual_relative", relative_residuals},
+          {"residual_hi", resid_hi},
           {"cv", {{"chosen", cv.chosen.describe()},
                   {"chosen_pearson", cv.chosen_pearson},
                   {"baseline_pearson", cv.baseline_pearson},
@@ -401,6 +448,10 @@ CorrectionEnsemble CorrectionEnsemble::from_json(const nlohmann::json& j) {
     if (e.members.back().options().features != e.main.options().features)
       throw std::invalid_argument("correction: an ensemble member differs from the main correction");
   }
+  e.resid_lo = j.at("residual_lo").get<std::vector<double>>();
+  e.relative_residuals = j.at("residual_relative");
+  e.resid_hi = j.at("residual_hi").get<std::vector<double>>();
+  if (e.resid_lo.size() != e.resid_hi.size()) throw std::invalid_argument("correction: residual quantiles differ in length");
   e.cv.chosen = e.main.options();
   e.cv.chosen_pearson = j.at("cv").at("chosen_pearson");
   e.cv.baseline_pearson = j.at("cv").at("baseline_pearson");

@@ -106,18 +106,34 @@ CvResult select_correction(const std::vector<CorrectionCase>& cases, const std::
 /// The candidate grid of the hybrid (feature subsets x bands x offset x lambda; docs/hybrid.md).
 std::vector<CorrectionOptions> correction_candidates(int local_halfwidth_bins, int offset_spacing_bins);
 
+/// Central probability of the band's predictive part (inner cross-validation residual
+/// quantiles), and the number of frequency bands those quantiles are taken over.
+inline constexpr double k_band_coverage = 0.8;
+inline constexpr int k_residual_bands = 8;
+
 /// A trained correction with its ensemble (the band).
+///
+/// Band = [min over the ensemble + q_lo, max over the ensemble + q_hi]: the ensemble is the
+/// corrections fitted with each training operating point left out and on bootstrap resamples of
+/// the segments within each case (model uncertainty); q_lo / q_hi are the 10 % / 90 % quantiles
+/// of the inner cross-validation's held-out residuals (measured minus predicted) per frequency
+/// band (what a correction does not predict at an unseen operating point). Nominal coverage
+/// k_band_coverage; the coverage reached on held-out points is measured (docs/hybrid.md).
 struct CorrectionEnsemble {
   Correction main;                  ///< fitted on every training case
-  std::vector<Correction> members;  ///< bootstrap of the segments within each case, seeded
+  std::vector<Correction> members;  ///< leave-one-point-out fits, then bootstrap fits
+  std::vector<double> resid_lo, resid_hi;  ///< residual quantiles per band (k_residual_bands)
+  /// Residuals relative to the mean |prediction| of their case (envelope amplitudes, whose
+  /// scale differs by state) instead of absolute (log10 PSD). Set before train().
+  bool relative_residuals = false;
   CvResult cv;
-  /// Train: select by inner CV, fit `main`, then `members` fits on bootstrap resamples
-  /// (std::mt19937_64 seeded with `seed`; reproducible bit for bit).
-  void train(const std::vector<CorrectionCase>& cases, const std::vector<CorrectionOptions>& candidates, int members,
-             uint64_t seed);
-  /// Point prediction and the band (elementwise min / max over main and members) of the
-  /// weighted mix of the corrected inputs `in` (one per transport source, `weights` summing to 1):
-  /// each source is corrected, then the corrected spectra are interpolated.
+  /// Train: select by inner CV, fit `main`, the leave-one-point-out members and `members_bootstrap`
+  /// bootstrap fits (std::mt19937_64 seeded with `seed`; reproducible bit for bit).
+  void train(const std::vector<CorrectionCase>& cases, const std::vector<CorrectionOptions>& candidates,
+             int members_bootstrap, uint64_t seed);
+  /// Point prediction and the band of the weighted mix of the corrected inputs `in` (one per
+  /// transport source, `weights` summing to 1): each source is corrected, then the corrected
+  /// spectra are interpolated.
   void predict(const std::vector<CorrectionCase>& in, const std::vector<double>& weights, std::vector<double>& y,
                std::vector<double>& lo, std::vector<double>& hi) const;
   bool trained() const { return main.trained(); }

@@ -397,6 +397,7 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
     if (groups.size() >= 2) {
       const auto cand = correction_candidates(h, o.psd_map.transfer_spacing_bins * 4);
       m.psd_correction.train(cp, cand, o.ensemble_members, o.seed);
+      m.env_correction.relative_residuals = true;
       m.env_correction.train(ce, correction_candidates(h, o.env_map.transfer_spacing_bins), o.ensemble_members,
                              o.seed + 1);
     }
