@@ -591,6 +591,7 @@ void save_model(const HybridModel& m, const std::string& path) {
                   {"seed", o.seed},
                   {"threads", o.threads}};
   j["training"] = m.training_summary();
+  j["training"].erase("train_wall_s");  // a timing: the file is the same bit for bit for one seed
   j["physics_env_scale"] = m.physics_env_scale;
   j["measured_env_scale"] = m.measured_env_scale;
   j["maps"] = {{"psd_hybrid", m.psd_hybrid.to_json()},
