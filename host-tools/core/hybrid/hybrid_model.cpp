@@ -195,8 +195,16 @@ void load_record(Record& r) {
     if (!std::isfinite(v)) throw std::invalid_argument(r.path + ": signal holds a non-finite value");
 }
 
-HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o_in) {
+HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o_in,
+                         const std::function<void(const std::string&)>& progress) {
   const auto t0 = Clock::now();
+  auto step = [&](const std::string& what) {
+    if (progress) {
+      char b[48];
+      std::snprintf(b, sizeof b, "[%6.2f s] ", seconds_since(t0));
+      progress(b + what);
+    }
+  };
   std::string why;
   if (!o_in.valid(&why)) throw std::invalid_argument("train options: " + why);
   if (records.empty()) throw std::invalid_argument("no training record");
@@ -211,6 +219,7 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
   }
 
   // 1. Kinematic calibration from the training records only.
+  step("kinematic calibration of the drive-end bearing");
   if (o.calibrate_kinematics) {
     std::vector<CalibrationRecord> cal;
     for (const auto& r : records) cal.push_back({&r.signal, r.fs_hz, r.state, r.op.speed_rpm});
@@ -228,6 +237,7 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
     if (case_index.emplace(k, cases.size()).second) cases.emplace_back(r.state, r.op);
   }
   std::vector<Spectra> phys(cases.size());
+  step("physics: " + std::to_string(cases.size()) + " simulated case(s); spectra of the training segments");
   // 3. Measured spectra of every segment.
   std::vector<std::pair<size_t, std::vector<double>>> segments;  // (record, samples)
   for (size_t i = 0; i < records.size(); ++i)
@@ -291,6 +301,7 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
   const int h = o.psd_map.local_halfwidth_bins;
 
   // 5. The maps.
+  step("learned maps (hybrid, 8-DOF only, data only)");
   std::vector<MapInput> in_psd, in_env, in_psd_sim, in_env_sim, in_data;
   std::vector<size_t> seg_count(records.size(), 0);
   for (size_t i = 0; i < segments.size(); ++i) {
@@ -395,6 +406,8 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
     for (const auto& c : cp)
       if (std::find(groups.begin(), groups.end(), c.group) == groups.end()) groups.push_back(c.group);
     if (groups.size() >= 2) {
+      step("correction: inner cross-validation over " + std::to_string(groups.size()) + " training operating points, " +
+           std::to_string(cp.size()) + " case(s), then the ensemble");
       const auto cand = correction_candidates(h, o.psd_map.transfer_spacing_bins * 4);
       m.psd_correction.train(cp, cand, o.ensemble_members, o.seed);
       m.env_correction.relative_residuals = true;
@@ -414,6 +427,7 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
                          {"segments", seg_count[i]}});
   }
   m.train_wall_s = seconds_since(t0);
+  step("done");
   return m;
 }
 

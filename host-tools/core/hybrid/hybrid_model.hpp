@@ -22,6 +22,7 @@
 //  6. prediction at any operating point: physics at that point, then the map / correction.
 // Deterministic: the only randomness is the simulated sensor noise, seeded from `seed`.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -130,8 +131,10 @@ struct HybridModel {
   double train_wall_s = 0.0;
 };
 
-/// Train. `records` must have their signals loaded. Throws std::invalid_argument on bad input.
-HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o);
+/// Train. `records` must have their signals loaded. `progress` (may be empty) receives one
+/// line per training step (for stderr). Throws std::invalid_argument on bad input.
+HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o,
+                         const std::function<void(const std::string&)>& progress = {});
 
 /// Predict the spectra of `state` at `op` with the three models.
 Prediction predict_hybrid(const HybridModel& m, BearingState state, const OperatingPoint& op);
