@@ -10,36 +10,15 @@
 #include <nlohmann/json.hpp>
 
 #include "host-tools/core/hybrid/leave_one_out.hpp"
+#include "tests/hybrid/cwru_nine.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace hy = amb::host::hybrid;
 
 namespace {
 
-hy::Record cwru_record(const std::string& f, hy::BearingState s, double rpm, double load) {
-  hy::Record r;
-  r.path = std::string(amb::test::shared_dir()) + "/data/measured/cwru/" + f + ".mat";
-  r.state = s;
-  r.op = {rpm, load};
-  hy::load_record(r);
-  return r;
-}
-
-std::vector<hy::Record> nine_records() {
-  std::vector<hy::Record> v;
-  const struct {
-    const char* tag;
-    double rpm, load;
-  } pts[] = {{"1797", 1797, 0}, {"1750", 1750, 2}, {"1730", 1730, 3}};
-  for (const auto& p : pts) {
-    v.push_back(cwru_record(std::string(p.tag) + "_IR_7_DE12", hy::BearingState::inner_race, p.rpm, p.load));
-    v.push_back(cwru_record(std::string(p.tag) + "_ORat6_7_DE12", hy::BearingState::outer_race, p.rpm, p.load));
-    v.push_back(cwru_record(std::string(p.tag) + "_B_7_DE12", hy::BearingState::ball, p.rpm, p.load));
-  }
-  return v;
-}
-
-const char* const k_models[] = {"physics", "data_only", "nearest_transport", "interpolated_transport", "hybrid"};
+using amb::test::hybrid::k_models;
+std::vector<hy::Record> nine_records() { return amb::test::hybrid::cwru_nine_records(); }
 
 }  // namespace
 

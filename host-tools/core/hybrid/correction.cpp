@@ -310,14 +310,15 @@ CvResult select_correction(const std::vector<CorrectionCase>& cases, const std::
   return res;
 }
 
-std::vector<CorrectionOptions> correction_candidates(int local_halfwidth_bins, int offset_spacing_bins) {
+std::vector<CorrectionOptions> correction_candidates(int local_halfwidth_bins, int offset_spacing_bins, bool with_sim) {
   // Feature subsets: the base's own lines and level, then the fixed-frequency lines, then the
   // physics; every subset with the base terms (the correction is of the moved spectrum).
   const unsigned sets[] = {0b00011, 0b00111, 0b11011, 0b11111, 0b01011, 0b01111};
   const int bands[] = {1, 4, 8};
   const double lambdas[] = {0.001, 0.01, 0.1, 1.0};
   std::vector<CorrectionOptions> out;
-  for (unsigned s : sets)
+  for (unsigned s : sets) {
+    if (!with_sim && (s & 0b11000u) != 0) continue;
     for (int b : bands)
       for (int off : {0, offset_spacing_bins})
         for (double l : lambdas) {
@@ -329,6 +330,7 @@ std::vector<CorrectionOptions> correction_candidates(int local_halfwidth_bins, i
           o.lambda = l;
           out.push_back(o);
         }
+  }
   return out;
 }
 

@@ -104,7 +104,8 @@ struct CvResult {
 CvResult select_correction(const std::vector<CorrectionCase>& cases, const std::vector<CorrectionOptions>& candidates);
 
 /// The candidate grid of the hybrid (feature subsets x bands x offset x lambda; docs/hybrid.md).
-std::vector<CorrectionOptions> correction_candidates(int local_halfwidth_bins, int offset_spacing_bins);
+/// `with_sim` false: no subset with the 8-DOF simulation's features (an ablation).
+std::vector<CorrectionOptions> correction_candidates(int local_halfwidth_bins, int offset_spacing_bins, bool with_sim = true);
 
 /// Central probability of the band's predictive part (inner cross-validation residual
 /// quantiles), and the number of frequency bands those quantiles are taken over.

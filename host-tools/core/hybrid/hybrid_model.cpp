@@ -408,10 +408,10 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
     if (groups.size() >= 2) {
       step("correction: inner cross-validation over " + std::to_string(groups.size()) + " training operating points, " +
            std::to_string(cp.size()) + " case(s), then the ensemble");
-      const auto cand = correction_candidates(h, o.psd_map.transfer_spacing_bins * 4);
+      const auto cand = correction_candidates(h, o.psd_map.transfer_spacing_bins * 4, o.correction_sim_features);
       m.psd_correction.train(cp, cand, o.ensemble_members, o.seed);
       m.env_correction.relative_residuals = true;
-      m.env_correction.train(ce, correction_candidates(h, o.env_map.transfer_spacing_bins), o.ensemble_members,
+      m.env_correction.train(ce, correction_candidates(h, o.env_map.transfer_spacing_bins, o.correction_sim_features), o.ensemble_members,
                              o.seed + 1);
     }
   }
@@ -602,6 +602,7 @@ void save_model(const HybridModel& m, const std::string& path) {
                   {"transport_log_psd", o.transport_log_psd},
                   {"correction", o.correction},
                   {"ensemble_members", o.ensemble_members},
+                  {"correction_sim_features", o.correction_sim_features},
                   {"seed", o.seed},
                   {"threads", o.threads}};
   j["training"] = m.training_summary();
@@ -662,6 +663,7 @@ HybridModel load_model(const std::string& path) {
     m.options.transport_log_psd = o.at("transport_log_psd");
     m.options.correction = o.at("correction");
     m.options.ensemble_members = o.at("ensemble_members");
+    m.options.correction_sim_features = o.at("correction_sim_features");
     m.options.seed = o.at("seed");
     m.options.threads = o.at("threads");
     m.physics_env_scale = j.at("physics_env_scale");

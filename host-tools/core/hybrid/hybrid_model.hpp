@@ -76,6 +76,9 @@ struct TrainOptions {
   /// records at two or more operating points; its ensemble has this many bootstrap members.
   bool correction = true;
   int ensemble_members = 16;
+  /// Offer the 8-DOF simulation's features to the correction's inner cross-validation (false:
+  /// an ablation, the correction from the measured spectra and the kinematic law only).
+  bool correction_sim_features = true;
   uint64_t seed = 1;                 ///< seed of the simulated sensor noise and of the ensemble's bootstrap
   int threads = 2;                   ///< worker threads for simulation and spectra (>= 1)
   TrainOptions();                    ///< the defaults of docs/hybrid.md
