@@ -87,7 +87,7 @@ TEST(HybridLeaveOneOut, CwruThreeOperatingPoints) {
 
 // Training is seeded and reproducible: the same records and seed give the same model file bit
 // for bit (two threads); another seed gives another file (the simulated sensor noise and the
-// ensemble's bootstrap change).
+// ensemble's bootstrap change); the file predicts what the trained model does.
 TEST(HybridLeaveOneOut, SameSeedSameModelFileBitForBit) {
   auto recs = nine_records();
   recs.erase(recs.begin() + 6, recs.end());  // 1797 and 1750 rpm
@@ -108,5 +108,16 @@ TEST(HybridLeaveOneOut, SameSeedSameModelFileBitForBit) {
                     c = file_of(8, "hybrid_repro_c.json");
   ASSERT_GT(a.size(), 10000u);
   EXPECT_TRUE(a == b) << "same seed, different model files";
+  // The file predicts what the trained model does (corrections, ensemble and band included).
+  o.seed = 7;
+  const auto m = hy::train_hybrid(recs, o);
+  const auto back = hy::load_model(dir + "/hybrid_repro_a.json");
+  ASSERT_TRUE(back.psd_correction.trained() && back.env_correction.trained());
+  const auto p1 = hy::predict_hybrid(m, hy::BearingState::outer_race, {1730.0, 3.0});
+  const auto p2 = hy::predict_hybrid(back, hy::BearingState::outer_race, {1730.0, 3.0});
+  EXPECT_EQ(p1.hybrid_kind, "correction");
+  EXPECT_EQ(p1.log_psd_hybrid, p2.log_psd_hybrid);
+  EXPECT_EQ(p1.env_hybrid_hi, p2.env_hybrid_hi);
+  EXPECT_EQ(p1.log_psd_hybrid_lo, p2.log_psd_hybrid_lo);
   EXPECT_FALSE(a == c) << "another seed gave the same model file";
 }

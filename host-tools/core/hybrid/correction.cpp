@@ -302,6 +302,7 @@ CvResult select_correction(const std::vector<CorrectionCase>& cases, const std::
     }
     const double mean = sum / static_cast<double>(n);
     res.rows.push_back({cand, mean});
+    ++res.candidates;
     if (mean > res.chosen_pearson) {  // strictly better; ties keep the earlier (simpler) one
       res.chosen = cand;
       res.chosen_pearson = mean;
@@ -429,8 +430,6 @@ void CorrectionEnsemble::predict(const std::vector<CorrectionCase>& in, const st
 nlohmann::json CorrectionEnsemble::to_json() const {
   nlohmann::json mem = nlohmann::json::array();
   for (const auto& m : members) mem.push_back(m.to_json());
-  nlohmann::json rows = nlohmann::json::array();
-  for (const auto& r : cv.rows) rows.push_back({{"candidate", r.options.describe()}, {"mean_pearson", r.mean_pearson}});
   return {{"main", main.to_json()},
           {"members", mem},
           {"residual_lo", resid_lo},
@@ -439,7 +438,7 @@ nlohmann::json CorrectionEnsemble::to_json() const {
           {"cv", {{"chosen", cv.chosen.describe()},
                   {"chosen_pearson", cv.chosen_pearson},
                   {"baseline_pearson", cv.baseline_pearson},
-                  {"candidates", rows.size()}}}};
+                  {"candidates", cv.candidates}}}};
 }
 
 CorrectionEnsemble CorrectionEnsemble::from_json(const nlohmann::json& j) {
@@ -457,6 +456,7 @@ CorrectionEnsemble CorrectionEnsemble::from_json(const nlohmann::json& j) {
   e.cv.chosen = e.main.options();
   e.cv.chosen_pearson = j.at("cv").at("chosen_pearson");
   e.cv.baseline_pearson = j.at("cv").at("baseline_pearson");
+  e.cv.candidates = j.at("cv").at("candidates");
   return e;
 }
 

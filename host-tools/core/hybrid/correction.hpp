@@ -99,7 +99,8 @@ struct CvRow {
 struct CvResult {
   CorrectionOptions chosen;
   double chosen_pearson = 0.0, baseline_pearson = 0.0;
-  std::vector<CvRow> rows;  ///< every candidate, in the order tried
+  std::vector<CvRow> rows;  ///< every candidate, in the order tried (not in the model file)
+  size_t candidates = 0;    ///< how many were tried
 };
 CvResult select_correction(const std::vector<CorrectionCase>& cases, const std::vector<CorrectionOptions>& candidates);
 
