@@ -205,13 +205,8 @@ int run_predict(const PredictArgs& a) {
                         {"log_spectrum", spectrum(p.psd_hz, p.log_psd_hybrid, p.log_psd_hybrid_lo, p.log_psd_hybrid_hi)},
                         {"envelope_spectrum", spectrum(p.env_hz, p.env_hybrid, p.env_hybrid_lo, p.env_hybrid_hi)}};
     if (have_meas) {
-      auto cover = [](const std::vector<double>& y, const std::vector<double>& lo, const std::vector<double>& hi) {
-        size_t in = 0;
-        for (size_t k = 0; k < y.size(); ++k) in += (y[k] >= lo[k] && y[k] <= hi[k]) ? 1 : 0;
-        return y.empty() ? 0.0 : static_cast<double>(in) / static_cast<double>(y.size());
-      };
-      b["measured_coverage"] = pair_json(cover(meas_spectra.log_psd, p.log_psd_hybrid_lo, p.log_psd_hybrid_hi),
-                                         cover(meas_spectra.env, p.env_hybrid_lo, p.env_hybrid_hi));
+      b["measured_coverage"] = pair_json(hy::band_coverage(meas_spectra.log_psd, p.log_psd_hybrid_lo, p.log_psd_hybrid_hi),
+                                         hy::band_coverage(meas_spectra.env, p.env_hybrid_lo, p.env_hybrid_hi));
     }
     j["band"] = b;
   }
@@ -232,16 +227,11 @@ int run_predict(const PredictArgs& a) {
       d.measured = meas_spectra;
       d.scores = table;
     }
-    const std::string tmp = a.html + ".tmp";
-    {
-      std::ofstream f(tmp);
-      if (!f) return bad_input("predict", "cannot write '" + a.html + "'");
-      f << hy::render_hybrid_page(d);
-      if (!f) return bad_input("predict", "error writing '" + a.html + "'");
+    try {
+      hy::write_hybrid_page(d, a.html);
+    } catch (const std::exception& e) {
+      return bad_input("predict", e.what());
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, a.html, ec);
-    if (ec) return bad_input("predict", "cannot write '" + a.html + "': " + ec.message());
   }
   j["predict_wall_s"] = wall;
   j["physics_s"] = p.physics_s;

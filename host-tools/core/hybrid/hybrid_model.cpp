@@ -532,6 +532,13 @@ Scores score(const Prediction& p, const Spectra& s) {
   return c;
 }
 
+double band_coverage(const std::vector<double>& y, const std::vector<double>& lo, const std::vector<double>& hi) {
+  if (lo.size() != y.size() || hi.size() != y.size()) throw std::invalid_argument("band_coverage: sizes differ");
+  size_t in = 0;
+  for (size_t k = 0; k < y.size(); ++k) in += (y[k] >= lo[k] && y[k] <= hi[k]) ? 1 : 0;
+  return y.empty() ? 0.0 : static_cast<double>(in) / static_cast<double>(y.size());
+}
+
 double mse(const std::vector<double>& a, const std::vector<double>& b) {
   if (a.size() != b.size() || a.empty()) throw std::invalid_argument("mse: sizes differ or are empty");
   double s = 0.0;

@@ -158,6 +158,8 @@ struct ModelScore {
 };
 /// The five models of issue 34, in that order.
 std::vector<ModelScore> score_table(const Prediction& p, const Spectra& measured);
+/// Fraction of the bins of `y` inside [lo, hi] (the band's coverage of a measured spectrum).
+double band_coverage(const std::vector<double>& y, const std::vector<double>& lo, const std::vector<double>& hi);
 /// Mean squared difference of two equally long vectors.
 double mse(const std::vector<double>& a, const std::vector<double>& b);
 

@@ -1,6 +1,9 @@
 #include "host-tools/core/hybrid/hybrid_page.hpp"
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
 
 #include "host-tools/core/report/svg_plot.hpp"
 
@@ -107,6 +110,19 @@ std::string render_hybrid_page(const HybridPageData& d) {
   o += rp::render_line_plot(plot(d, false));
   o += "</body></html>\n";
   return o;
+}
+
+void write_hybrid_page(const HybridPageData& d, const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp);
+    if (!f) throw std::runtime_error("cannot write '" + path + "'");
+    f << render_hybrid_page(d);
+    if (!f) throw std::runtime_error("error writing '" + path + "'");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error("cannot write '" + path + "': " + ec.message());
 }
 
 }  // namespace amb::host::hybrid

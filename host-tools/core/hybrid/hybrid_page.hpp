@@ -25,6 +25,10 @@ struct HybridPageData {
 /// The whole page.
 std::string render_hybrid_page(const HybridPageData& d);
 
+/// Write the page to `path` whole or not at all (a temporary file renamed into place). Throws
+/// std::runtime_error naming the path if it cannot be written.
+void write_hybrid_page(const HybridPageData& d, const std::string& path);
+
 /// Ids of the <svg> elements the page holds.
 std::vector<std::string> hybrid_page_plot_ids();
 

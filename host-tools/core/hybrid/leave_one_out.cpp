@@ -17,12 +17,6 @@ const ModelScore& LooRow::model(const std::string& name) const {
 
 namespace {
 
-double coverage(const std::vector<double>& y, const std::vector<double>& lo, const std::vector<double>& hi) {
-  size_t in = 0;
-  for (size_t k = 0; k < y.size(); ++k) in += (y[k] >= lo[k] && y[k] <= hi[k]) ? 1 : 0;
-  return y.empty() ? 0.0 : static_cast<double>(in) / static_cast<double>(y.size());
-}
-
 double mean_width(const std::vector<double>& lo, const std::vector<double>& hi) {
   double s = 0;
   for (size_t k = 0; k < lo.size(); ++k) s += hi[k] - lo[k];
@@ -67,8 +61,8 @@ LooResult leave_one_point_out(const std::vector<Record>& records, const TrainOpt
         row.cv_env = m.env_correction.cv.chosen_pearson;
         row.cv_env_baseline = m.env_correction.cv.baseline_pearson;
       }
-      row.band_coverage_log = coverage(meas.log_psd, pr.log_psd_hybrid_lo, pr.log_psd_hybrid_hi);
-      row.band_coverage_env = coverage(meas.env, pr.env_hybrid_lo, pr.env_hybrid_hi);
+      row.band_coverage_log = band_coverage(meas.log_psd, pr.log_psd_hybrid_lo, pr.log_psd_hybrid_hi);
+      row.band_coverage_env = band_coverage(meas.env, pr.env_hybrid_lo, pr.env_hybrid_hi);
       row.band_width_log = mean_width(pr.log_psd_hybrid_lo, pr.log_psd_hybrid_hi);
       double mean_env = 0;
       for (double v : meas.env) mean_env += v / static_cast<double>(meas.env.size());
