@@ -16,6 +16,8 @@
 #include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/hybrid/hybrid_model.hpp"
+#include "host-tools/core/hybrid/hybrid_page.hpp"
+#include "host-tools/core/hybrid/record_spec.hpp"
 
 namespace {
 namespace hy = amb::host::hybrid;
@@ -23,61 +25,6 @@ namespace hy = amb::host::hybrid;
 int bad_input(const char* sub, const std::string& what) {
   std::fprintf(stderr, "amb-host hybrid %s: error: %s\n", sub, what.c_str());
   return 1;
-}
-
-// "PATH[,key=value]..." with keys state, rpm, load, fs, var. `need_condition`: state, rpm and
-// load are required (training records); else they are refused (a measured record to score).
-hy::Record parse_record(const std::string& spec, bool need_condition) {
-  hy::Record r;
-  std::stringstream ss(spec);
-  std::string item;
-  bool first = true, has_state = false, has_rpm = false, has_load = false;
-  while (std::getline(ss, item, ',')) {
-    if (first) {
-      r.path = item;
-      first = false;
-      continue;
-    }
-    const auto eq = item.find('=');
-    if (eq == std::string::npos) throw std::invalid_argument("record '" + spec + "': '" + item + "' is not key=value");
-    const std::string key = item.substr(0, eq), val = item.substr(eq + 1);
-    auto number = [&](const std::string& k) {
-      size_t used = 0;
-      double v = 0;
-      try {
-        v = std::stod(val, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != val.size() || !std::isfinite(v)) throw std::invalid_argument("record '" + spec + "': " + k + " is not a number");
-      return v;
-    };
-    if (key == "fs") {
-      r.fs_hz = number(key);
-      if (!(r.fs_hz > 0)) throw std::invalid_argument("record '" + spec + "': fs must be > 0");
-    } else if (key == "var") {
-      r.var = val;
-    } else if (need_condition && key == "state") {
-      r.state = hy::parse_state(val);
-      has_state = true;
-    } else if (need_condition && key == "rpm") {
-      r.op.speed_rpm = number(key);
-      if (!(r.op.speed_rpm > 0)) throw std::invalid_argument("record '" + spec + "': rpm must be > 0");
-      has_rpm = true;
-    } else if (need_condition && key == "load") {
-      r.op.load = number(key);
-      if (!(r.op.load >= 0)) throw std::invalid_argument("record '" + spec + "': load must be >= 0");
-      has_load = true;
-    } else {
-      throw std::invalid_argument("record '" + spec + "': unknown key '" + key + "' (allowed: " +
-                                  (need_condition ? "state, rpm, load, " : "") + "fs, var)");
-    }
-  }
-  if (r.path.empty()) throw std::invalid_argument("record '" + spec + "': no file");
-  if (!std::filesystem::exists(r.path)) throw std::invalid_argument("record file '" + r.path + "' does not exist");
-  if (need_condition && (!has_state || !has_rpm || !has_load))
-    throw std::invalid_argument("record '" + spec + "': state=, rpm= and load= are required (the operating point is an input)");
-  return r;
 }
 
 struct TrainArgs {
@@ -110,16 +57,17 @@ int run_train(const TrainArgs& a) {
   std::vector<hy::Record> recs;
   try {
     for (const auto& s : a.records) {
-      recs.push_back(parse_record(s, true));
+      recs.push_back(hy::parse_record_spec(s, true));
       hy::load_record(recs.back());
     }
   } catch (const std::exception& e) {
     return bad_input("train", e.what());
   }
-  if (!a.json) std::fprintf(stderr, "amb-host hybrid train: %zu record(s), %d thread(s)...\n", recs.size(), o.threads);
+  std::fprintf(stderr, "amb-host hybrid train: %zu record(s), %d thread(s), seed %llu\n", recs.size(), o.threads,
+               static_cast<unsigned long long>(o.seed));
   hy::HybridModel m;
   try {
-    m = hy::train_hybrid(recs, o);
+    m = hy::train_hybrid(recs, o, [](const std::string& line) { std::fprintf(stderr, "amb-host hybrid train: %s\n", line.c_str()); });
   } catch (const std::invalid_argument& e) {
     return bad_input("train", e.what());
   }
@@ -141,6 +89,15 @@ int run_train(const TrainArgs& a) {
                 r.at("state").get<std::string>().c_str(), r.at("speed_rpm").get<double>(), r.at("load").get<double>(),
                 r.at("segments").get<int>());
   std::printf("  kinematic calibration: %s\n", m.calibration.note.c_str());
+  if (m.psd_correction.trained()) {
+    std::printf("  correction (inner cross-validation over the training operating points):\n");
+    std::printf("    log spectrum: %s (inner CV Pearson %.3f, transport alone %.3f)\n", m.psd_correction.cv.chosen.describe().c_str(),
+                m.psd_correction.cv.chosen_pearson, m.psd_correction.cv.baseline_pearson);
+    std::printf("    envelope:     %s (inner CV Pearson %.3f, transport alone %.3f)\n", m.env_correction.cv.chosen.describe().c_str(),
+                m.env_correction.cv.chosen_pearson, m.env_correction.cv.baseline_pearson);
+  } else {
+    std::printf("  no correction: no state was trained at two operating points (the hybrid is the learned map)\n");
+  }
   std::printf("  training wall time %.2f s (%d thread(s))\n", m.train_wall_s, a.threads);
   return 0;
 }
@@ -153,6 +110,7 @@ struct PredictArgs {
   std::string measured;
   std::string out_csv;
   std::string report;
+  std::string html;
   bool json = false;
 };
 
@@ -170,7 +128,7 @@ int run_predict(const PredictArgs& a) {
     if (!(a.load >= 0)) throw std::invalid_argument("--load must be >= 0");
     m = hy::load_model(a.model);
     if (have_meas) {
-      meas = parse_record(a.measured, false);
+      meas = hy::parse_record_spec(a.measured, false);
       hy::load_record(meas);
     }
   } catch (const std::exception& e) {
@@ -179,26 +137,32 @@ int run_predict(const PredictArgs& a) {
   const hy::OperatingPoint op{a.rpm, a.load};
   hy::Prediction p;
   hy::Scores s;
+  std::vector<hy::ModelScore> table;
+  hy::Spectra meas_spectra;
   try {
     p = hy::predict_hybrid(m, state, op);
-    if (have_meas) s = hy::score(p, hy::measured_spectra(m, meas));
+    if (have_meas) {
+      meas_spectra = hy::measured_spectra(m, meas);
+      s = hy::score(p, meas_spectra);
+      table = hy::score_table(p, meas_spectra);
+    }
   } catch (const std::invalid_argument& e) {
     return bad_input("predict", e.what());
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!a.out_csv.empty()) {
-    std::ofstream f(a.out_csv);
-    if (!f) return bad_input("predict", "cannot write '" + a.out_csv + "'");
-    f << "# spectrum,f_hz,hybrid,physics,data_only (log_psd: log10 g^2/Hz; envelope: g^2)\n";
-    for (size_t k = 0; k < p.psd_hz.size(); ++k)
-      f << "log_psd," << p.psd_hz[k] << ',' << p.log_psd_hybrid[k] << ',' << p.log_psd_physics[k] << ','
-        << p.log_psd_data_only[k] << '\n';
-    for (size_t k = 0; k < p.env_hz.size(); ++k)
-      f << "envelope," << p.env_hz[k] << ',' << p.env_hybrid[k] << ',' << p.env_physics[k] << ',' << p.env_data_only[k]
-        << '\n';
+    try {
+      hy::write_prediction_csv(p, a.out_csv);
+    } catch (const std::exception& e) {
+      return bad_input("predict", e.what());
+    }
   }
-  const bool above = have_meas && s.log_psd_hybrid > s.log_psd_physics && s.log_psd_hybrid > s.log_psd_data_only &&
-                     s.env_hybrid > s.env_physics && s.env_hybrid > s.env_data_only;
+  // Above every baseline (that has a prediction here), both spectra, Pearson.
+  bool above = have_meas;
+  for (const auto& r : table) {
+    if (r.model == "hybrid" || !r.available) continue;
+    above = above && table.back().log_pearson > r.log_pearson && table.back().env_pearson > r.env_pearson;
+  }
   nlohmann::json j;
   j["state"] = hy::state_name(state);
   j["speed_rpm"] = a.rpm;
@@ -208,9 +172,15 @@ int run_predict(const PredictArgs& a) {
   j["trained_at"] = m.records;
   if (have_meas) {
     j["measured"] = meas.path;
-    j["pearson"] = {{"hybrid", pair_json(s.log_psd_hybrid, s.env_hybrid)},
-                    {"physics", pair_json(s.log_psd_physics, s.env_physics)},
-                    {"data_only", pair_json(s.log_psd_data_only, s.env_data_only)}};
+    // Every model of issue 34: physics, data_only, nearest_transport, interpolated_transport,
+    // hybrid (null: no prediction, e.g. a transported baseline without a record of the state).
+    nlohmann::json pj = nlohmann::json::object(), mj = nlohmann::json::object();
+    for (const auto& r : table) {
+      pj[r.model] = r.available ? pair_json(r.log_pearson, r.env_pearson) : nlohmann::json(nullptr);
+      mj[r.model] = r.available ? pair_json(r.log_mse, r.env_mse) : nlohmann::json(nullptr);
+    }
+    j["pearson"] = pj;
+    j["mse"] = mj;
     // Ablations: the map on the 8-DOF physics alone, and the transported training spectrum
     // alone (null when the model has no reference case of this state).
     j["ablations"] = {{"hybrid_sim", pair_json(s.log_psd_hybrid_sim, s.env_hybrid_sim)},
@@ -219,6 +189,49 @@ int run_predict(const PredictArgs& a) {
     j["hybrid_above_baselines"] = above;
   } else {
     j["pearson"] = nullptr;
+    j["mse"] = nullptr;
+  }
+  j["hybrid_kind"] = p.hybrid_kind;
+  j["reference"] = p.reference.empty() ? nlohmann::json(nullptr) : nlohmann::json(p.reference);
+  j["interpolated_from"] = p.interp_cases.empty() ? nlohmann::json(nullptr) : nlohmann::json(p.interp_cases);
+  {
+    // The band (docs/hybrid.md, "Band"): per spectrum the grid, the hybrid and its bounds.
+    auto spectrum = [](const std::vector<double>& f, const std::vector<double>& y, const std::vector<double>& lo,
+                       const std::vector<double>& hi) { return nlohmann::json{{"f_hz", f}, {"hybrid", y}, {"lo", lo}, {"hi", hi}}; };
+    const bool ens = p.hybrid_kind == "correction";
+    nlohmann::json b = {{"kind", ens ? "ensemble range + inner-CV residual quantiles" : "none (a map without ensemble: lo = hi)"},
+                        {"nominal_coverage", ens ? nlohmann::json(hy::k_band_coverage) : nlohmann::json(nullptr)},
+                        {"ensemble_members", ens ? nlohmann::json(m.psd_correction.members.size() + 1) : nlohmann::json(1)},
+                        {"log_spectrum", spectrum(p.psd_hz, p.log_psd_hybrid, p.log_psd_hybrid_lo, p.log_psd_hybrid_hi)},
+                        {"envelope_spectrum", spectrum(p.env_hz, p.env_hybrid, p.env_hybrid_lo, p.env_hybrid_hi)}};
+    if (have_meas) {
+      b["measured_coverage"] = pair_json(hy::band_coverage(meas_spectra.log_psd, p.log_psd_hybrid_lo, p.log_psd_hybrid_hi),
+                                         hy::band_coverage(meas_spectra.env, p.env_hybrid_lo, p.env_hybrid_hi));
+    }
+    j["band"] = b;
+  }
+  if (!a.html.empty()) {
+    hy::HybridPageData d;
+    d.state = state;
+    d.op = op;
+    d.model_path = a.model;
+    for (const auto& r : m.records) {
+      char t[96];
+      std::snprintf(t, sizeof t, "%s@%grpm/%g", r.at("state").get<std::string>().c_str(), r.at("speed_rpm").get<double>(),
+                    r.at("load").get<double>());
+      d.trained_at.push_back(t);
+    }
+    d.prediction = p;
+    if (have_meas) {
+      d.measured_path = meas.path;
+      d.measured = meas_spectra;
+      d.scores = table;
+    }
+    try {
+      hy::write_hybrid_page(d, a.html);
+    } catch (const std::exception& e) {
+      return bad_input("predict", e.what());
+    }
   }
   j["predict_wall_s"] = wall;
   j["physics_s"] = p.physics_s;
@@ -234,11 +247,18 @@ int run_predict(const PredictArgs& a) {
     f << "). Kinematic calibration: " << m.calibration.note << ".\n\n";
     if (have_meas) {
       char line[256];
-      f << "Pearson correlation with `" << meas.path << "`:\n\n| model | log spectrum | envelope spectrum |\n| --- | --- | --- |\n";
-      std::snprintf(line, sizeof line, "| hybrid | %.3f | %.3f |\n| physics only | %.3f | %.3f |\n| data only | %.3f | %.3f |\n",
-                    s.log_psd_hybrid, s.env_hybrid, s.log_psd_physics, s.env_physics, s.log_psd_data_only,
-                    s.env_data_only);
-      f << line << "\nHybrid above both baselines on both spectra: " << (above ? "yes" : "no") << ".\n";
+      f << "Against `" << meas.path << "`:\n\n| model | log spectrum Pearson | log spectrum MSE | envelope Pearson | envelope MSE |\n"
+        << "| --- | --- | --- | --- | --- |\n";
+      for (const auto& r : table) {
+        if (!r.available) {
+          f << "| " << r.model << " | n/a | n/a | n/a | n/a |\n";
+          continue;
+        }
+        std::snprintf(line, sizeof line, "| %s | %.3f | %.4g | %.3f | %.4g |\n", r.model.c_str(), r.log_pearson, r.log_mse,
+                      r.env_pearson, r.env_mse);
+        f << line;
+      }
+      f << "\nHybrid above every baseline on both spectra (Pearson): " << (above ? "yes" : "no") << ".\n";
     }
     f << "\nPrediction wall time " << wall << " s (physics " << p.physics_s << " s).\n";
   }
@@ -249,11 +269,15 @@ int run_predict(const PredictArgs& a) {
   std::printf("hybrid predict: %s at %.1f rpm, load %.2f (model %s)\n", hy::state_name(state), a.rpm, a.load,
               a.model.c_str());
   if (have_meas) {
-    std::printf("  Pearson vs %s\n  %-13s %12s %18s\n", meas.path.c_str(), "model", "log spectrum", "envelope spectrum");
-    std::printf("  %-13s %12.3f %18.3f\n", "hybrid", s.log_psd_hybrid, s.env_hybrid);
-    std::printf("  %-13s %12.3f %18.3f\n", "physics only", s.log_psd_physics, s.env_physics);
-    std::printf("  %-13s %12.3f %18.3f\n", "data only", s.log_psd_data_only, s.env_data_only);
-    std::printf("  hybrid above both baselines: %s\n", above ? "yes" : "no");
+    std::printf("  against %s\n  %-23s %12s %12s %12s %12s\n", meas.path.c_str(), "model", "log Pearson", "log MSE",
+                "env Pearson", "env MSE");
+    for (const auto& r : table) {
+      if (r.available)
+        std::printf("  %-23s %12.3f %12.4g %12.3f %12.4g\n", r.model.c_str(), r.log_pearson, r.log_mse, r.env_pearson, r.env_mse);
+      else
+        std::printf("  %-23s %12s\n", r.model.c_str(), "n/a (no training record of the state)");
+    }
+    std::printf("  hybrid above every baseline: %s\n", above ? "yes" : "no");
   }
   std::printf("  wall time %.2f s (physics %.2f s)\n", wall, p.physics_s);
   return 0;
@@ -293,6 +317,7 @@ const amb::host::Registration reg{
       p->add_option("--measured", pa->measured, "measured record to score against 'FILE.mat[,fs=HZ][,var=NAME]'");
       hc::output_path(p->add_option("--out", pa->out_csv, "write the predicted spectra (CSV)"));
       hc::output_path(p->add_option("--report", pa->report, "write a report section (Markdown)"));
+      hc::output_path(p->add_option("--html", pa->html, "write the prediction as an HTML page (plots with the band and the baselines)"));
       p->add_flag("--json", pa->json, "print the figures as JSON");
       run = [&sub, t, p, ta, pa]() -> int {
         (void)sub;

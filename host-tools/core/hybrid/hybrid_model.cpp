@@ -70,10 +70,11 @@ std::vector<double> power(const std::vector<double>& amp, double scale) {
   return p;
 }
 
-std::string case_name(BearingState s, const OperatingPoint& op) {
-  char b[96];
-  std::snprintf(b, sizeof b, "%s@%grpm/%g", state_name(s), op.speed_rpm, op.load);
-  return b;
+// Envelope amplitudes of the correction's domain (normalised power -> amplitude).
+std::vector<double> amplitude(const std::vector<double>& pw) {
+  std::vector<double> a(pw.size());
+  for (size_t i = 0; i < pw.size(); ++i) a[i] = std::sqrt(std::max(0.0, pw[i]));
+  return a;
 }
 
 
@@ -176,6 +177,7 @@ bool TrainOptions::valid(std::string* why) const {
   if (!(speed_uncertainty >= 0) || !(speed_uncertainty < 0.1)) return fail("speed_uncertainty in [0, 0.1)");
   if (speed_points < 1 || speed_points > 101) return fail("speed_points in [1, 101]");
   if (threads < 1 || threads > 64) return fail("threads in [1, 64]");
+  if (ensemble_members < 0 || ensemble_members > 256) return fail("ensemble_members in [0, 256]");
   return true;
 }
 
@@ -193,8 +195,16 @@ void load_record(Record& r) {
     if (!std::isfinite(v)) throw std::invalid_argument(r.path + ": signal holds a non-finite value");
 }
 
-HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o_in) {
+HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o_in,
+                         const std::function<void(const std::string&)>& progress) {
   const auto t0 = Clock::now();
+  auto step = [&](const std::string& what) {
+    if (progress) {
+      char b[48];
+      std::snprintf(b, sizeof b, "[%6.2f s] ", seconds_since(t0));
+      progress(b + what);
+    }
+  };
   std::string why;
   if (!o_in.valid(&why)) throw std::invalid_argument("train options: " + why);
   if (records.empty()) throw std::invalid_argument("no training record");
@@ -209,6 +219,7 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
   }
 
   // 1. Kinematic calibration from the training records only.
+  step("kinematic calibration of the drive-end bearing");
   if (o.calibrate_kinematics) {
     std::vector<CalibrationRecord> cal;
     for (const auto& r : records) cal.push_back({&r.signal, r.fs_hz, r.state, r.op.speed_rpm});
@@ -226,6 +237,7 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
     if (case_index.emplace(k, cases.size()).second) cases.emplace_back(r.state, r.op);
   }
   std::vector<Spectra> phys(cases.size());
+  step("physics: " + std::to_string(cases.size()) + " simulated case(s); spectra of the training segments");
   // 3. Measured spectra of every segment.
   std::vector<std::pair<size_t, std::vector<double>>> segments;  // (record, samples)
   for (size_t i = 0; i < records.size(); ++i)
@@ -289,6 +301,7 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
   const int h = o.psd_map.local_halfwidth_bins;
 
   // 5. The maps.
+  step("learned maps (hybrid, 8-DOF only, data only)");
   std::vector<MapInput> in_psd, in_env, in_psd_sim, in_env_sim, in_data;
   std::vector<size_t> seg_count(records.size(), 0);
   for (size_t i = 0; i < segments.size(); ++i) {
@@ -350,6 +363,59 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
   m.env_hybrid_sim.train(in_env_sim, y_env, env_c, es);
   m.env_data_only.train(in_data, y_env, env_c, ed);
 
+  // 6. The correction of the interpolated transport (issue 34), when some state was trained at
+  // two or more operating points. Each training case's inputs come from the OTHER operating
+  // points of its state (cross-fitted: its own records never enter its inputs); its targets are
+  // its segments. Cases whose state has no other operating point carry no information on a
+  // speed change and are left out.
+  if (o.correction) {
+    std::vector<OperatingPoint> points;
+    auto point_index = [&](const OperatingPoint& op) {
+      for (size_t i = 0; i < points.size(); ++i)
+        if (points[i].speed_rpm == op.speed_rpm && points[i].load == op.load) return static_cast<int>(i);
+      points.push_back(op);
+      return static_cast<int>(points.size() - 1);
+    };
+    std::vector<CorrectionCase> cp, ce;
+    for (size_t c = 0; c < cases.size(); ++c) {
+      const auto& [st, op] = cases[c];
+      // One correction case per other operating point of the state: its training spectrum
+      // moved to this case's speed (single-source transports; prediction corrects each source
+      // of the interpolation and then interpolates).
+      const int g = point_index(op);
+      for (const auto& src : all_sources(m.references, st, op, psd_c, env_c, scales, h, op)) {
+        CorrectionCase a, e;
+        a.group = e.group = g;
+        a.speed_change = e.speed_change = std::abs(std::log(op.speed_rpm / src.speed_rpm));
+        a.base = src.moved_log_psd;
+        a.fixed = src.log_psd;
+        a.sim = phys[c].log_psd;
+        e.base = amplitude(src.moved_env_power);
+        e.fixed = amplitude(src.env_power);
+        e.sim = amplitude(power(phys[c].env, m.physics_env_scale));
+        for (size_t i = 0; i < segments.size(); ++i)
+          if (seg_case[i] == c) {
+            a.segments.push_back(y_psd[i]);
+            e.segments.push_back(amplitude(y_env[i]));
+          }
+        cp.push_back(std::move(a));
+        ce.push_back(std::move(e));
+      }
+    }
+    std::vector<int> groups;
+    for (const auto& c : cp)
+      if (std::find(groups.begin(), groups.end(), c.group) == groups.end()) groups.push_back(c.group);
+    if (groups.size() >= 2) {
+      step("correction: inner cross-validation over " + std::to_string(groups.size()) + " training operating points, " +
+           std::to_string(cp.size()) + " case(s), then the ensemble");
+      const auto cand = correction_candidates(h, o.psd_map.transfer_spacing_bins * 4, o.correction_sim_features);
+      m.psd_correction.train(cp, cand, o.ensemble_members, o.seed);
+      m.env_correction.relative_residuals = true;
+      m.env_correction.train(ce, correction_candidates(h, o.env_map.transfer_spacing_bins, o.correction_sim_features), o.ensemble_members,
+                             o.seed + 1);
+    }
+  }
+
   for (size_t i = 0; i < records.size(); ++i) {
     const auto& r = records[i];
     m.records.push_back({{"path", r.path},
@@ -361,6 +427,7 @@ HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions&
                          {"segments", seg_count[i]}});
   }
   m.train_wall_s = seconds_since(t0);
+  step("done");
   return m;
 }
 
@@ -389,34 +456,58 @@ Prediction predict_hybrid(const HybridModel& m, BearingState state, const Operat
   };
   p.env_hybrid_sim = amp(m.env_hybrid_sim.predict(he));
   p.env_data_only = amp(m.env_data_only.predict(d));
-  // Reference: the training case of the same state nearest in speed (log ratio), then load.
-  const ReferenceSpectra* ref = nullptr;
-  double best = 0.0;
-  for (const auto& r : m.references) {
-    if (r.state != state) continue;
-    const double dist = std::abs(std::log(op.speed_rpm / r.op.speed_rpm)) + 1e-6 * std::abs(op.load - r.op.load);
-    if (ref == nullptr || dist < best) {
-      ref = &r;
-      best = dist;
-    }
-  }
-  if (ref == nullptr) {  // state not trained: no measured reference to transport (the maps with
-                         // a transport input fall back to their 8-DOF-only twins)
+  // Baselines 3 and 4: the training spectra of the state moved to the queried speed.
+  const auto scales = speed_scales(m.options.speed_uncertainty, m.options.speed_points);
+  const int h = m.options.psd_map.local_halfwidth_bins;
+  const auto b = transported_base(m.references, state, op, p.psd_hz, p.env_hz, scales, h);
+  auto band_is_point = [&p] {
+    p.log_psd_hybrid_lo = p.log_psd_hybrid_hi = p.log_psd_hybrid;
+    p.env_hybrid_lo = p.env_hybrid_hi = p.env_hybrid;
+  };
+  if (!b.found) {  // state not trained: no measured reference to transport (the maps with
+                   // a transport input fall back to their 8-DOF-only twins)
     p.log_psd_hybrid = p.log_psd_hybrid_sim;
     p.env_hybrid = p.env_hybrid_sim;
+    p.hybrid_kind = "map_sim";
+    band_is_point();
     return p;
   }
-  p.reference = case_name(ref->state, ref->op);
-  const auto scales = speed_scales(m.options.speed_uncertainty, m.options.speed_points);
-  const double ratio = op.speed_rpm / ref->op.speed_rpm;
-  const auto tp = transport_log_psd(ref->log_psd, p.psd_hz, ratio, scales, m.options.psd_map.local_halfwidth_bins);
-  const auto te = transport_env(ref->env_power, p.env_hz, ratio, scales);
+  p.reference = b.nearest_case;
+  p.interp_cases = b.interp_cases;
+  const auto& tp = b.nearest_log_psd;
+  const auto& te = b.nearest_env_power;
+  p.log_psd_transport = tp;
+  p.env_transport = amp(te);
+  p.log_psd_interp = b.interp_log_psd;
+  p.env_interp = amp(b.interp_env_power);
+  if (m.psd_correction.trained() && m.env_correction.trained()) {
+    std::vector<CorrectionCase> a(b.sources.size()), e(b.sources.size());
+    std::vector<double> w;
+    for (size_t i = 0; i < b.sources.size(); ++i) {
+      const auto& src = b.sources[i];
+      a[i].base = src.moved_log_psd;
+      a[i].fixed = src.log_psd;
+      a[i].sim = phys.log_psd;
+      e[i].base = amplitude(src.moved_env_power);
+      e[i].fixed = amplitude(src.env_power);
+      e[i].sim = amplitude(power(phys.env, m.physics_env_scale));
+      a[i].speed_change = e[i].speed_change = std::abs(std::log(op.speed_rpm / src.speed_rpm));
+      w.push_back(src.weight);
+    }
+    m.psd_correction.predict(a, w, p.log_psd_hybrid, p.log_psd_hybrid_lo, p.log_psd_hybrid_hi);
+    m.env_correction.predict(e, w, p.env_hybrid, p.env_hybrid_lo, p.env_hybrid_hi);
+    const double g = std::sqrt(m.measured_env_scale);
+    for (auto* v : {&p.env_hybrid, &p.env_hybrid_lo, &p.env_hybrid_hi})
+      for (double& x : *v) x = std::max(0.0, x) * g;
+    p.hybrid_kind = "correction";
+    return p;
+  }
   if (m.psd_hybrid.options().physics_channels == 2) hp.physics.push_back(tp);
   if (m.env_hybrid.options().physics_channels == 2) he.physics.push_back(te);
   p.log_psd_hybrid = m.psd_hybrid.predict(hp);
   p.env_hybrid = amp(m.env_hybrid.predict(he));
-  p.log_psd_transport = tp;
-  p.env_transport = amp(te);
+  p.hybrid_kind = "map";
+  band_is_point();
   return p;
 }
 
@@ -441,6 +532,37 @@ Scores score(const Prediction& p, const Spectra& s) {
   return c;
 }
 
+double band_coverage(const std::vector<double>& y, const std::vector<double>& lo, const std::vector<double>& hi) {
+  if (lo.size() != y.size() || hi.size() != y.size()) throw std::invalid_argument("band_coverage: sizes differ");
+  size_t in = 0;
+  for (size_t k = 0; k < y.size(); ++k) in += (y[k] >= lo[k] && y[k] <= hi[k]) ? 1 : 0;
+  return y.empty() ? 0.0 : static_cast<double>(in) / static_cast<double>(y.size());
+}
+
+double mse(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size() || a.empty()) throw std::invalid_argument("mse: sizes differ or are empty");
+  double s = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
+  return s / static_cast<double>(a.size());
+}
+
+std::vector<ModelScore> score_table(const Prediction& p, const Spectra& s) {
+  auto one = [&](const char* name, const std::vector<double>& lp, const std::vector<double>& env) {
+    ModelScore r;
+    r.model = name;
+    r.available = !lp.empty() && !env.empty();
+    if (!r.available) return r;
+    r.log_pearson = pearson(lp, s.log_psd);
+    r.log_mse = mse(lp, s.log_psd);
+    r.env_pearson = pearson(env, s.env);
+    r.env_mse = mse(env, s.env);
+    return r;
+  };
+  return {one("physics", p.log_psd_physics, p.env_physics), one("data_only", p.log_psd_data_only, p.env_data_only),
+          one("nearest_transport", p.log_psd_transport, p.env_transport),
+          one("interpolated_transport", p.log_psd_interp, p.env_interp), one("hybrid", p.log_psd_hybrid, p.env_hybrid)};
+}
+
 nlohmann::json HybridModel::training_summary() const {
   nlohmann::json j;
   j["records"] = records;
@@ -456,6 +578,17 @@ nlohmann::json HybridModel::training_summary() const {
                        {"env_power_hybrid_sim", env_hybrid_sim.training_rms()},
                        {"env_power_data_only", env_data_only.training_rms()}};
   j["train_wall_s"] = train_wall_s;
+  if (psd_correction.trained()) {
+    auto cv = [](const CorrectionEnsemble& e) {
+      return nlohmann::json{{"chosen", e.cv.chosen.describe()},
+                            {"inner_cv_pearson", e.cv.chosen_pearson},
+                            {"inner_cv_pearson_baseline", e.cv.baseline_pearson},
+                            {"ensemble_members", e.members.size()}};
+    };
+    j["correction"] = {{"log_spectrum", cv(psd_correction)}, {"envelope_spectrum", cv(env_correction)}};
+  } else {
+    j["correction"] = nullptr;
+  }
   return j;
 }
 
@@ -474,9 +607,13 @@ void save_model(const HybridModel& m, const std::string& path) {
                   {"calibrate_kinematics", o.calibrate_kinematics},
                   {"transport_env", o.transport_env},
                   {"transport_log_psd", o.transport_log_psd},
+                  {"correction", o.correction},
+                  {"ensemble_members", o.ensemble_members},
+                  {"correction_sim_features", o.correction_sim_features},
                   {"seed", o.seed},
                   {"threads", o.threads}};
   j["training"] = m.training_summary();
+  j["training"].erase("train_wall_s");  // a timing: the file is the same bit for bit for one seed
   j["physics_env_scale"] = m.physics_env_scale;
   j["measured_env_scale"] = m.measured_env_scale;
   j["maps"] = {{"psd_hybrid", m.psd_hybrid.to_json()},
@@ -494,6 +631,9 @@ void save_model(const HybridModel& m, const std::string& path) {
                     {"log_psd", r.log_psd},
                     {"env_power", r.env_power}});
   j["references"] = refs;
+  j["corrections"] = m.psd_correction.trained()
+                         ? nlohmann::json{{"log_psd", m.psd_correction.to_json()}, {"envelope", m.env_correction.to_json()}}
+                         : nlohmann::json(nullptr);
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write model file '" + path + "'");
   f << j.dump(1) << '\n';
@@ -528,6 +668,9 @@ HybridModel load_model(const std::string& path) {
     m.options.calibrate_kinematics = o.at("calibrate_kinematics");
     m.options.transport_env = o.at("transport_env");
     m.options.transport_log_psd = o.at("transport_log_psd");
+    m.options.correction = o.at("correction");
+    m.options.ensemble_members = o.at("ensemble_members");
+    m.options.correction_sim_features = o.at("correction_sim_features");
     m.options.seed = o.at("seed");
     m.options.threads = o.at("threads");
     m.physics_env_scale = j.at("physics_env_scale");
@@ -551,6 +694,10 @@ HybridModel load_model(const std::string& path) {
                                     " does not match the grids or has no speed");
       m.references.push_back(std::move(ref));
     }
+    if (const auto& c = j.at("corrections"); !c.is_null()) {
+      m.psd_correction = CorrectionEnsemble::from_json(c.at("log_psd"));
+      m.env_correction = CorrectionEnsemble::from_json(c.at("envelope"));
+    }
     m.options.psd_map = m.psd_hybrid.options();
     m.options.env_map = m.env_hybrid.options();
     const auto& t = j.at("training");
@@ -571,6 +718,9 @@ HybridModel load_model(const std::string& path) {
       m.psd_data_only.bins() != m.psd_hybrid.bins() || m.env_data_only.bins() != m.env_hybrid.bins() ||
       m.psd_hybrid_sim.bins() != m.psd_hybrid.bins() || m.env_hybrid_sim.bins() != m.env_hybrid.bins())
     throw std::invalid_argument("model file '" + path + "': map grids do not match the spectral options");
+  if (m.psd_correction.trained() &&
+      (m.psd_correction.main.bins() != m.psd_hybrid.bins() || m.env_correction.main.bins() != m.env_hybrid.bins()))
+    throw std::invalid_argument("model file '" + path + "': correction grids do not match the spectral options");
   if (!(m.physics_env_scale > 0) || !(m.measured_env_scale > 0))
     throw std::invalid_argument("model file '" + path + "': envelope scales must be > 0");
   return m;

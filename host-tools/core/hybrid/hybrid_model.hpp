@@ -15,23 +15,30 @@
 //  4. the learned map (spectral_map.hpp), trained on segments of the measured records, per
 //     spectrum: log PSD in the log domain, envelope spectrum in the power domain; its physics
 //     inputs are the simulated spectrum (8-DOF) and the transported one (kinematics);
-//  5. prediction at any operating point: physics at that point, then the map.
+//  5. with two or more training operating points of a state (issue 34): the hybrid is the
+//     learned correction (correction.hpp) of the training spectra moved to the queried speed and
+//     interpolated (transport_base.hpp), from physics features, chosen by an inner
+//     cross-validation over the training operating points; an ensemble gives its band;
+//  6. prediction at any operating point: physics at that point, then the map / correction.
 // Deterministic: the only randomness is the simulated sensor noise, seeded from `seed`.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "host-tools/core/hybrid/correction.hpp"
 #include "host-tools/core/hybrid/physics.hpp"
 #include "host-tools/core/hybrid/spectra.hpp"
 #include "host-tools/core/hybrid/spectral_map.hpp"
+#include "host-tools/core/hybrid/transport_base.hpp"
 
 namespace amb::host::hybrid {
 
 /// Model-file format name and version written by save_model(); load_model() refuses others.
 inline constexpr const char* k_model_format = "amb-hybrid-model";
-inline constexpr int k_model_version = 2;
+inline constexpr int k_model_version = 3;
 
 /// One measured record and its condition.
 struct Record {
@@ -65,7 +72,14 @@ struct TrainOptions {
   /// the two physics inputs to trust at another.
   bool transport_env = false;
   bool transport_log_psd = false;
-  uint64_t seed = 1;                 ///< seed of the simulated sensor noise
+  /// Train the correction of the transported spectra (issue 34) when a state has training
+  /// records at two or more operating points; its ensemble has this many bootstrap members.
+  bool correction = true;
+  int ensemble_members = 16;
+  /// Offer the 8-DOF simulation's features to the correction's inner cross-validation (false:
+  /// an ablation, the correction from the measured spectra and the kinematic law only).
+  bool correction_sim_features = true;
+  uint64_t seed = 1;                 ///< seed of the simulated sensor noise and of the ensemble's bootstrap
   int threads = 2;                   ///< worker threads for simulation and spectra (>= 1)
   TrainOptions();                    ///< the defaults of docs/hybrid.md
   bool valid(std::string* why = nullptr) const;
@@ -82,6 +96,16 @@ struct Prediction {
   /// The training case whose spectrum was transported ("state@rpm/load"); empty if the state was
   /// not trained (then the hybrid is the 8-DOF-only map).
   std::string reference;
+  /// Baseline 4: the two training cases bracketing the speed, moved to it and interpolated
+  /// (`interp_cases`; outside the trained range: the nearest, as `log_psd_transport`). Empty
+  /// without a reference.
+  std::vector<double> log_psd_interp, env_interp;
+  std::string interp_cases;
+  /// What the hybrid is: "correction" (of the interpolated transport, issue 34), "map" (the
+  /// learned map of the 8-DOF physics, with the transport input if trained so), "map_sim".
+  std::string hybrid_kind;
+  /// The hybrid's band (ensemble min / max; equal to the hybrid for a map without ensemble).
+  std::vector<double> log_psd_hybrid_lo, log_psd_hybrid_hi, env_hybrid_lo, env_hybrid_hi;
   double physics_s = 0.0;  ///< time spent simulating, s
 };
 
@@ -92,15 +116,6 @@ struct Scores {
   double log_psd_hybrid_sim = 0, env_hybrid_sim = 0, log_psd_transport = 0, env_transport = 0;
 };
 
-/// Mean measured spectra of one training case (state, operating point), in the maps' domains.
-struct ReferenceSpectra {
-  BearingState state = BearingState::healthy;
-  OperatingPoint op;
-  int segments = 0;
-  std::vector<double> log_psd;    ///< mean log10 PSD of the segments
-  std::vector<double> env_power;  ///< mean envelope power of the segments / measured_env_scale
-};
-
 /// A trained hybrid model (with its two baselines).
 struct HybridModel {
   TrainOptions options;            ///< as trained (spectral grids, rig incl. calibrated contact angle)
@@ -109,6 +124,9 @@ struct HybridModel {
   /// state without a training record, and reported as an ablation); data_only: no physics.
   SpectralMap psd_hybrid, psd_hybrid_sim, psd_data_only, env_hybrid, env_hybrid_sim, env_data_only;
   std::vector<ReferenceSpectra> references;  ///< one per training case
+  /// Correction of the interpolated transport, per spectrum (trained only with a state at two or
+  /// more operating points; then it is the hybrid for every state with a reference).
+  CorrectionEnsemble psd_correction, env_correction;
   double physics_env_scale = 1.0;  ///< normalisation of the physics envelope power (training mean)
   double measured_env_scale = 1.0;  ///< normalisation of the measured envelope power (training mean)
   nlohmann::json training_summary() const;  ///< records, cases, calibration, timings
@@ -116,8 +134,10 @@ struct HybridModel {
   double train_wall_s = 0.0;
 };
 
-/// Train. `records` must have their signals loaded. Throws std::invalid_argument on bad input.
-HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o);
+/// Train. `records` must have their signals loaded. `progress` (may be empty) receives one
+/// line per training step (for stderr). Throws std::invalid_argument on bad input.
+HybridModel train_hybrid(const std::vector<Record>& records, const TrainOptions& o,
+                         const std::function<void(const std::string&)>& progress = {});
 
 /// Predict the spectra of `state` at `op` with the three models.
 Prediction predict_hybrid(const HybridModel& m, BearingState state, const OperatingPoint& op);
@@ -127,6 +147,21 @@ Spectra measured_spectra(const HybridModel& m, const Record& r);
 
 /// Score a prediction against measured spectra.
 Scores score(const Prediction& p, const Spectra& measured);
+
+/// Pearson and mean squared error of one model against measured spectra (log10 PSD:
+/// (log10 g^2/Hz)^2; envelope amplitude: (g^2)^2). `available` false: the model has no
+/// prediction here (a transported baseline without a training case of the state).
+struct ModelScore {
+  std::string model;  ///< physics, data_only, nearest_transport, interpolated_transport, hybrid
+  bool available = false;
+  double log_pearson = 0, log_mse = 0, env_pearson = 0, env_mse = 0;
+};
+/// The five models of issue 34, in that order.
+std::vector<ModelScore> score_table(const Prediction& p, const Spectra& measured);
+/// Fraction of the bins of `y` inside [lo, hi] (the band's coverage of a measured spectrum).
+double band_coverage(const std::vector<double>& y, const std::vector<double>& lo, const std::vector<double>& hi);
+/// Mean squared difference of two equally long vectors.
+double mse(const std::vector<double>& a, const std::vector<double>& b);
 
 /// Versioned model file (JSON).
 void save_model(const HybridModel& m, const std::string& path);

@@ -164,6 +164,15 @@ std::string render_line_plot(const LinePlot& p) {
       y0 = std::min(y0, y);
       y1 = std::max(y1, y);
     }
+  for (const Band& b : p.bands)
+    for (size_t i = 0; i < std::min({b.x.size(), b.lo.size(), b.hi.size()}); ++i) {
+      if (!std::isfinite(b.x[i]) || !std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) continue;
+      if (p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) continue;
+      x0 = std::min(x0, b.x[i]);
+      x1 = std::max(x1, b.x[i]);
+      y0 = std::min(y0, p.log_y ? std::log10(b.lo[i]) : b.lo[i]);
+      y1 = std::max(y1, p.log_y ? std::log10(b.hi[i]) : b.hi[i]);
+    }
   for (const Circle& c : p.circles) {
     x0 = std::min(x0, c.cx - c.r);
     x1 = std::max(x1, c.cx + c.r);
@@ -203,6 +212,8 @@ std::string render_line_plot(const LinePlot& p) {
     if (!iv.label.empty()) band_legend.emplace(iv.label, iv.color);
   for (const Circle& c : p.circles)
     if (!c.label.empty()) legend.push_back({c.label, c.color, c.dashed});
+  for (const Band& b : p.bands)
+    if (!b.label.empty()) band_legend.emplace(b.label, b.color);
 
   Frame f{x0, x1, y0, y1, 70.0, 30.0, static_cast<double>(p.width_px) - 70.0 - 16.0,
           static_cast<double>(p.height_px) - 30.0 - 48.0, p.log_y};
@@ -302,6 +313,23 @@ std::string render_line_plot(const LinePlot& p) {
     s += "<ellipse cx=\"" + io::printf_text("%.2f", f.px(c.cx)) + "\" cy=\"" + io::printf_text("%.2f", f.py(c.cy)) + "\" rx=\"" + io::printf_text("%.2f", rx) + "\" ry=\"" + io::printf_text("%.2f", ry) +
          "\" fill=\"none\" stroke=\"" + escape_xml(c.color) + "\" stroke-width=\"1.5\"" +
          (c.dashed ? " stroke-dasharray=\"6 4\"" : "") + "/>\n";
+  }
+  for (const Band& b : p.bands) {
+    std::string upper, lower;
+    const size_t n = std::min({b.x.size(), b.lo.size(), b.hi.size()});
+    for (size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(b.x[i]) || !std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) continue;
+      if (p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) continue;
+      upper += num(f.px(b.x[i])) + "," + num(f.py(b.hi[i])) + " ";
+    }
+    for (size_t i = n; i-- > 0;) {
+      if (!std::isfinite(b.x[i]) || !std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) continue;
+      if (p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) continue;
+      lower += num(f.px(b.x[i])) + "," + num(f.py(b.lo[i])) + " ";
+    }
+    if (!upper.empty())
+      s += "<polygon class=\"band\" points=\"" + upper + lower + "\" fill=\"" + escape_xml(b.color) +
+           "\" fill-opacity=\"0.3\" stroke=\"none\"/>\n";
   }
   for (size_t i = 0; i < p.series.size(); ++i) s += polyline(p.series[i], f, colours[i]);
   s += "</g>\n";

@@ -39,6 +39,14 @@ struct Circle {
   bool dashed = true;
 };
 
+/// A shaded band between two curves over x (e.g. a prediction's uncertainty band); drawn under
+/// the series as a filled polygon (class "band").
+struct Band {
+  std::string label;               ///< legend text (empty: not in the legend)
+  std::vector<double> x, lo, hi;   ///< same length; points with a non-finite value are skipped
+  std::string color = "#888";      ///< CSS colour (drawn with opacity)
+};
+
 struct LinePlot {
   std::string id;              ///< id of the <svg> element (unique in the page)
   std::string title;
@@ -46,6 +54,7 @@ struct LinePlot {
   std::vector<Series> series;
   std::vector<Interval> intervals;
   std::vector<Circle> circles;
+  std::vector<Band> bands;
   bool equal_aspect = false;   ///< same scale on x and y (orbits)
   bool log_y = false;          ///< logarithmic y axis (values <= 0 are dropped)
   std::optional<std::array<double, 2>> x_range, y_range;  ///< fixed ranges (else from the data)
