@@ -10,6 +10,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "model/signal/pearson.hpp"
+
 namespace amb::host::hybrid {
 namespace {
 
@@ -262,18 +264,8 @@ Reliability split_half_reliability(const std::vector<double>& x, double fs_hz, c
 }
 
 double pearson(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.size() != b.size() || a.size() < 2) throw std::invalid_argument("pearson: sizes differ or < 2");
-  const double n = static_cast<double>(a.size());
-  const double ma = std::accumulate(a.begin(), a.end(), 0.0) / n;
-  const double mb = std::accumulate(b.begin(), b.end(), 0.0) / n;
-  double sab = 0, saa = 0, sbb = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb);
-    saa += (a[i] - ma) * (a[i] - ma);
-    sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  if (saa <= 0 || sbb <= 0) return 0.0;
-  return sab / std::sqrt(saa * sbb);
+  if (a.size() < 2) throw std::invalid_argument("pearson: sizes differ or < 2");
+  return model::signal::pearson(a, b);  // the one definition (throws on different sizes)
 }
 
 // Kinematic transport of a log PSD from its reference speed to ratio x that speed: the local

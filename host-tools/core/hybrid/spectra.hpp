@@ -100,7 +100,7 @@ struct Reliability {
 };
 Reliability split_half_reliability(const std::vector<double>& x, double fs_hz, const SpectralOptions& o);
 
-/// Pearson correlation of two equally long vectors (0 if either is constant). Throws
+/// model::signal::pearson (0 if either is constant or with fewer than 3 points). Throws
 /// std::invalid_argument if the sizes differ or are < 2.
 double pearson(const std::vector<double>& a, const std::vector<double>& b);
 

@@ -320,12 +320,12 @@ std::string render_line_plot(const LinePlot& p) {
     for (size_t i = 0; i < n; ++i) {
       if (!std::isfinite(b.x[i]) || !std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) continue;
       if (p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) continue;
-      upper += num(f.px(b.x[i])) + "," + num(f.py(b.hi[i])) + " ";
+      upper += io::printf_text("%.2f", f.px(b.x[i])) + "," + io::printf_text("%.2f", f.py(b.hi[i])) + " ";
     }
     for (size_t i = n; i-- > 0;) {
       if (!std::isfinite(b.x[i]) || !std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) continue;
       if (p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) continue;
-      lower += num(f.px(b.x[i])) + "," + num(f.py(b.lo[i])) + " ";
+      lower += io::printf_text("%.2f", f.px(b.x[i])) + "," + io::printf_text("%.2f", f.py(b.lo[i])) + " ";
     }
     if (!upper.empty())
       s += "<polygon class=\"band\" points=\"" + upper + lower + "\" fill=\"" + escape_xml(b.color) +
