@@ -156,7 +156,7 @@ const amb::host::Registration reg{
       auto o = std::make_shared<Options>();
       namespace hc = amb::host::cli;
       hc::input_file(sub.add_option("EVENT", o->event, "board event file (AMBE v1..v3), or measured event (.json/.csv/stem of amb-measured-event/1)")->required(), "event");
-      hc::output_path(sub.add_option("--out", o->out, "HTML file to write (default: EVENT's name with .html, in the current directory)"));
+      hc::output_file(sub.add_option("--out", o->out, "HTML file to write (default: EVENT's name with .html, in the current directory)"));
       hc::input_file(sub.add_option("--board", o->board, "board name or file (default: the board named in the event, or its rig's)"), "board");
       hc::input_file(sub.add_option("--wear", o->wear, "wear record (AMBW) for the wear summary and the cumulative load"), "wear-record");
       sub.add_flag("--no-replay", o->no_replay, "do not replay the event through the firmware (board events; a measured event has nothing to replay)");
