@@ -75,6 +75,28 @@ TEST(BearingCheck, FanEndOfTheHealthyRecordIsHealthy) {
   EXPECT_EQ(r.verdict, "healthy") << r.reason;
 }
 
+// The discrete-removal band (S&R's DRS route, off by default: docs/bearing.md): when asked for,
+// it is a third analysis band, the Bonferroni split counts it, the removal is reported, and
+// the inner-race record is still named (1750_IR's BPFI is strongest there).
+TEST(BearingCheck, DiscreteRemovedBandIsAThirdBandWhenAskedFor) {
+  const std::string path = cwru("1750_IR_7_DE12");
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "measured data not found: " << path;
+  const auto x = amb::host::read_mat_vector(path, "DE_time");
+  hb::BearingCheckOptions o;
+  const auto plain = hb::check_bearing(x, 12000.0, 1750.0 / 60.0, *mb::find_bearing("SKF 6205"), o);
+  o.discrete_removed_band = true;
+  const auto r = hb::check_bearing(x, 12000.0, 1750.0 / 60.0, *mb::find_bearing("SKF 6205"), o);
+  ASSERT_EQ(plain.bands.size(), 2u);
+  ASSERT_EQ(r.bands.size(), 3u);
+  EXPECT_EQ(r.bands[2].name, "discrete_removed_sk");
+  EXPECT_NE(r.whitening.find("discrete removal"), std::string::npos) << r.whitening;
+  EXPECT_NEAR(r.threshold_log10_p, std::log10(0.01 / 12.0), 1e-9);
+  EXPECT_EQ(r.verdict, "inner_race") << r.reason;
+  EXPECT_EQ(r.families[1].log10_p_per_band.size(), 3u);
+  o.discrete_false_alarm = 0.0;
+  EXPECT_THROW(hb::check_bearing(x, 12000.0, 1750.0 / 60.0, *mb::find_bearing("SKF 6205"), o), std::invalid_argument);
+}
+
 TEST(BearingCheck, DiscreteRemovalTakesOutATone) {
   // Pseudo-noise (variance 1/12) plus a 1 kHz tone of amplitude 1 (power 0.5): the tone is
   // ~86 % of the energy; removal must take it out and leave the noise alone.
