@@ -71,8 +71,7 @@ TODO=$(comm -23 <(echo "$ALL") <(sort -u "$PASSED") | sed '/^$/d')
 echo "sanitizers $KIND: $(echo "$ALL" | sed '/^$/d' | wc -l) tests, $(sort -u "$PASSED" | sed '/^$/d' | wc -l) passed before on this source state, $(echo "$TODO" | sed '/^$/d' | wc -l) to run"
 STATUS=0
 if [ -n "$TODO" ]; then
-  # The tests to run by number (ctest -I 0,0,0,N,N,...; a regex of a few hundred names is too
-  # long for ctest's regular expressions).
+  # The tests to run by number (ctest -I 0,0,0,N,N,...), not as a regex of a few hundred names.
   NUMBERS=$(awk 'NR == FNR { todo[$0] = 1; next } { n = $1; $1 = ""; sub(/^ /, ""); if ($0 in todo) print n }' \
               <(echo "$TODO") <(echo "$LISTED") | paste -sd,)
   LOG="$BUILD/sanitizer-ctest.log"
