@@ -99,6 +99,24 @@ CLI::Option* output_path(CLI::Option* o) {
   return o;
 }
 
+CLI::Option* output_file(CLI::Option* o) {
+  CLI::Validator v(
+      [](std::string& path) -> std::string {
+        namespace fs = std::filesystem;
+        std::error_code ec;
+        const fs::path parent = fs::path(path).parent_path();
+        if (path.empty()) return "an empty path";
+        if (!parent.empty() && !fs::is_directory(parent, ec))
+          return "'" + path + "': folder '" + parent.string() + "' does not exist";
+        return {};
+      },
+      "", "output_file");
+  o->check(v);
+  output_path(o);
+  registry()[o].output_file = true;
+  return o;
+}
+
 std::string in_option_names(std::string message,
                             std::initializer_list<std::pair<const char*, const char*>> internal_to_option) {
   auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; };

@@ -20,6 +20,7 @@ struct OptionInfo {
   std::optional<amb::cli::NumberRange> range;  ///< numeric option: its allowed values
   std::string file_kind;                       ///< input file: what it must hold (e.g. "ambe", "mat", "board")
   bool output = false;                         ///< a file or directory the command writes
+  bool output_file = false;                    ///< a file (or file stem) whose folder must already exist
 };
 
 /// Numeric option: finite, inside `r`; the default value is shown in --help. Returns `o`.
@@ -36,8 +37,12 @@ CLI::Option* whole(CLI::Option* o, double lo, double hi);
 /// and "measured-event" accept a stem whose .json exists.
 CLI::Option* input_file(CLI::Option* o, const std::string& kind);
 /// A file or directory the command writes (recorded for the sweep, which checks that bad
-/// input writes nothing).
+/// input writes nothing). The command creates a directory output, with its parents.
 CLI::Option* output_path(CLI::Option* o);
+/// A file, or a file stem (STEM.csv, STEM.json), the command writes: its folder must exist,
+/// checked at parse, before any work (a fit or a simulation is not run to find out that its
+/// result cannot be written). Recorded like output_path.
+CLI::Option* output_file(CLI::Option* o);
 
 /// A message from an options struct's check() written with the names the user typed:
 /// each `internal` field name (e.g. "stft.nfft", "doe_points") replaced by its option

@@ -50,7 +50,7 @@ const amb::host::Registration reg{
       auto args = std::make_shared<Args>();
       namespace hc = amb::host::cli;
       hc::input_file(sub.add_option("EVENT", args->event, "board event file (or a measured event)")->required(), "event");
-      hc::output_path(sub.add_option("--out", args->out, "output stem: writes STEM.csv and STEM.json")->required());
+      hc::output_file(sub.add_option("--out", args->out, "output stem: writes STEM.csv and STEM.json")->required());
       sub.add_flag("--json", args->json, "print what was written as JSON");
       runner = [args] { return run(*args); };
     }};

@@ -140,7 +140,7 @@ const amb::host::Registration reg{
       amb::host::cli::output_path(sub.add_option("--out", a->out_dir, "directory for the event files"));
       sub.add_option("--name", a->names, "fetch only these events (default: all)");
       sub.add_flag("--list", a->list_only, "only list the events on the board");
-      amb::host::cli::output_path(sub.add_option("--wear", a->wear_out, "also download the stored wear record to this file"));
+      amb::host::cli::output_file(sub.add_option("--wear", a->wear_out, "also download the stored wear record to this file"));
       sub.add_flag("--json", a->json, "print figures as JSON");
       run_fn = [a] { return run(*a); };
     }};

@@ -96,6 +96,7 @@ nlohmann::json status_json(const fl::BearingStatus& s) {
 int run(const Args& a) {
   const std::string url = a.store.empty() ? default_store() : a.store;
   std::unique_ptr<fl::FleetStore> store;
+  std::string created_store;  // a SQLite file this run creates (removed again when `add` refuses every file)
   try {
     if (url.find("://") == std::string::npos && url.rfind("postgres:", 0) != 0) {
       const std::string path = url.rfind("sqlite:", 0) == 0 ? url.substr(7) : url;
@@ -113,6 +114,7 @@ int run(const Args& a) {
         return 1;
       }
       if (fs::path(path).has_parent_path()) fs::create_directories(fs::path(path).parent_path());
+      if (!fs::exists(path) && !a.create) created_store = path;
     }
     store = std::make_unique<fl::FleetStore>(url);
   } catch (const std::exception& e) {
@@ -134,6 +136,16 @@ int run(const Args& a) {
           ++bad;
           std::fprintf(stderr, "amb-host fleet add: error: %s\n", e.what());
         }
+      }
+      if (bad && added == 0 && present == 0) {
+        // Bad input only: no summary on stdout, and no empty store left behind by `add`.
+        store.reset();
+        if (!created_store.empty()) {
+          std::error_code ec;
+          for (const char* suffix : {"", "-journal", "-wal", "-shm"}) fs::remove(created_store + suffix, ec);
+        }
+        std::fprintf(stderr, "fleet add: nothing added, %d file(s) refused\n", bad);
+        return 1;
       }
       if (a.json)
         std::printf("%s\n", nlohmann::json({{"added", added}, {"already_stored", present}, {"errors", bad}, {"skipped_json", skipped}, {"files", list}}).dump(2).c_str());

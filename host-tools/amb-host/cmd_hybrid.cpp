@@ -295,7 +295,7 @@ const amb::host::Registration reg{
                     "inner_race, outer_race, ball; fs defaults to the file's 'fs', var to DE_time)")
           ->required();
       namespace hc = amb::host::cli;
-      hc::output_path(t->add_option("--out", ta->out, "model file to write (JSON)")->required());
+      hc::output_file(t->add_option("--out", ta->out, "model file to write (JSON)")->required());
       hc::whole(t->add_option("--seed", ta->seed, "seed of the simulated sensor noise (training is deterministic for a seed)"), 0, 9.0e15);
       hc::whole(t->add_option("--threads", ta->threads, "worker threads"), 1, 64);
       hc::positive(t->add_option("--segment-s", ta->segment_s, "training segment length, s"), 60.0, "s");
@@ -315,9 +315,9 @@ const amb::host::Registration reg{
       hc::positive(p->add_option("--rpm", pa->rpm, "shaft speed, rpm")->required(), 1e5, "rpm");
       hc::real(p->add_option("--load", pa->load, "motor load (the unit used in training, CWRU: hp)")->required(), 0.0, 1000.0);
       p->add_option("--measured", pa->measured, "measured record to score against 'FILE.mat[,fs=HZ][,var=NAME]'");
-      hc::output_path(p->add_option("--out", pa->out_csv, "write the predicted spectra (CSV)"));
-      hc::output_path(p->add_option("--report", pa->report, "write a report section (Markdown)"));
-      hc::output_path(p->add_option("--html", pa->html, "write the prediction as an HTML page (plots with the band and the baselines)"));
+      hc::output_file(p->add_option("--out", pa->out_csv, "write the predicted spectra (CSV)"));
+      hc::output_file(p->add_option("--report", pa->report, "write a report section (Markdown)"));
+      hc::output_file(p->add_option("--html", pa->html, "write the prediction as an HTML page (plots with the band and the baselines)"));
       p->add_flag("--json", pa->json, "print the figures as JSON");
       run = [&sub, t, p, ta, pa]() -> int {
         (void)sub;

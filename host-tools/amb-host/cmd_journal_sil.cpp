@@ -115,7 +115,7 @@ const amb::host::Registration reg{
     [](CLI::App& sub, std::function<int()>& run_fn) {
       auto args = std::make_shared<Args>();
       namespace hc = amb::host::cli;
-      hc::output_path(sub.add_option("--out", args->out, "output stem (writes STEM.csv and STEM.json)")->required());
+      hc::output_file(sub.add_option("--out", args->out, "output stem (writes STEM.csv and STEM.json)")->required());
       hc::input_file(sub.add_option("--board", args->board, "board with a [journal_bearing]"), "board");
       sub.add_option("--wear", args->wear, "none | 2p:D0_UM,GAMMA_DEG | 3p:D0_UM,GAMMA_DEG,BETA_DEG");
       hc::real(sub.add_option("--eccentricity", args->eccentricity, "static eccentricity ratio the AMBs hold"), 0.0, 0.9);

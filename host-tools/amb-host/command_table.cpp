@@ -64,12 +64,14 @@ nlohmann::json option_json(const CLI::Option* o) {
   j["range"] = nullptr;
   j["file_kind"] = nullptr;
   j["output"] = false;
+  j["output_file"] = false;
   if (const cli::OptionInfo* i = cli::info(o)) {
     if (i->range)
       j["range"] = {{"lo", i->range->lo}, {"hi", i->range->hi}, {"lo_open", i->range->lo_open},
                     {"integer", i->range->integer}, {"unit", i->range->unit}};
     if (!i->file_kind.empty()) j["file_kind"] = i->file_kind;
     j["output"] = i->output;
+    j["output_file"] = i->output_file;
   }
   return j;
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "host-tools/core/bearing/bearing_check.hpp"
+#include "host-tools/core/bearing/speed_refine.hpp"
 #include "host-tools/core/io/mat_file.hpp"
 #include "model/bearing/catalogue.hpp"
 #include "tests/support/test_paths.hpp"
@@ -73,6 +74,28 @@ TEST(BearingCheck, FanEndOfTheHealthyRecordIsHealthy) {
   const auto x = amb::host::read_mat_vector(path, "FE_time");
   const auto r = hb::check_bearing(x, 48000.0, 1797.0 / 60.0, *mb::find_bearing("6203"));
   EXPECT_EQ(r.verdict, "healthy") << r.reason;
+}
+
+// The discrete-removal band (S&R's DRS route, off by default: docs/bearing.md): when asked for,
+// it is a third analysis band, the Bonferroni split counts it, the removal is reported, and
+// the inner-race record is still named (1750_IR's BPFI is strongest there).
+TEST(BearingCheck, DiscreteRemovedBandIsAThirdBandWhenAskedFor) {
+  const std::string path = cwru("1750_IR_7_DE12");
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "measured data not found: " << path;
+  const auto x = amb::host::read_mat_vector(path, "DE_time");
+  hb::BearingCheckOptions o;
+  const auto plain = hb::check_bearing(x, 12000.0, 1750.0 / 60.0, *mb::find_bearing("SKF 6205"), o);
+  o.discrete_removed_band = true;
+  const auto r = hb::check_bearing(x, 12000.0, 1750.0 / 60.0, *mb::find_bearing("SKF 6205"), o);
+  ASSERT_EQ(plain.bands.size(), 2u);
+  ASSERT_EQ(r.bands.size(), 3u);
+  EXPECT_EQ(r.bands[2].name, "discrete_removed_sk");
+  EXPECT_NE(r.whitening.find("discrete removal"), std::string::npos) << r.whitening;
+  EXPECT_NEAR(r.threshold_log10_p, std::log10(0.01 / 12.0), 1e-9);
+  EXPECT_EQ(r.verdict, "inner_race") << r.reason;
+  EXPECT_EQ(r.families[1].log10_p_per_band.size(), 3u);
+  o.discrete_false_alarm = 0.0;
+  EXPECT_THROW(hb::check_bearing(x, 12000.0, 1750.0 / 60.0, *mb::find_bearing("SKF 6205"), o), std::invalid_argument);
 }
 
 TEST(BearingCheck, DiscreteRemovalTakesOutATone) {
@@ -152,4 +175,29 @@ TEST(BearingCheck, BadInputIsRefused) {
   auto y = x;
   y[5] = std::nan("");
   EXPECT_THROW(hb::check_bearing(y, 12000.0, 30.0, g), std::invalid_argument);
+}
+
+// The speed comb leaves out harmonics on a defect line: an envelope spectrum with a weak shaft
+// comb at 25 Hz (1x, 2x, 7x), strong outer-race lines at BPFO = 3.048 f_r and 2 BPFO (the 6200)
+// and a weak line at BPFO / 3 refines to BPFO / 3 (1.6 % off, as an 8-DOF 6200 record did) when
+// every harmonic counts, and to 25 Hz when the defect orders are left out.
+TEST(SpeedRefine, HarmonicsOnADefectLineAreNotShaftTeeth) {
+  const double df = 0.1, f_r = 25.0, bpfo = 3.048 * f_r;
+  std::vector<double> m(4000);
+  uint32_t seed = 7;
+  for (auto& v : m) {  // Rayleigh-like floor around 1
+    seed = seed * 1664525u + 1013904223u;
+    v = 0.6 + 0.8 * static_cast<double>(seed >> 8) / 16777216.0;
+  }
+  auto line = [&](double hz, double a) { m[static_cast<size_t>(std::lround(hz / df))] = a; };
+  for (int k : {1, 2, 7}) line(k * f_r, 4.0);
+  line(bpfo, 60.0);
+  line(2 * bpfo, 40.0);
+  line(bpfo / 3.0, 4.0);
+  const auto all = amb::host::bearing::refine_speed(m, df, 25.1, 0.02);
+  EXPECT_NEAR(all.speed_hz, bpfo / 3.0, 0.05) << "without the exclusion the defect lines make the comb";
+  const auto kept = amb::host::bearing::refine_speed(m, df, 25.1, 0.02, 8, 1e-3, {3.048, 6.096, 4.95, 3.96, 7.92}, 0.035);
+  ASSERT_TRUE(kept.refined);
+  EXPECT_NEAR(kept.speed_hz, f_r, 0.02);
+  EXPECT_EQ(kept.harmonics_used, 3);
 }

@@ -298,6 +298,48 @@ TEST(CliSweep, EveryInputFileRefusesMissingEmptyFolderTruncatedAndWrongKind) {
   std::printf("file sweep: %d runs; slowest %.2f s: %s\n", tally.runs, tally.slowest_s, tally.slowest.c_str());
 }
 
+TEST(CliSweep, EveryOutputFileInAMissingFolderIsRefusedBeforeAnyWork) {
+  const nlohmann::json table = command_table();
+  Tally tally;
+  int outputs = 0;
+  const fs::path nowhere = sweep_root() / "no-such-folder" / "out";
+  for (const auto& cmd : table["commands"]) {
+    if (cmd["has_subcommands"].get<bool>()) continue;
+    for (const auto& o : cmd["options"]) {
+      if (!o["output_file"].get<bool>()) continue;
+      ++outputs;
+      expect_refused(with(base_args(cmd, o["name"]), o, nowhere.string()), {o["name"].get<std::string>()},
+                     "output in a missing folder", tally);
+    }
+  }
+  EXPECT_FALSE(fs::exists(nowhere.parent_path())) << "a refused command created the folder";
+  EXPECT_GE(outputs, 7) << "the table lists fewer output files than amb-host writes";
+  std::printf("output sweep: %d runs; slowest %.2f s: %s\n", tally.runs, tally.slowest_s, tally.slowest.c_str());
+}
+
+// Every sub-command, also those without a number or a file to sweep (fleet list, ...): an
+// unknown option and each missing required option or argument are exit 1 naming it.
+TEST(CliSweep, EverySubCommandRefusesAnUnknownOptionAndAMissingRequiredOneByName) {
+  const nlohmann::json table = command_table();
+  Tally tally;
+  int commands = 0;
+  for (const auto& cmd : table["commands"]) {
+    if (cmd["has_subcommands"].get<bool>()) continue;
+    ++commands;
+    expect_refused(with(base_args(cmd, ""), nlohmann::json{{"positional", false}, {"name", "--no-such-option"}}, "1"),
+                   {"--no-such-option"}, "unknown option", tally);
+    for (const auto& o : cmd["options"]) {
+      if (!o["required"].get<bool>()) continue;
+      const std::string name = o["name"];
+      // The option's own name, or the positional's name in upper case as --help shows it.
+      expect_refused(base_args(cmd, name), {name}, "missing " + name, tally);
+    }
+  }
+  EXPECT_GE(commands, 20) << "the table lists fewer sub-commands than amb-host has";
+  std::printf("sub-command sweep: %d commands, %d runs; slowest %.2f s: %s\n", commands, tally.runs, tally.slowest_s,
+              tally.slowest.c_str());
+}
+
 TEST(CliSweep, CliElevenErrorsAreExitOneWithTheOptionNamed) {
   const fs::path cwd = sweep_root() / "cli11";
   fs::remove_all(cwd);
@@ -345,6 +387,10 @@ TEST(CliSweep, MisleadingCasesOfTheIssueSayWhatIsWrong) {
       {{"envelope", fx.valid.at("board").string()}, "is a board file, not an envelope study spec"},
       // A board of another rig than the event's.
       {{"fit", fx.valid.at("event").string(), "--board", "unicamp-amb-rig"}, "--force"},
+      {{"report", fx.valid.at("event").string(), "--board", "unicamp-amb-rig"}, "--force"},
+      // `fleet add` may create its store, but not when it refuses every file: no store left,
+      // no summary on stdout.
+      {{"fleet", "--store", "new.sqlite", "add", fx.missing.string(), "--json"}, "cannot be read"},
       // (Where nothing can be analysed bearing-check gives no verdict; with a CWRU record the
       // file's own fs and RPM win over the command line, so that refusal is not reachable from
       // this fixture: tests/bearing/cli checks --fs/--rpm.)

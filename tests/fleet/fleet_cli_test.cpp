@@ -1,5 +1,6 @@
 // amb-host fleet on the command line: add (twice: the second adds nothing), a refused file
-// (exit 1, named on stderr, stdout still pure JSON), list / trend / report --json.
+// (exit 1, named on stderr, nothing on stdout: bad input gives no output, docs/cli.md), list /
+// trend / report --json.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -24,6 +25,18 @@ int fleet(const fs::path& dir, const std::string& args, nlohmann::json& out, std
   return amb::test::run_json_cli(std::string(AMB_HOST_EXE) + " fleet --store '" + (dir / "cli.sqlite").string() + "' " + args, dir, out, err);
 }
 
+/// Run amb-host fleet with `args` where bad input is expected: returns the exit code; stdout's
+/// text in `out`, stderr in `err`.
+int fleet_refused(const fs::path& dir, const std::string& args, std::string& out, std::string& err) {
+  const fs::path o = dir / "stdout", e = dir / "stderr";
+  const std::string cmd = std::string(AMB_HOST_EXE) + " fleet --store '" + (dir / "cli.sqlite").string() + "' " + args + " > '" +
+                          o.string() + "' 2> '" + e.string() + "'";
+  const int rc = std::system(cmd.c_str());
+  out = amb::test::read_text(o);
+  err = amb::test::read_text(e);
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
 }  // namespace
 
 TEST(FleetCli, AddListTrendReport) {
@@ -37,13 +50,15 @@ TEST(FleetCli, AddListTrendReport) {
   EXPECT_EQ(j["added"], 116);
   EXPECT_EQ(j["errors"], 0);
   EXPECT_EQ(j["skipped_json"], 1);
-  EXPECT_EQ(fleet(dir, "add '" + (dir / "files" / "scenario_summary.json").string() + "' --json", j, err), 1);
+  std::string text;
+  EXPECT_EQ(fleet_refused(dir, "add '" + (dir / "files" / "scenario_summary.json").string() + "' --json", text, err), 1);
+  EXPECT_EQ(text, "") << "a refused file printed a summary";
   ASSERT_EQ(fleet(dir, "add '" + (dir / "files").string() + "' --json", j, err), 0) << err;
   EXPECT_EQ(j["added"], 0);
   EXPECT_EQ(j["already_stored"], 116);
   std::ofstream(dir / "junk.ambe") << "AMBE but not an event";
-  EXPECT_EQ(fleet(dir, "add '" + (dir / "junk.ambe").string() + "' --json", j, err), 1);
-  EXPECT_EQ(j["errors"], 1);
+  EXPECT_EQ(fleet_refused(dir, "add '" + (dir / "junk.ambe").string() + "' --json", text, err), 1);
+  EXPECT_EQ(text, "") << "a refused file printed a summary";
   EXPECT_NE(err.find("junk.ambe"), std::string::npos) << err;
   ASSERT_EQ(fleet(dir, "list --json", j, err), 0) << err;
   EXPECT_EQ(j["machines"].size(), 5u);

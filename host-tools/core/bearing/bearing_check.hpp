@@ -55,6 +55,17 @@ struct BearingCheckOptions {
   /// band discrete lines and cage modulation put race lines where there is no race defect
   /// (docs/bearing.md, leave-one-out).
   bool raw_sk_band = false;
+  /// Also analyse the kurtogram band of the raw signal with its discrete components removed
+  /// (BandAnalyser::remove_discrete_components: spectral editing of the lines that stand out of
+  /// their local median, S&R's second pre-whitening route, discrete/random separation, in its
+  /// spectral-editing form). Unlike CPW it keeps the spectrum's colouring, so a resonance band
+  /// that the fault's impacts excite keeps its signal-to-noise ratio. Off: measured on the
+  /// model-made records (docs/bearing.md) it finds one more outer-race fault (61/64) but names
+  /// outer_race on 3 of 99 healthy records (the healthy bearing's ball-pass compliance lines,
+  /// spread over several bins by the speed jitter, survive the editing in a resonance band).
+  bool discrete_removed_band = false;
+  double discrete_halfwidth_hz = 5.0;      ///< median window half width of the discrete removal, Hz (> 0)
+  double discrete_false_alarm = 1e-3;      ///< bins edited by chance per record under Gaussian noise, (0, 1)
   /// Null of each family's score (bpfo, bpfi, ball, ftf), measured on healthy records by
   /// tests/bearing/null_calibration.cpp (docs/bearing.md "Calibration").
   std::array<NullFit, 4> null = default_nulls();

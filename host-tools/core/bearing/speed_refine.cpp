@@ -9,7 +9,8 @@
 namespace amb::host::bearing {
 
 SpeedRefinement refine_speed(const std::vector<double>& magnitude, double df_hz, double nominal_hz, double range,
-                             int harmonics, double false_alarm) {
+                             int harmonics, double false_alarm, const std::vector<double>& excluded_orders,
+                             double excluded_tolerance) {
   if (!(df_hz > 0) || !(nominal_hz > 0) || !(range > 0 && range < 0.5) || harmonics < 1 ||
       !(false_alarm > 0 && false_alarm < 1))
     throw std::invalid_argument("invalid speed-refinement input");
@@ -22,6 +23,12 @@ SpeedRefinement refine_speed(const std::vector<double>& magnitude, double df_hz,
   int h_max = harmonics;
   while (h_max >= 1 && std::lround(h_max * nominal_hz * (1 + range) / df_hz) + fw >= n) --h_max;
   if (h_max < 1) return r;
+  std::vector<bool> used(static_cast<size_t>(h_max + 1), true);
+  for (int h = 1; h <= h_max; ++h)
+    for (double o : excluded_orders)
+      if (o > 0 && std::abs(h - o) <= excluded_tolerance * o) used[static_cast<size_t>(h)] = false;
+  for (int h = 1; h <= h_max; ++h) r.harmonics_used += used[static_cast<size_t>(h)] ? 1 : 0;
+  if (r.harmonics_used < 2 || !used[1]) return r;
   // Floor per harmonic: median around the nominal position, the search range excluded.
   std::vector<double> floor(static_cast<size_t>(h_max + 1), 0.0), win;
   for (int h = 1; h <= h_max; ++h) {
@@ -43,12 +50,13 @@ SpeedRefinement refine_speed(const std::vector<double>& magnitude, double df_hz,
     const double f = nominal_hz + static_cast<double>(d) * step;
     double x = 0.0;
     for (int h = 1; h <= h_max; ++h) {
+      if (!used[static_cast<size_t>(h)]) continue;
       const long c = std::lround(h * f / df_hz);
       const double ratio = floor[static_cast<size_t>(h)] > 0 ? magnitude[static_cast<size_t>(c)] / floor[static_cast<size_t>(h)] : 0.0;
       const double q = std::exp2(-ratio * ratio);
       x += -2.0 * std::log(std::max(q, 1e-300));
     }
-    const double lp = log_chi2_sf_even(x, h_max);
+    const double lp = log_chi2_sf_even(x, r.harmonics_used);
     if (lp < best) {
       best = lp;
       best_f = f;
@@ -59,6 +67,7 @@ SpeedRefinement refine_speed(const std::vector<double>& magnitude, double df_hz,
   r.log10_p = std::min(0.0, best / std::log(10.0) + std::log10(trials));
   bool first_present = false;
   for (int h = 1; h <= h_max; ++h) {
+    if (!used[static_cast<size_t>(h)]) continue;
     const long c = std::lround(h * best_f / df_hz);
     const double ratio = floor[static_cast<size_t>(h)] > 0 ? magnitude[static_cast<size_t>(c)] / floor[static_cast<size_t>(h)] : 0.0;
     const bool present = std::exp2(-ratio * ratio) < 0.01;

@@ -17,6 +17,10 @@ namespace amb::host::report {
 namespace {
 constexpr double k_two_pi = 6.283185307179586;
 
+/// A duration in ms resolution. Rubbing times are sums of sample periods (0.0035 s comes out
+/// of the sum as 0.0034999...) and the wear record keeps them as float (0.0035000001): rounded
+/// to 1 us first, the same time prints the same wherever it is quoted.
+std::string duration_s(double t_s) { return io::printf_text("%.3f s", std::round(t_s * 1e6) * 1e-6); }
 std::string yes_no(bool b) { return b ? "yes" : "no"; }
 
 /// A Unix time as UTC, ISO 8601 ("2026-11-27 16:20:05 UTC").
@@ -125,6 +129,39 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
   if (n == 0) return;
   auto t_of = [&](size_t i) { return (static_cast<double>(i) - static_cast<double>(trig)) / rate; };
 
+  {
+    std::vector<std::array<double, 4>> r_m;
+    r_m.reserve(n);
+    for (const fw::LoopSample& s : e.samples)
+      r_m.push_back({s.displacement_m[0], s.displacement_m[1], s.displacement_m[2], s.displacement_m[3]});
+    add_orbits(d, board, r_m, trig, rate, m.speed_at_trigger_hz < 0.0 ? -1.0 : 1.0, source);
+  }
+
+  SpeedTrace sp;
+  for (size_t i = 0; i < n; ++i) {
+    sp.t_s.push_back(t_of(i));
+    sp.speed_hz.push_back(e.samples[i].speed_hz);
+    sp.speed_command_hz.push_back(e.samples[i].speed_command_hz);
+    const double tach = e.samples[i].tach_hz;
+    sp.plant_speed_hz.push_back(tach >= 0.0 ? tach : NAN);
+    sp.not_tracked.push_back(fw::speed_lost(e.samples[i]) ? 1 : 0);
+  }
+  if (d.cause_chain.empty()) {
+    d.cause_chain.push_back("Phase A trigger: " + std::string(fw::to_string(m.cause)));
+    if (e.has_diagnosis) d.cause_chain.push_back("Phase B: " + std::string(fw::diag::to_string(e.diagnosis.type)));
+  }
+  d.speed.set(std::move(sp), source + ": the firmware's speed estimate, drive command and the rig's tachometer per "
+                                      "sample; shaded: the board had no valid speed (\"not tracked\")");
+}
+
+void add_orbits(ReportData& d, const board::BoardConfig& board, const std::vector<std::array<double, 4>>& r_m, size_t trig,
+                double rate_hz, double spin_sign, const std::string& source) {
+  const size_t n = r_m.size();
+  if (n == 0) return;
+  trig = std::min(trig, n - 1);
+  const double rate = rate_hz;
+  auto t_of = [&](size_t i) { return (static_cast<double>(i) - static_cast<double>(trig)) / rate; };
+
   // Orbits at both planes through the sensor view (model/drop/sensor_orbit).
   const model::drop::SensorOrbit view(board.plant);
   std::vector<OrbitPlane> planes(2);
@@ -132,11 +169,11 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
     OrbitPlane& p = planes[static_cast<size_t>(b)];
     p.name = std::string("bearing ") + (b ? "B" : "A");
     p.clearance_m = board.plant.aux[static_cast<size_t>(b)].clearance_m;
-    for (const fw::LoopSample& s : e.samples) {
-      const std::array<double, 4> r{s.displacement_m[0], s.displacement_m[1], s.displacement_m[2], s.displacement_m[3]};
+    for (size_t i = 0; i < n; ++i) {
+      const std::array<double, 4>& r = r_m[i];
       const auto xy = view.at_sensor_plane(r, b);
       const auto aux = view.at_aux_plane(r, b);
-      p.t_s.push_back(t_of(static_cast<size_t>(&s - e.samples.data())));
+      p.t_s.push_back(t_of(i));
       p.sensor_x_m.push_back(xy[0]);
       p.sensor_y_m.push_back(xy[1]);
       p.aux_x_m.push_back(aux[0] - board.plant.aux[static_cast<size_t>(b)].centre_offset_x_m);
@@ -147,7 +184,6 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
   // Rubbing states from the measured orbit at the aux planes, from the trigger on.
   std::vector<RubbingTrace> rub;
   const model::drop::RubbingOptions ro;
-  const double spin_sign = m.speed_at_trigger_hz < 0.0 ? -1.0 : 1.0;
   for (size_t b = 0; b < 2; ++b) {
     const auto r = model::drop::classify_rubbing(planes[b].aux_x_m, planes[b].aux_y_m, 1.0 / rate, planes[b].clearance_m,
                                                  spin_sign, static_cast<int>(trig), ro);
@@ -164,7 +200,7 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
     const char* state_names[3] = {"swinging", "forward rub", "backward rub"};
     for (size_t k = 0; k < 3; ++k) {
       const std::string name = std::string(state_names[k]) + " " + ab(b) + ", measured orbit (post-trigger window)";
-      t.rows.emplace_back(name, define_figure(d, name, io::printf_text("%.3f s", t.durations_s[k]),
+      t.rows.emplace_back(name, define_figure(d, name, duration_s(t.durations_s[k]),
                                               "time in this state over the whole post-trigger window (" +
                                                   io::printf_text("%.3f s", window_s) +
                                                   "), classified from the measured orbit at the aux-bearing plane"));
@@ -172,15 +208,6 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
     rub.push_back(std::move(t));
   }
 
-  SpeedTrace sp;
-  for (size_t i = 0; i < n; ++i) {
-    sp.t_s.push_back(t_of(i));
-    sp.speed_hz.push_back(e.samples[i].speed_hz);
-    sp.speed_command_hz.push_back(e.samples[i].speed_command_hz);
-    const double tach = e.samples[i].tach_hz;
-    sp.plant_speed_hz.push_back(tach >= 0.0 ? tach : NAN);
-    sp.not_tracked.push_back(fw::speed_lost(e.samples[i]) ? 1 : 0);
-  }
   for (size_t b = 0; b < 2; ++b) {
     double r_max = 0.0;
     for (size_t i = trig; i < planes[b].aux_x_m.size(); ++i) r_max = std::max(r_max, std::hypot(planes[b].aux_x_m[i], planes[b].aux_y_m[i]));
@@ -190,15 +217,9 @@ void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig
                   "The rotor bends in the drop, so the extrapolation can pass the clearance circle the journal cannot; "
                   "its error is given below where the run is simulated (rigid-extrapolation error), and unknown otherwise");
   }
-  if (d.cause_chain.empty()) {
-    d.cause_chain.push_back("Phase A trigger: " + std::string(fw::to_string(m.cause)));
-    if (e.has_diagnosis) d.cause_chain.push_back("Phase B: " + std::string(fw::diag::to_string(e.diagnosis.type)));
-  }
   d.orbit.set(std::move(planes), source + ": sensors [A1, A2, B1, B2] through the sensor view (aux plane: rigid-rotor extrapolation)");
   d.rubbing.set(std::move(rub), source + ": measured orbit at the aux planes, model/drop/rubbing_states (contact at " +
                                     io::printf_text("%.2f", ro.contact_radius_fraction) + " x clearance)");
-  d.speed.set(std::move(sp), source + ": the firmware's speed estimate, drive command and the rig's tachometer per "
-                                      "sample; shaded: the board had no valid speed (\"not tracked\")");
 }
 
 void add_replay(ReportData& d, const replay::ReplayResult& r) {
@@ -279,8 +300,8 @@ void add_fit(ReportData& d, const fit::DropFitResult& r, const std::string& sour
       const std::string meas_name = std::string(state_names[s]) + " " + ab(b) + ", measured orbit (fit window)";
       const std::string why = "over the fit window only (the first " + io::printf_text("%.3f s", window_s) +
                               " after the trigger, amb-host fit --window), not the whole post-trigger window";
-      c.rows.emplace_back(fit_name, define_figure(d, fit_name, io::printf_text("%.3f s", fitted[s]), "time in this state in the fitted model, " + why));
-      c.rows.emplace_back(meas_name, define_figure(d, meas_name, io::printf_text("%.3f s", measured[s]), "time in this state in the measurement, " + why));
+      c.rows.emplace_back(fit_name, define_figure(d, fit_name, duration_s(fitted[s]), "time in this state in the fitted model, " + why));
+      c.rows.emplace_back(meas_name, define_figure(d, meas_name, duration_s(measured[s]), "time in this state in the measurement, " + why));
     }
   }
   d.fit.set(std::move(c), source);
@@ -301,9 +322,9 @@ void add_wear_record(ReportData& d, const fw::WearRecord& w, const std::string& 
     // Named by bearing and by what they sum (every event of the record, each over its fit
     // window), apart from one event's measured or fitted times.
     const std::string all = std::string(" ") + ab(b) + ", wear record (all events)";
-    s.bearing[b] = {{"swinging" + all, io::printf_text("%.3f s", x.swing_s)},
-                    {"forward rub" + all, io::printf_text("%.3f s", x.forward_rub_s)},
-                    {"backward rub" + all, io::printf_text("%.3f s", x.backward_rub_s)},
+    s.bearing[b] = {{"swinging" + all, duration_s(x.swing_s)},
+                    {"forward rub" + all, duration_s(x.forward_rub_s)},
+                    {"backward rub" + all, duration_s(x.backward_rub_s)},
                     {"friction energy", io::printf_text("%.2f J", x.friction_energy_j)},
                     {std::string("peak contact force ") + ab(b) + ", fitted drop model (wear record)",
                      define_figure(d, std::string("peak contact force ") + ab(b) + ", fitted drop model (wear record)",

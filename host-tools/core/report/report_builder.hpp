@@ -10,7 +10,9 @@
 // contact forces; Phase E load map via host-tools/core/wear/load_map), the wear record
 // (firmware/wear AMBW: cumulative load, durations, life), the residual loop
 // (host-tools/core/residual: spectra before/after) and the SIL drop scenario's trace.
+#include <array>
 #include <string>
+#include <vector>
 
 #include "firmware/board/board.hpp"
 #include "firmware/events/event_record.hpp"
@@ -35,6 +37,15 @@ const std::string& define_figure(ReportData& d, const std::string& name, const s
 /// clearance circle), contact angle/slope/rubbing states from the measured orbit after the
 /// trigger (model/drop/rubbing_states), speed. `source`: file name shown in the report.
 void add_event(ReportData& d, const fw::EventRecord& e, const board::BoardConfig& board, const std::string& source);
+
+/// Orbits at both planes (sensor plane, and the aux plane by rigid extrapolation, with the
+/// clearance circle), the rubbing states from the trigger on and the largest aux-plane radius.
+/// `r_m`: per sample the four sensor readings [A1, A2, B1, B2] along their own directions, m;
+/// `trig`: trigger sample; `rate_hz`: sample rate, Hz; `spin_sign`: +1 spin counter-clockwise
+/// seen from the board's reference end, -1 clockwise; `source`: shown under the plots.
+/// add_event calls it for board events, add_loaded_event (report_measured.hpp) for measured ones.
+void add_orbits(ReportData& d, const board::BoardConfig& board, const std::vector<std::array<double, 4>>& r_m, size_t trig,
+                double rate_hz, double spin_sign, const std::string& source);
 
 /// The replay verdict (amb-host replay).
 void add_replay(ReportData& d, const replay::ReplayResult& r);

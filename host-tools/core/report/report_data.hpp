@@ -61,6 +61,7 @@ struct RubbingTrace {
 struct SpeedTrace {
   std::vector<double> t_s;
   std::vector<double> speed_hz;            ///< speed estimate, Hz
+  std::string speed_label = "speed estimate";  ///< legend of speed_hz (a measured event's own speed channel is no estimate)
   std::vector<double> speed_command_hz;    ///< drive set-point, Hz (may be empty)
   std::vector<double> plant_speed_hz;      ///< the rig's tachometer (in SIL the plant's spin), Hz; NaN where none (may be empty)
   std::vector<uint8_t> not_tracked;        ///< 1: the board had no valid speed this sample (lost flag) (may be empty)

@@ -180,7 +180,7 @@ std::string section_speed(const ReportData& d) {
   p.x_label = "time from trigger (s)";
   p.y_label = "speed (Hz)";
   p.width_px = 900;
-  p.series.push_back({"speed estimate", d.speed.data->t_s, d.speed.data->speed_hz, palette(0)});
+  p.series.push_back({d.speed.data->speed_label, d.speed.data->t_s, d.speed.data->speed_hz, palette(0)});
   if (!d.speed.data->speed_command_hz.empty())
     p.series.push_back({"drive command", d.speed.data->t_s, d.speed.data->speed_command_hz, palette(3), 1.2, true});
   const auto& sp = *d.speed.data;
