@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/events/event_board_choice.hpp"
 #include "host-tools/core/events/load_event.hpp"
@@ -90,6 +91,7 @@ int run_steady(const Args& a) {
   for (const auto& w : rec.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   // The event's own rig, or --board of the same rig (another rig's board is refused unless --force).
   const auto b = amb::host::board_for_loaded_event(rec, a.board, a.force);
+  if (!a.plot.empty()) std::fprintf(stderr, "warning: --plot is for sweeps; %s is not one (no plot written)\n", rec.source.c_str());
   if (hr::is_drop_event(rec, b)) return run_drop(a, rec, b);
   if (hr::is_journal_event(rec, b)) {  // journal-bearing record (seed 002): journal_bearing_wear
     const auto o = hr::run_journal_residual(rec, b);
@@ -150,7 +152,8 @@ const amb::host::Registration reg{
                    "after the named elements: train a regularised map (ridge) from the final model's spectra to the "
                    "measured ones on one part of the record, score it on the other, and report how much of the "
                    "unexplained error it absorbs (not a physical explanation; the verdict is unchanged)");
-      sub.add_option("--plot", a->plot, "sweep only: write the measured vs modelled FRF overlay (SVG) to this file");
+      amb::host::cli::output_file(
+          sub.add_option("--plot", a->plot, "sweep only: write the measured vs modelled FRF overlay (SVG) to this file"));
       sub.add_flag("--quiet", a->quiet, "no progress lines on stderr");
       sub.add_flag("--force", a->force, "accept a --board of another rig than the event's (normally refused)");
       // The element catalogue and the one criterion, in the help (engine/elements.hpp, engine/criterion.hpp).

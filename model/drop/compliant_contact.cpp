@@ -1,6 +1,7 @@
 #include "model/drop/compliant_contact.hpp"
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 
 namespace amb::model::drop {
@@ -30,15 +31,8 @@ double regularised_friction(double v0, double a, double b, double eps) {
 
 ContactSolution solve_compliant_contacts(const CompliantContactProblem& p, const ContactSolverOptions& o,
                                          const LocalVec& warm) {
-  ContactSolution s;
-  s.impulse = warm;
-  for (int k = 0; k < 2; ++k)
-    if (!p.active[static_cast<size_t>(k)]) {
-      s.impulse(2 * k) = 0.0;
-      s.impulse(2 * k + 1) = 0.0;
-    }
   const double h = p.step_s;
-  for (s.iterations = 1; s.iterations <= o.max_iterations; ++s.iterations) {
+  return gauss_seidel(p, o, warm_start(p, warm), [&](ContactSolution& s) {
     double change = 0.0;
     for (int k = 0; k < 2; ++k) {
       const size_t ks = static_cast<size_t>(k);
@@ -63,15 +57,8 @@ ContactSolution solve_compliant_contacts(const CompliantContactProblem& p, const
       change = std::max(change, std::abs(t_new - s.impulse(t)) * dtt);
       s.impulse(t) = t_new;
     }
-    change = std::max(change, sweep_ring_drags(p, s.impulse));
-    if (change <= o.tolerance_m_s) {
-      s.converged = true;
-      break;
-    }
-  }
-  s.iterations = std::min(s.iterations, o.max_iterations);
-  s.post_velocity = p.free_velocity + p.delassus * s.impulse;
-  return s;
+    return change;
+  });
 }
 
 }  // namespace amb::model::drop

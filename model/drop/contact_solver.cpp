@@ -1,23 +1,17 @@
 #include "model/drop/contact_solver.hpp"
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 
 namespace amb::model::drop {
 
 ContactSolution solve_contacts(const ContactProblem& p, const ContactSolverOptions& o, const LocalVec& warm) {
-  ContactSolution s;
-  s.impulse = warm;
-  for (int k = 0; k < 2; ++k)
-    if (!p.active[static_cast<size_t>(k)]) {
-      s.impulse(2 * k) = 0.0;
-      s.impulse(2 * k + 1) = 0.0;
-    }
   // Per-row restitution: e on approach, 1 when already separating (see header).
   std::array<double, 2> e{};
   for (int k = 0; k < 2; ++k) e[static_cast<size_t>(k)] = p.pre_velocity(2 * k) <= 0.0 ? p.restitution : 1.0;
 
-  for (s.iterations = 1; s.iterations <= o.max_iterations; ++s.iterations) {
+  return gauss_seidel(p, o, warm_start(p, warm), [&](ContactSolution& s) {
     double change = 0.0;
     // Normal rows first, then their friction, then the ring drags: the friction bound
     // depends on the normal impulse just updated.
@@ -39,15 +33,8 @@ ContactSolution solve_contacts(const ContactProblem& p, const ContactSolverOptio
       change = std::max(change, std::abs(t_new - s.impulse(t)) * dtt);
       s.impulse(t) = t_new;
     }
-    change = std::max(change, sweep_ring_drags(p, s.impulse));
-    if (change <= o.tolerance_m_s) {
-      s.converged = true;
-      break;
-    }
-  }
-  s.iterations = std::min(s.iterations, o.max_iterations);
-  s.post_velocity = p.free_velocity + p.delassus * s.impulse;
-  return s;
+    return change;
+  });
 }
 
 }  // namespace amb::model::drop

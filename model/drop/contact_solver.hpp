@@ -72,6 +72,39 @@ double sweep_ring_drags(const Problem& p, LocalVec& impulse) {
   return change;
 }
 
+/// The starting guess of both solvers: `warm` (e.g. last step's impulses), with zero impulse
+/// on the rows of an inactive contact whatever it says.
+template <class Problem>
+ContactSolution warm_start(const Problem& p, const LocalVec& warm) {
+  ContactSolution start;
+  start.impulse = warm;
+  for (int k = 0; k < 2; ++k)
+    if (!p.active[static_cast<size_t>(k)]) {
+      start.impulse(2 * k) = 0.0;
+      start.impulse(2 * k + 1) = 0.0;
+    }
+  return start;
+}
+
+/// The projected Gauss-Seidel frame both contact solvers share: each iteration `contact_rows(s)`
+/// updates the contact rows once (returning the largest velocity change it caused, m/s), the
+/// ring drags follow, and the iterations stop at o.tolerance_m_s or o.max_iterations; the
+/// post-step velocity is then y+ = y_free + D impulse.
+template <class Problem, class ContactRows>
+ContactSolution gauss_seidel(const Problem& p, const ContactSolverOptions& o, ContactSolution s, ContactRows&& contact_rows) {
+  for (s.iterations = 1; s.iterations <= o.max_iterations; ++s.iterations) {
+    double change = contact_rows(s);
+    change = std::max(change, sweep_ring_drags(p, s.impulse));
+    if (change <= o.tolerance_m_s) {
+      s.converged = true;
+      break;
+    }
+  }
+  s.iterations = std::min(s.iterations, o.max_iterations);
+  s.post_velocity = p.free_velocity + p.delassus * s.impulse;
+  return s;
+}
+
 /// Solve one step's contact problem (see file comment). `warm` is the starting guess
 /// (e.g. last step's impulses); inactive contacts get zero impulse whatever it says.
 ContactSolution solve_contacts(const ContactProblem& p, const ContactSolverOptions& o, const LocalVec& warm);

@@ -96,19 +96,11 @@ DropModel::DropModel(std::shared_ptr<const RigModel> rig, const PlantParams& pla
 
   // Unbalance expansion in cos/sin of the spin angle (see rotor_amb_plant.cpp): this model's
   // unbalance, the rig model's disk rows.
-  unb_s_ = ModeVec::Zero(m_);
-  unb_c_ = ModeVec::Zero(m_);
-  b_mid_disk_ = to_vec(red_.mid_span);
-  for (size_t d = 0; d < p_.rotor.disks.size(); ++d) {
-    const ModeVec b = to_vec(red_.disk[d]);
-    const double ph = p_.rotor.disks[d].unbalance_phase_deg * M_PI / 180.0;
-    unb_s_ += p_.rotor.disks[d].unbalance_kg_m * std::sin(ph) * b;
-    unb_c_ += p_.rotor.disks[d].unbalance_kg_m * std::cos(ph) * b;
-  }
-  if (red_.mid_disk >= 0) {
-    b_mid_disk_ = to_vec(red_.disk[static_cast<size_t>(red_.mid_disk)]);
-    mid_disk_phase_rad_ = p_.rotor.disks[static_cast<size_t>(red_.mid_disk)].unbalance_phase_deg * M_PI / 180.0;
-  }
+  const UnbalanceExpansion unb = unbalance_expansion(red_, p_.rotor);
+  unb_s_ = to_vec(unb.sin_sum.transpose());
+  unb_c_ = to_vec(unb.cos_sum.transpose());
+  b_mid_disk_ = to_vec(unb.mid_row);
+  mid_disk_phase_rad_ = unb.mid_phase_rad;
   fext_x_ = ModeVec::Zero(m_);
   fext_y_ = ModeVec::Zero(m_);
   unb_s_step_ = unb_s_;

@@ -73,20 +73,11 @@ RotorAmbPlant::RotorAmbPlant(std::shared_ptr<const RigModel> rig, const PlantPar
   // u (W^2 (sin a, cos a) + W' (cos a, -sin a)) expands in cos(theta), sin(theta) with the
   // two sums S = sum b_d u_d sin(phase_d), C = sum b_d u_d cos(phase_d). The unbalance is
   // this plant's own (p), the disk rows the rig model's.
-  unb_s_ = Vec::Zero(m_);
-  unb_c_ = Vec::Zero(m_);
-  for (size_t d = 0; d < p.rotor.disks.size(); ++d) {
-    const Vec b = to_vec(red.disk[d]);
-    const double ph = p.rotor.disks[d].unbalance_phase_deg * M_PI / 180.0;
-    unb_s_ += p.rotor.disks[d].unbalance_kg_m * std::sin(ph) * b;
-    unb_c_ += p.rotor.disks[d].unbalance_kg_m * std::cos(ph) * b;
-  }
-  if (red.mid_disk >= 0) {
-    b_mid_disk_ = to_vec(red.disk[static_cast<size_t>(red.mid_disk)]);
-    mid_disk_phase_rad_ = p.rotor.disks[static_cast<size_t>(red.mid_disk)].unbalance_phase_deg * M_PI / 180.0;
-  } else {
-    b_mid_disk_ = to_vec(red.mid_span);
-  }
+  const UnbalanceExpansion unb = unbalance_expansion(red, p.rotor);
+  unb_s_ = to_vec(unb.sin_sum.transpose());
+  unb_c_ = to_vec(unb.cos_sum.transpose());
+  b_mid_disk_ = to_vec(unb.mid_row);
+  mid_disk_phase_rad_ = unb.mid_phase_rad;
 
   // Sub-step rule (see header).
   double w_max = std::sqrt(w2_.maxCoeff());

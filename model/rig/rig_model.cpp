@@ -52,6 +52,25 @@ RigReduction RigModel::reduction(int modes_per_plane) const {
   return r;
 }
 
+UnbalanceExpansion unbalance_expansion(const RigReduction& r, const RotorParams& rotor) {
+  UnbalanceExpansion u;
+  u.sin_sum = Eigen::VectorXd::Zero(r.modes());
+  u.cos_sum = Eigen::VectorXd::Zero(r.modes());
+  for (size_t d = 0; d < rotor.disks.size() && d < r.disk.size(); ++d) {
+    const double ph = rotor.disks[d].unbalance_phase_deg * M_PI / 180.0;
+    const Eigen::VectorXd b = r.disk[d].transpose();
+    u.sin_sum += rotor.disks[d].unbalance_kg_m * std::sin(ph) * b;
+    u.cos_sum += rotor.disks[d].unbalance_kg_m * std::cos(ph) * b;
+  }
+  if (r.mid_disk >= 0) {
+    u.mid_row = r.disk[static_cast<size_t>(r.mid_disk)];
+    u.mid_phase_rad = rotor.disks[static_cast<size_t>(r.mid_disk)].unbalance_phase_deg * M_PI / 180.0;
+  } else {
+    u.mid_row = r.mid_span;
+  }
+  return u;
+}
+
 std::string RigModel::differs_from(const PlantParams& p) const {
   const RotorParams& a = p_.rotor;
   const RotorParams& b = p.rotor;

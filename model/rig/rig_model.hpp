@@ -48,6 +48,18 @@ struct RigReduction {
   int modes() const { return reduced.modes; }
 };
 
+/// The disks' unbalance of `rotor` (the user's own parameters: unbalance and phase) expanded on
+/// the rows of `r` in cos/sin of the spin angle: a disk at angle a_d = phase_d - theta pulls
+/// u (W^2 (sin a, cos a) + W' (cos a, -sin a)), whose sums are S = sum b_d u_d sin(phase_d) and
+/// C = sum b_d u_d cos(phase_d) (kg m per mode). Also the row and phase of the disk nearest
+/// mid-span (mid-span itself, phase 0, without disks).
+struct UnbalanceExpansion {
+  Eigen::VectorXd sin_sum, cos_sum;  ///< S and C, kg m per mode
+  Eigen::RowVectorXd mid_row;        ///< modal row of the disk nearest mid-span
+  double mid_phase_rad = 0.0;        ///< its unbalance phase, rad
+};
+UnbalanceExpansion unbalance_expansion(const RigReduction& r, const RotorParams& rotor);
+
 class RigModel {
  public:
   /// Builds the FE rotor (once) and its complete modal basis (one eigen solve), then the

@@ -13,35 +13,13 @@
 #include <vector>
 
 #include "host-tools/core/hybrid/hybrid_model.hpp"
-#include "tests/support/test_paths.hpp"
+#include "tests/hybrid/cwru_nine.hpp"
 
 namespace hy = amb::host::hybrid;
 
 namespace {
 
-std::vector<hy::Record> nine_records() {
-  std::vector<hy::Record> v;
-  const struct {
-    const char* tag;
-    double rpm, load;
-  } pts[] = {{"1797", 1797, 0}, {"1750", 1750, 2}, {"1730", 1730, 3}};
-  const struct {
-    const char* file;
-    hy::BearingState state;
-  } states[] = {{"_IR_7_DE12", hy::BearingState::inner_race},
-                {"_ORat6_7_DE12", hy::BearingState::outer_race},
-                {"_B_7_DE12", hy::BearingState::ball}};
-  for (const auto& p : pts)
-    for (const auto& s : states) {
-      hy::Record r;
-      r.path = std::string(amb::test::shared_dir()) + "/data/measured/cwru/" + p.tag + s.file + ".mat";
-      r.state = s.state;
-      r.op = {p.rpm, p.load};
-      hy::load_record(r);
-      v.push_back(std::move(r));
-    }
-  return v;
-}
+std::vector<hy::Record> nine_records() { return amb::test::hybrid::cwru_nine_records(); }
 
 }  // namespace
 

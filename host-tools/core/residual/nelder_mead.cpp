@@ -1,74 +1,65 @@
 #include "host-tools/core/residual/nelder_mead.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <numeric>
+#include <algorithm>
+#include <limits>
+
+#include <nlopt.hpp>
 
 namespace amb::host::residual {
+namespace {
 
+struct Objective {
+  const std::function<double(const std::vector<double>&)>* f;
+  int evaluations = 0;
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<double> best_x;
+};
+
+// NLopt's simplex cannot rank infinite values; an unusable point gets a finite, worse-than-any value.
+double call(unsigned n, const double* x, double* /*grad*/, void* data) {
+  auto* o = static_cast<Objective*>(data);
+  std::vector<double> v(x, x + n);
+  double y = (*o->f)(v);
+  ++o->evaluations;
+  if (!std::isfinite(y)) y = std::numeric_limits<double>::max() / 4.0;
+  if (y < o->best) {
+    o->best = y;
+    o->best_x = v;
+  }
+  return y;
+}
+
+}  // namespace
+
+// NLopt's Nelder-Mead (LN_NELDERMEAD; the maintained implementation the rest of the host's
+// optimisation uses), unbounded, initial simplex steps `step`, stopped by the evaluation
+// budget or when a step changes the value by less than f_tol (absolute).
 NelderMeadResult nelder_mead(const std::function<double(const std::vector<double>&)>& f, std::vector<double> x0,
                              double step, int max_evaluations, double f_tol) {
-  const size_t n = x0.size();
   NelderMeadResult r;
-  if (n == 0) {
+  if (x0.empty()) {
     r.x = x0;
     r.value = f(x0);
     r.evaluations = 1;
     return r;
   }
-  std::vector<std::vector<double>> s(n + 1, x0);
-  std::vector<double> v(n + 1);
-  for (size_t i = 0; i < n; ++i) s[i + 1][i] += step;
-  for (size_t i = 0; i <= n; ++i) v[i] = f(s[i]);
-  int evals = static_cast<int>(n + 1);
-  std::vector<size_t> order(n + 1);
-  while (evals < max_evaluations) {
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return v[a] < v[b]; });
-    const size_t best = order[0], worst = order[n], second = order[n - 1];
-    if (std::abs(v[worst] - v[best]) < f_tol) break;
-    std::vector<double> c(n, 0.0);
-    for (size_t i = 0; i <= n; ++i)
-      if (i != worst)
-        for (size_t k = 0; k < n; ++k) c[k] += s[i][k] / static_cast<double>(n);
-    auto along = [&](double t) {
-      std::vector<double> x(n);
-      for (size_t k = 0; k < n; ++k) x[k] = c[k] + t * (s[worst][k] - c[k]);
-      return x;
-    };
-    const auto xr = along(-1.0);
-    const double fr = f(xr);
-    ++evals;
-    if (fr < v[best]) {
-      const auto xe = along(-2.0);
-      const double fe = f(xe);
-      ++evals;
-      if (fe < fr) { s[worst] = xe; v[worst] = fe; }
-      else { s[worst] = xr; v[worst] = fr; }
-    } else if (fr < v[second]) {
-      s[worst] = xr;
-      v[worst] = fr;
-    } else {
-      const auto xc = along(fr < v[worst] ? -0.5 : 0.5);
-      const double fc = f(xc);
-      ++evals;
-      if (fc < std::min(fr, v[worst])) {
-        s[worst] = xc;
-        v[worst] = fc;
-      } else {
-        for (size_t i = 0; i <= n; ++i) {
-          if (i == best) continue;
-          for (size_t k = 0; k < n; ++k) s[i][k] = s[best][k] + 0.5 * (s[i][k] - s[best][k]);
-          v[i] = f(s[i]);
-          ++evals;
-        }
-      }
-    }
+  Objective o{&f, 0, std::numeric_limits<double>::infinity(), x0};
+  nlopt::opt opt(nlopt::LN_NELDERMEAD, static_cast<unsigned>(x0.size()));
+  opt.set_min_objective(call, &o);
+  opt.set_initial_step(step);
+  opt.set_maxeval(std::max(max_evaluations, static_cast<int>(x0.size()) + 2));
+  opt.set_ftol_abs(f_tol);
+  std::vector<double> x = x0;
+  double value = 0.0;
+  try {
+    opt.optimize(x, value);
+  } catch (const std::exception&) {
+    // roundoff or a forced stop: the best point seen is still the answer
   }
-  const size_t best = static_cast<size_t>(std::min_element(v.begin(), v.end()) - v.begin());
-  r.x = s[best];
-  r.value = v[best];
-  r.evaluations = evals;
+  r.x = o.best_x;
+  r.value = o.best;
+  r.evaluations = o.evaluations;
   return r;
 }
 

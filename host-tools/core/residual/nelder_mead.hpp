@@ -1,5 +1,6 @@
 #pragma once
-// A small Nelder-Mead minimiser (unconstrained; callers map bounded parameters).
+// Nelder-Mead minimisation through NLopt (LN_NELDERMEAD; unconstrained, callers map bounded
+// parameters). Kept as a function so the residual loop states its budget and tolerance once.
 #include <functional>
 #include <vector>
 
