@@ -152,6 +152,9 @@ void parse_rig(TableReader r, model::PlantParams& p) {
 
 void parse_controller(TableReader r, BoardConfig& b) {
   b.rate_hz = r.number("rate_hz", 100.0, 40000.0);  // 100 Hz: slow emulated boards (tests/target)
+  // Sample instant -> demand at the amplifiers, periods. Above 2 the sampled PID of these
+  // rigs is unstable anyway (docs/plant.md), and the sim backend's demand queue is bounded.
+  b.loop_delay_periods = r.number_or("loop_delay_periods", 0.0, 0.0, 2.0);
   model::PidParams& c = b.controller;
   c.kp_n_per_m = r.number("kp_n_per_m", 0.0, k_big);
   c.ki_n_per_m_s = r.number("ki_n_per_m_s", 0.0, k_big);

@@ -23,6 +23,8 @@ SilRig::~SilRig() { analysis_thread_.stop(); }
 void SilRig::build(std::unique_ptr<model::Plant> plant) {
   plant->reset(options_.start_levitated, 0.0);
   sim_ = std::make_unique<hal::sim::SimRig>(std::move(plant), options_.tachometer);
+  // The board's computation and transport delay: the demand acts that long after its sample.
+  sim_->set_demand_delay_ns(std::llround(board_.loop_delay_periods / board_.rate_hz * 1e9));
   sup_.configure(board_);
   if (options_.analysis != SilAnalysis::off && board_.tracker.enabled) {
     analysis_ = std::make_unique<fw::AnalysisTask>();
