@@ -162,6 +162,11 @@ void parse_controller(TableReader r, BoardConfig& b) {
   c.derivative_filter_hz = r.number("derivative_filter_hz", 1.0, 0.45 * b.rate_hz);
   c.integrator_limit_n = r.number("integrator_limit_n", 0.0, 1e7);
   c.current_limit_a = r.number("current_limit_a", 1e-3, 200.0);
+  // Optional lead: both keys or neither; the pole above the zero, both below Nyquist.
+  if (r.has("lead_zero_hz") || r.has("lead_pole_hz")) {
+    c.lead_zero_hz = r.number("lead_zero_hz", 1.0, 0.45 * b.rate_hz);
+    c.lead_pole_hz = r.number("lead_pole_hz", c.lead_zero_hz * 1.01, 0.45 * b.rate_hz);
+  }
   auto notches = r.inline_tables("notches", 0, model::k_max_notches);
   c.notch_count = static_cast<int>(notches.size());
   for (size_t i = 0; i < notches.size(); ++i) {

@@ -129,7 +129,8 @@ struct Channel {
 
 Channel continuous_channel(const PidParams& pid) {
   Channel c;
-  c.n = 2 + 2 * pid.notch_count;  // integral, derivative filter, (z1, z2) per notch
+  const bool lead = pid.lead_zero_hz > 0.0;
+  c.n = 2 + 2 * pid.notch_count + (lead ? 1 : 0);  // integral, derivative filter, (z1, z2) per notch, lead
   const int n = c.n, e = n;
   c.next = Eigen::MatrixXd::Zero(n, n + 1);
   using Row = Eigen::RowVectorXd;
@@ -152,6 +153,13 @@ Channel continuous_channel(const PidParams& pid) {
     c.next.row(z2) = u - w0 * w0 * unit(z1) - bw * unit(z2);
     u = u + (nt.depth * bw - bw) * unit(z2);
   }
+  if (lead) {
+    // (1 + s/wz) / (1 + s/wp) = wp/wz + (1 - wp/wz) / (1 + s/wp): state l' = wp (u - l).
+    const double wz = k_two_pi * pid.lead_zero_hz, wp = k_two_pi * pid.lead_pole_hz;
+    const int l = n - 1;
+    c.next.row(l) = wp * (u - unit(l));
+    u = (wp / wz) * u + (1.0 - wp / wz) * unit(l);
+  }
   c.out = u;
   return c;
 }
@@ -161,7 +169,8 @@ Channel continuous_channel(const PidParams& pid) {
 //   e_prev = e;  I += KI e T;  each notch: direct form I biquad, Tustin with the centre pre-warped.
 Channel sampled_channel(const PidParams& pid, double t_s) {
   Channel c;
-  c.n = 3 + 4 * pid.notch_count;  // e_prev, deriv, integral, (x1, x2, y1, y2) per notch
+  const bool lead = pid.lead_zero_hz > 0.0;
+  c.n = 3 + 4 * pid.notch_count + (lead ? 2 : 0);  // e_prev, deriv, integral, (x1, x2, y1, y2) per notch, lead (x1, y1)
   const int n = c.n, e = n;
   c.next = Eigen::MatrixXd::Zero(n, n + 1);
   using Row = Eigen::RowVectorXd;
@@ -193,6 +202,16 @@ Channel sampled_channel(const PidParams& pid, double t_s) {
     c.next.row(x2) = unit(x1);
     c.next.row(x1) = u;
     c.next.row(y2) = unit(y1);
+    c.next.row(y1) = y;
+    u = y;
+  }
+  if (lead) {
+    // Same design as the firmware's (Tustin): y = b0 x + b1 x1 - a1 y1.
+    const double cz = 2.0 / (t_s * k_two_pi * pid.lead_zero_hz), cp = 2.0 / (t_s * k_two_pi * pid.lead_pole_hz);
+    const double b0 = (1.0 + cz) / (1.0 + cp), b1 = (1.0 - cz) / (1.0 + cp), a1 = (1.0 - cp) / (1.0 + cp);
+    const int x1 = n - 2, y1 = n - 1;
+    const Row y = b0 * u + b1 * unit(x1) - a1 * unit(y1);
+    c.next.row(x1) = u;
     c.next.row(y1) = y;
     u = y;
   }

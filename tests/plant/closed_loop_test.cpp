@@ -164,6 +164,35 @@ TEST(ClosedLoop, SampledLoopWithDelayMatchesIndependentModel) {
   }
 }
 
+// The Bath variant tuned for a one-period delay (boards/bath-amb-rig-delay1.toml): zone C or
+// better at its own delay (the requirement; it reaches A), every rotor mode damped
+// >= 1 %, and stable from 0 to 2 periods (the board key's range).
+TEST(ClosedLoop, BathVariantTunedForOnePeriodIsZoneCOrBetter) {
+  const auto board = test::board_from_repo("bath-amb-rig-delay1");
+  ASSERT_EQ(board.loop_delay_periods, 1.0);
+  for (double delay : {0.0, 0.5, 1.0, 1.5, 2.0}) {
+    const ClosedLoopModel cl(board.plant, board.controller, loop_options(true, board.rate_hz, delay));
+    double worst = 0.0, at_hz = 0.0;
+    for (int axis = 0; axis < 4; ++axis) {
+      const SensitivityPeak p = cl.sensitivity_peak(axis, 0.1, 0.5 * board.rate_hz, 500);
+      if (p.peak > worst) {
+        worst = p.peak;
+        at_hz = p.frequency_hz;
+      }
+    }
+    double zeta_min = 1.0;
+    for (const auto& m : cl.rotor_modes(0.3)) zeta_min = std::min(zeta_min, m.damping_ratio);
+    std::printf("[ RESULT ] bath-amb-rig-delay1 delay %.1f periods: stable %d, worst peak %.2f (%.1f dB) at %.0f Hz, zone %s, "
+                "least damped rotor mode zeta %.3f\n", delay, cl.stable(), worst, 20.0 * std::log10(worst), at_hz,
+                to_string(iso14839_zone(worst)), zeta_min);
+    EXPECT_TRUE(cl.stable()) << delay;
+    if (delay == 1.0) {
+      EXPECT_LT(worst, 5.0);
+      EXPECT_GE(zeta_min, 0.01);
+    }
+  }
+}
+
 // Spin splits the first bending mode of the Bath rotor into backward and forward whirl.
 TEST(ClosedLoop, SpinSplitsWhirlModes) {
   const auto board = test::board_from_repo("bath-amb-rig");

@@ -17,6 +17,7 @@
 #include "firmware/board/board.hpp"
 #include "firmware/control/axis_transform.hpp"
 #include "firmware/control/pid_axis.hpp"
+#include "firmware/sil/sil_rig.hpp"
 #include "hal/sim/sim_rig.hpp"
 #include "model/analysis/closed_loop.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
@@ -105,6 +106,17 @@ TEST(LoopDelay, BoardKeyIsValidated) {
       EXPECT_EQ(e.key(), "controller.loop_delay_periods");
     }
   }
+  for (const char* bad_lead : {"lead_zero_hz = 300.0\nlead_pole_hz = 200.0\n", "lead_pole_hz = 200.0\n"}) {
+    std::string t = text;
+    t.insert(at + anchor.size(), bad_lead);
+    try {
+      board::parse_board(t, "test.toml");
+      ADD_FAILURE() << "accepted " << bad_lead;
+    } catch (const board::BoardError& e) {
+      std::printf("[ RESULT ] lead keys: %s\n", e.what());
+      EXPECT_NE(e.key().find("controller.lead_"), std::string::npos) << e.key();
+    }
+  }
   text.insert(at + anchor.size(), "loop_delay_periods = 0.75\n");
   EXPECT_DOUBLE_EQ(board::parse_board(text, "test.toml").loop_delay_periods, 0.75);
 }
@@ -165,24 +177,90 @@ std::complex<double> measured_sensitivity(const board::BoardConfig& b, double de
   return su / sd;
 }
 
-// Bath rig, injection on A1 at the one-period peak (176 Hz) and below it, delays 0, 0.5, 1:
+// Bath rig, injection on A1 at the one-period peak (176 Hz), below and above it, delays 0, 0.5,
+// 1, and the variant tuned for one period (its lead and notch in the firmware's PidAxis):
 // |S| from the simulated rig within 5 % of the analysis (the acceptance band). The
 // plant (symplectic Euler sub-steps, nonlinear force law about the sag) and the analysis (exact
 // discretisation of the linearised rig) share only the board file.
 TEST(LoopDelay, SensitivityMeasuredInSilMatchesAnalysis) {
   const board::BoardConfig b = board::load_board(std::string(test::source_dir()) + "/boards/bath-amb-rig.toml");
-  for (double d : {0.0, 0.5, 1.0}) {
+  const board::BoardConfig t = board::load_board(std::string(test::source_dir()) + "/boards/bath-amb-rig-delay1.toml");
+  struct Case {
+    const board::BoardConfig* board;
+    double delay;
+  };
+  for (const Case& c : {Case{&b, 0.0}, Case{&b, 0.5}, Case{&b, 1.0}, Case{&t, 1.0}}) {
     model::analysis::ClosedLoopOptions o;
-    o.sample_rate_hz = b.rate_hz;
-    o.loop_delay_periods = d;
-    const model::analysis::ClosedLoopModel cl(b.plant, b.controller, o);
-    for (double f : {120.0, 176.0}) {
+    o.sample_rate_hz = c.board->rate_hz;
+    o.loop_delay_periods = c.delay;
+    const model::analysis::ClosedLoopModel cl(c.board->plant, c.board->controller, o);
+    for (double f : {120.0, 176.0, 260.0}) {
       const double model_s = std::abs(cl.sensitivity(0, f));
-      const double sil_s = std::abs(measured_sensitivity(b, d, 0, f, 0.02));
-      std::printf("[ RESULT ] bath delay %.1f periods, %.0f Hz: |S| SIL %.3f, analysis %.3f (%+.1f %%)\n", d, f, sil_s,
-                  model_s, 100.0 * (sil_s / model_s - 1.0));
-      EXPECT_NEAR(sil_s, model_s, 0.05 * model_s) << "delay " << d << " f " << f;
+      const double sil_s = std::abs(measured_sensitivity(*c.board, c.delay, 0, f, 0.02));
+      std::printf("[ RESULT ] %s delay %.1f periods, %.0f Hz: |S| SIL %.3f, analysis %.3f (%+.1f %%)\n",
+                  c.board->name.c_str(), c.delay, f, sil_s, model_s, 100.0 * (sil_s / model_s - 1.0));
+      EXPECT_NEAR(sil_s, model_s, 0.05 * model_s) << c.board->name << " delay " << c.delay << " f " << f;
     }
+  }
+}
+
+// The firmware (supervisor, loop runner) in SIL with a board's delay: levitate from the
+// touchdown bearings, spin to the operating speed, hold 0.5 s; the orbit stays well inside the
+// clearance and the loop never leaves `running`. The reference board at one period (zone D in
+// the analysis, still stable) and the variant tuned for it (zone A).
+struct DelayRun {
+  bool levitated = false, at_speed = false;
+  double orbit_max_m = 0.0, clearance_m = 0.0, demand_rms_a = 0.0;
+  fw::State end = fw::State::unconfigured;
+};
+
+DelayRun levitate_with_delay(board::BoardConfig b) {
+  sil::SilRig rig(b);
+  fw::Supervisor& sup = rig.supervisor();
+  DelayRun r;
+  r.clearance_m = std::min(b.plant.aux[0].clearance_m, b.plant.aux[1].clearance_m);
+  rig.run_for(0.02);
+  sup.post(fw::Command::levitate);
+  auto at = [](fw::Phase p) { return [p](const fw::Status& s) { return s.phase == p || s.state == fw::State::fault; }; };
+  r.levitated = rig.run_until(at(fw::Phase::levitated), 5.0) && sup.state() == fw::State::levitating;
+  if (!r.levitated) return r;
+  sup.post(fw::Command::run);
+  r.at_speed = rig.run_until(at(fw::Phase::at_speed), 30.0) && sup.state() == fw::State::running;
+  if (!r.at_speed) return r;
+  rig.run_for(0.1);
+  const double end = rig.time_s() + 0.5;
+  double sum = 0.0, mean = 0.0;
+  int n = 0;
+  std::vector<double> d;
+  while (rig.time_s() < end) {
+    rig.run_for(1.0 / b.rate_hz);
+    const fw::Status s = sup.status();
+    r.orbit_max_m = std::max({r.orbit_max_m, s.orbit_radius_m[0], s.orbit_radius_m[1]});
+    d.push_back(s.current_demand_a[0]);
+    mean += s.current_demand_a[0];
+    ++n;
+  }
+  mean /= n;
+  for (double v : d) sum += (v - mean) * (v - mean);
+  r.demand_rms_a = std::sqrt(sum / n);
+  r.end = sup.state();
+  return r;
+}
+
+TEST(LoopDelay, DelayedBoardsLevitateAndSpinInSil) {
+  board::BoardConfig ref = board::load_board(std::string(test::source_dir()) + "/boards/bath-amb-rig.toml");
+  ref.loop_delay_periods = 1.0;
+  const board::BoardConfig tuned = board::load_board(std::string(test::source_dir()) + "/boards/bath-amb-rig-delay1.toml");
+  EXPECT_EQ(tuned.loop_delay_periods, 1.0);
+  for (const board::BoardConfig* b : std::array<const board::BoardConfig*, 2>{&ref, &tuned}) {
+    const DelayRun r = levitate_with_delay(*b);
+    std::printf("[ RESULT ] %s, delay %.2f periods: levitated %d, at speed %d, steady orbit max %.1f um (clearance %.0f um), "
+                "demand A1 ac rms %.3f A\n", b->name.c_str(), b->loop_delay_periods, r.levitated, r.at_speed,
+                r.orbit_max_m * 1e6, r.clearance_m * 1e6, r.demand_rms_a);
+    ASSERT_TRUE(r.levitated) << b->name;
+    ASSERT_TRUE(r.at_speed) << b->name;
+    EXPECT_LT(r.orbit_max_m, 0.1 * r.clearance_m) << b->name;
+    EXPECT_EQ(r.end, fw::State::running) << b->name;
   }
 }
 
