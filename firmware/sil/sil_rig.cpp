@@ -43,6 +43,9 @@ void SilRig::rebind() {
   fanout_.add(analysis_.get());
   fw::SampleSink* s = fanout_.size() == 0 ? nullptr : (fanout_.size() == 1 && !analysis_ ? sink_ : &fanout_);
   loop_ = std::make_unique<fw::LoopRunner>(sim_->clock(), sim_->analog(), sim_->discrete(), sup_, s);
+  // The simulated clock stands still while the loop works: the per-period stamps (sample in,
+  // step done, demand written) read the host's monotonic clock instead.
+  loop_->set_stamp_clock(&sim_->wall_clock());
 }
 
 SilRig::AnalysisDrain SilRig::drain_analysis(double timeout_s) {

@@ -61,6 +61,14 @@ void SimRig::advance_to(int64_t deadline_ns) {
   }
 }
 
+int64_t HostMonotonicClock::now_ns() { return wall_ns(); }
+
+int64_t HostMonotonicClock::wait_until_ns(int64_t deadline_ns) {
+  const int64_t now = wall_ns();
+  if (deadline_ns > now) std::this_thread::sleep_for(std::chrono::nanoseconds(deadline_ns - now));
+  return wall_ns();
+}
+
 int64_t SimClock::now_ns() { return rig_.t_ns_; }
 
 int64_t SimClock::wait_until_ns(int64_t deadline_ns) {

@@ -33,6 +33,14 @@ class SimClock final : public Clock {
   SimRig& rig_;
 };
 
+/// The host's monotonic clock (std::chrono::steady_clock), for measuring the host's work in a
+/// simulation (LoopRunner::set_stamp_clock). [RT] now_ns is a vDSO clock read.
+class HostMonotonicClock final : public Clock {
+ public:
+  int64_t now_ns() override;
+  int64_t wait_until_ns(int64_t deadline_ns) override;
+};
+
 class SimAnalogFrontEnd final : public AnalogFrontEnd {
  public:
   explicit SimAnalogFrontEnd(SimRig& rig) : rig_(rig) {}
@@ -70,6 +78,8 @@ class SimRig {
   void inject_read_failures(int n) { read_failures_left_ = n; }
 
   Clock& clock() { return clock_; }
+  /// The host's monotonic clock (not the simulated one).
+  Clock& wall_clock() { return wall_; }
   AnalogFrontEnd& analog() { return afe_; }
   SimDiscreteIo& discrete() { return dio_; }
   model::Plant& plant() { return *plant_; }
@@ -98,6 +108,7 @@ class SimRig {
   size_t pending_head_ = 0, pending_count_ = 0;
   uint64_t delay_overflows_ = 0;
   SimClock clock_{*this};
+  HostMonotonicClock wall_{};
   SimAnalogFrontEnd afe_{*this};
   SimDiscreteIo dio_{};
 };

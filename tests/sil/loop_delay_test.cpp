@@ -18,6 +18,8 @@
 #include "firmware/control/axis_transform.hpp"
 #include "firmware/control/pid_axis.hpp"
 #include "firmware/sil/sil_rig.hpp"
+#include "firmware/supervisory/register_addresses.hpp"
+#include "firmware/supervisory/register_map.hpp"
 #include "hal/sim/sim_rig.hpp"
 #include "model/analysis/closed_loop.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
@@ -262,6 +264,60 @@ TEST(LoopDelay, DelayedBoardsLevitateAndSpinInSil) {
     EXPECT_LT(r.orbit_max_m, 0.1 * r.clearance_m) << b->name;
     EXPECT_EQ(r.end, fw::State::running) << b->name;
   }
+}
+
+// A stamp clock that moves 1 us at every read: each period reads it four times (woke, sample
+// in, step done, demand written), so the loop's delay is exactly 3 us and each part 1 us.
+class TickingClock final : public hal::Clock {
+ public:
+  int64_t now_ns() override { return t_ += 1000; }
+  int64_t wait_until_ns(int64_t d) override { return t_ = std::max(t_, d); }
+
+ private:
+  int64_t t_ = 0;
+};
+
+// The per-period stamps land in the loop statistics and on the supervisory link (0x0410..).
+TEST(LoopDelay, LoopStampsAreServedOnTheSupervisoryLink) {
+  const board::BoardConfig b = board::load_board(std::string(test::source_dir()) + "/boards/bath-amb-rig.toml");
+  hal::sim::SimRig sim(std::make_unique<IntegratorPlant>());
+  fw::Supervisor sup;
+  sup.configure(b);
+  fw::LoopRunner loop(sim.clock(), sim.analog(), sim.discrete(), sup);
+  TickingClock tick;
+  loop.set_stamp_clock(&tick);
+  loop.run_periods(1000);
+  const fw::LoopStats& ls = loop.stats();
+  EXPECT_EQ(ls.periods, 1000u);
+  EXPECT_EQ(ls.max_delay_ns, 3000);
+  EXPECT_EQ(ls.delay_quantile_ns(0.5), 3000);
+  EXPECT_EQ(ls.delay_quantile_ns(0.999), 3000);
+  EXPECT_EQ(ls.max_read_ns, 1000);
+  EXPECT_EQ(ls.max_step_ns, 1000);
+  EXPECT_EQ(ls.max_write_ns, 1000);
+  fw::RegisterSources src;
+  src.loop_stats = [&] { return ls; };
+  fw::RegisterMap map(std::move(src));
+  std::array<uint16_t, 16> r{};
+  ASSERT_EQ(map.read_registers(fw::regs::loop_delay_ns, r), hal::RegisterHandler::ok);
+  auto u32 = [&](size_t i) { return static_cast<uint32_t>(r[2 * i]) << 16 | r[2 * i + 1]; };
+  EXPECT_EQ(u32(0), 3000u);  // p50
+  EXPECT_EQ(u32(1), 3000u);  // p99
+  EXPECT_EQ(u32(3), 3000u);  // max
+  EXPECT_EQ(u32(4), 3000u);  // mean
+  EXPECT_EQ(u32(5), 1000u);  // read
+  EXPECT_EQ(u32(6), 1000u);  // step
+  EXPECT_EQ(u32(7), 1000u);  // write
+  // The SIL's own stamps: the host's work, nonzero, ordered quantiles.
+  sil::SilRig rig(b);
+  rig.run_for(0.2);
+  const fw::LoopStats& s = rig.loop().stats();
+  std::printf("[ RESULT ] SIL host work, sample -> demand written: p50 %.2f us, p99 %.2f us, p99.9 %.2f us, max %.2f us "
+              "(%llu periods)\n", s.delay_quantile_ns(0.5) * 1e-3, s.delay_quantile_ns(0.99) * 1e-3,
+              s.delay_quantile_ns(0.999) * 1e-3, s.max_delay_ns * 1e-3, static_cast<unsigned long long>(s.periods));
+  EXPECT_GT(s.max_delay_ns, 0);
+  EXPECT_LE(s.delay_quantile_ns(0.5), s.delay_quantile_ns(0.99));
+  EXPECT_LE(s.delay_quantile_ns(0.99), s.max_delay_ns);
 }
 
 }  // namespace
