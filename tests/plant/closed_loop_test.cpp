@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "firmware/control/axis_transform.hpp"
@@ -189,6 +191,21 @@ TEST(ClosedLoop, BathVariantTunedForOnePeriodIsZoneCOrBetter) {
     if (delay == 1.0) {
       EXPECT_LT(worst, 5.0);
       EXPECT_GE(zeta_min, 0.01);
+    }
+  }
+}
+
+// Options out of range are refused with the option named.
+TEST(ClosedLoop, OptionsOutOfRangeAreRefused) {
+  const auto board = test::board_from_repo("bath-amb-rig");
+  for (const ClosedLoopOptions& o : {loop_options(true, board.rate_hz, -0.1), loop_options(true, board.rate_hz, 8.5),
+                                     loop_options(false, board.rate_hz, 1.0), loop_options(true, -1.0)}) {
+    try {
+      ClosedLoopModel cl(board.plant, board.controller, o);
+      ADD_FAILURE() << "accepted rate " << o.sample_rate_hz << " delay " << o.loop_delay_periods;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(o.sample_rate_hz < 0.0 ? "sample_rate_hz" : "loop_delay_periods"), std::string::npos)
+          << e.what();
     }
   }
 }
