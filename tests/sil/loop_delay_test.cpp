@@ -93,10 +93,10 @@ TEST(LoopDelay, SimBackendAppliesFractionalDelayExactly) {
 
 TEST(LoopDelay, BoardKeyIsValidated) {
   std::string text = board_text("bath-amb-rig");
-  const std::string own = "loop_delay_periods = 0.0\n";  // the reference board states it
-  ASSERT_NE(text.find(own), std::string::npos);
+  const size_t own = text.find("loop_delay_periods = 0.0");  // the reference board states it
+  ASSERT_NE(own, std::string::npos);
   EXPECT_EQ(board::parse_board(text, "bath").loop_delay_periods, 0.0);
-  text.erase(text.find(own), own.size());
+  text.erase(own, text.find('\n', own) + 1 - own);
   const std::string anchor = "rate_hz = 10000.0\n";
   const size_t at = text.find(anchor);
   ASSERT_NE(at, std::string::npos);
