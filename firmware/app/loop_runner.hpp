@@ -36,10 +36,24 @@ struct LoopStats {
   double sum_latency_ns = 0.0;
   int64_t max_work_ns = 0;                       ///< read+step+write duration, worst
   std::array<uint64_t, k_bins> latency_hist{};   ///< counts per bin (see bin_of)
+  // The loop's own delay, per period (issue 38): the sample instant (the deadline) -> sample in
+  // hand (read) -> step done -> demand handed to the front end (written). Wake-up latency
+  // (loop clock) plus the work up to the write (stamp clock: the loop clock on a board, the
+  // host's monotonic clock in simulation, where the loop clock stands still during the step).
+  int64_t max_read_ns = 0;                       ///< woke -> sample in hand, worst
+  int64_t max_step_ns = 0;                       ///< sample in hand -> step done, worst
+  int64_t max_write_ns = 0;                      ///< step done -> demand written, worst
+  int64_t max_delay_ns = 0;                      ///< sample instant -> demand written, worst
+  double sum_delay_ns = 0.0;
+  std::array<uint64_t, k_bins> delay_hist{};     ///< sample instant -> demand written, counts per bin
   double mean_latency_ns() const { return periods ? sum_latency_ns / static_cast<double>(periods) : 0.0; }
+  double mean_delay_ns() const { return periods ? sum_delay_ns / static_cast<double>(periods) : 0.0; }
   /// Latency below which fraction `q` (0..1) of the periods woke up, from the histogram, ns:
   /// the upper edge of the bin that holds it, at most max_latency_ns.
   int64_t latency_quantile_ns(double q) const;
+  /// Delay (sample instant -> demand written) below which fraction `q` of the periods wrote
+  /// their demand, ns: the upper edge of its bin, at most max_delay_ns.
+  int64_t delay_quantile_ns(double q) const;
   /// [RT] Histogram bin of a latency (ns, >= 0); bounded time, no allocation.
   static int bin_of(int64_t latency_ns);
   /// Upper edge of bin `bin`, ns (the overflow bin: INT64_MAX).
@@ -50,6 +64,9 @@ class LoopRunner {
  public:
   LoopRunner(hal::Clock& clock, hal::AnalogFrontEnd& afe, hal::DiscreteIo& dio, Supervisor& sup,
              SampleSink* sink = nullptr);
+  /// Clock of the per-period stamps (read, step, write; see LoopStats). Default: the loop
+  /// clock. A simulation passes a wall clock so the stamps measure the host's work. [configure]
+  void set_stamp_clock(hal::Clock* clock) { stamp_ = clock; }
   /// Run `n` periods starting from the clock's present time.
   void run_periods(uint64_t n);
   /// Run until `stop` becomes true (checked once per period).
@@ -62,6 +79,7 @@ class LoopRunner {
 
  private:
   hal::Clock& clock_;
+  hal::Clock* stamp_ = nullptr;  // nullptr: clock_
   hal::AnalogFrontEnd& afe_;
   hal::DiscreteIo& dio_;
   Supervisor& sup_;

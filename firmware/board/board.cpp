@@ -152,6 +152,9 @@ void parse_rig(TableReader r, model::PlantParams& p) {
 
 void parse_controller(TableReader r, BoardConfig& b) {
   b.rate_hz = r.number("rate_hz", 100.0, 40000.0);  // 100 Hz: slow emulated boards (tests/target)
+  // Sample instant -> demand at the amplifiers, periods. Above 2 the sampled PID of these
+  // rigs is unstable anyway (docs/plant.md), and the sim backend's demand queue is bounded.
+  b.loop_delay_periods = r.number_or("loop_delay_periods", 0.0, 0.0, 2.0);
   model::PidParams& c = b.controller;
   c.kp_n_per_m = r.number("kp_n_per_m", 0.0, k_big);
   c.ki_n_per_m_s = r.number("ki_n_per_m_s", 0.0, k_big);
@@ -159,6 +162,11 @@ void parse_controller(TableReader r, BoardConfig& b) {
   c.derivative_filter_hz = r.number("derivative_filter_hz", 1.0, 0.45 * b.rate_hz);
   c.integrator_limit_n = r.number("integrator_limit_n", 0.0, 1e7);
   c.current_limit_a = r.number("current_limit_a", 1e-3, 200.0);
+  // Optional lead: both keys or neither; the pole above the zero, both below Nyquist.
+  if (r.has("lead_zero_hz") || r.has("lead_pole_hz")) {
+    c.lead_zero_hz = r.number("lead_zero_hz", 1.0, 0.45 * b.rate_hz);
+    c.lead_pole_hz = r.number("lead_pole_hz", c.lead_zero_hz * 1.01, 0.45 * b.rate_hz);
+  }
   auto notches = r.inline_tables("notches", 0, model::k_max_notches);
   c.notch_count = static_cast<int>(notches.size());
   for (size_t i = 0; i < notches.size(); ++i) {

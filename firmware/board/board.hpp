@@ -39,6 +39,11 @@ struct BoardConfig {
   model::PlantParams plant;           ///< the rig
   model::PidParams controller;        ///< per-axis position controller
   double rate_hz = 10000.0;           ///< control loop rate, Hz (1 kHz .. 40 kHz)
+  /// [controller] loop_delay_periods: the loop's computation and transport delay, from the
+  /// sample instant to the demand acting at the amplifiers, in loop periods (0 .. 2; default 0).
+  /// The sim backend applies it (SimRig::set_demand_delay_ns), the closed-loop analysis rates
+  /// the loop with it (ClosedLoopOptions::loop_delay_periods), amb-plant holds demands by it.
+  double loop_delay_periods = 0.0;
   LifecycleParams lifecycle;
   fw::CaptureParams capture;          ///< [capture] and [triggers]; defaults when absent
   fw::TrackerParams tracker;          ///< on-board speed tracker ([tracker], optional)

@@ -32,12 +32,24 @@ Biquad design_notch(const model::NotchParams& n, double fs_hz) {
   return q;
 }
 
+Biquad design_lead(double zero_hz, double pole_hz, double fs_hz) {
+  // s = (2 fs) (z - 1) / (z + 1) in (1 + s/wz) / (1 + s/wp).
+  const double cz = 2.0 * fs_hz / (2.0 * M_PI * zero_hz), cp = 2.0 * fs_hz / (2.0 * M_PI * pole_hz);
+  Biquad q;
+  q.b0 = (1.0 + cz) / (1.0 + cp);
+  q.b1 = (1.0 - cz) / (1.0 + cp);
+  q.a1 = (1.0 - cp) / (1.0 + cp);
+  return q;
+}
+
 void PidAxis::configure(const model::PidParams& p, double rate_hz, double ki_n_per_a) {
   p_ = p;
   dt_s_ = 1.0 / rate_hz;
   deriv_alpha_ = std::exp(-2.0 * M_PI * p.derivative_filter_hz * dt_s_);
   force_limit_n_ = p.current_limit_a * ki_n_per_a;
   for (int i = 0; i < p.notch_count; ++i) notch_[static_cast<size_t>(i)] = design_notch(p.notches[static_cast<size_t>(i)], rate_hz);
+  has_lead_ = p.lead_zero_hz > 0.0;
+  if (has_lead_) lead_ = design_lead(p.lead_zero_hz, p.lead_pole_hz, rate_hz);
   reset();
 }
 
@@ -46,6 +58,7 @@ void PidAxis::reset() {
   prev_error_m_ = 0.0;
   deriv_m_s_ = 0.0;
   for (auto& n : notch_) n.reset();
+  lead_.reset();
 }
 
 void PidAxis::preload_force(double force_n) {
@@ -54,6 +67,7 @@ void PidAxis::preload_force(double force_n) {
   // reaches the actuators at once instead of through the filters' start-up transient.
   const double u0 = -integral_n_;
   for (auto& n : notch_) n.x1 = n.x2 = n.y1 = n.y2 = u0;
+  lead_.x1 = lead_.y1 = u0;
 }
 
 double PidAxis::step(double q_m, double q_ref_m, bool& saturated) {
@@ -66,6 +80,7 @@ double PidAxis::step(double q_m, double q_ref_m, bool& saturated) {
   const double p_term = p_.kp_n_per_m * e;
   const double d_term = p_.kd_n_s_per_m * deriv_m_s_;
   double u = -(p_term + integral_n_ + d_term);
+  if (has_lead_) u = lead_.step(u);
   for (int i = 0; i < p_.notch_count; ++i) u = notch_[static_cast<size_t>(i)].step(u);
 
   saturated = std::abs(u) > force_limit_n_;

@@ -2,7 +2,7 @@
 // One axis of the discrete PID position controller (seed 002 eq. 19), in force units:
 //   F = -(K_P e + K_I \int e dt + K_D de/dt),   e = q - q_ref
 // with a first-order filtered derivative, clamped integrator with conditional integration
-// (anti-windup), optional notch filters, and output saturation. The caller divides by k_i.
+// (anti-windup), an optional first-order lead, optional notch filters, and output saturation. The caller divides by k_i.
 // Real-time: step() does not allocate, lock or throw.
 #include <array>
 
@@ -20,6 +20,8 @@ struct Biquad {
 
 /// Design a notch biquad: centre, -3 dB width and residual depth at the centre.
 Biquad design_notch(const model::NotchParams& n, double sample_rate_hz);
+/// Design the first-order lead (1 + s/wz) / (1 + s/wp) as a biquad (b2 = a2 = 0), Tustin.
+Biquad design_lead(double zero_hz, double pole_hz, double sample_rate_hz);
 
 class PidAxis {
  public:
@@ -47,6 +49,8 @@ class PidAxis {
   double prev_error_m_ = 0.0;
   double deriv_m_s_ = 0.0;        ///< filtered de/dt, m/s
   std::array<Biquad, model::k_max_notches> notch_{};
+  bool has_lead_ = false;
+  Biquad lead_{};                 ///< optional lead on the output (before the notches)
 };
 
 }  // namespace amb::fw

@@ -390,6 +390,12 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
               ls.mean_latency_ns() * 1e-3, static_cast<double>(ls.latency_quantile_ns(0.99)) * 1e-3,
               static_cast<double>(ls.max_latency_ns) * 1e-3, rt.memory_locked ? "locked" : "not locked",
               rt.fifo ? "yes" : "no (not permitted)");
+  std::printf("amb-firmware: loop delay (sample instant -> demand written) p50 %.0f us p99 %.0f us p99.9 %.0f us "
+              "max %.0f us (%.2f / %.2f periods at p50 / p99; board key loop_delay_periods %.2f)\n",
+              static_cast<double>(ls.delay_quantile_ns(0.5)) * 1e-3, static_cast<double>(ls.delay_quantile_ns(0.99)) * 1e-3,
+              static_cast<double>(ls.delay_quantile_ns(0.999)) * 1e-3, static_cast<double>(ls.max_delay_ns) * 1e-3,
+              static_cast<double>(ls.delay_quantile_ns(0.5)) * 1e-9 * board.rate_hz,
+              static_cast<double>(ls.delay_quantile_ns(0.99)) * 1e-9 * board.rate_hz, board.loop_delay_periods);
   std::printf("amb-firmware: CAN tx %llu rx %llu tx_dropped %llu rx_dropped %llu error_frames %llu bus_off %llu; "
               "field bus samples %llu malformed %llu node_timeouts %llu; state %s, fault %s\n",
               static_cast<unsigned long long>(cs.tx_frames), static_cast<unsigned long long>(cs.rx_frames),

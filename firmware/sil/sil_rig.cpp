@@ -23,6 +23,8 @@ SilRig::~SilRig() { analysis_thread_.stop(); }
 void SilRig::build(std::unique_ptr<model::Plant> plant) {
   plant->reset(options_.start_levitated, 0.0);
   sim_ = std::make_unique<hal::sim::SimRig>(std::move(plant), options_.tachometer);
+  // The board's computation and transport delay: the demand acts that long after its sample.
+  sim_->set_demand_delay_ns(std::llround(board_.loop_delay_periods / board_.rate_hz * 1e9));
   sup_.configure(board_);
   if (options_.analysis != SilAnalysis::off && board_.tracker.enabled) {
     analysis_ = std::make_unique<fw::AnalysisTask>();
@@ -41,6 +43,9 @@ void SilRig::rebind() {
   fanout_.add(analysis_.get());
   fw::SampleSink* s = fanout_.size() == 0 ? nullptr : (fanout_.size() == 1 && !analysis_ ? sink_ : &fanout_);
   loop_ = std::make_unique<fw::LoopRunner>(sim_->clock(), sim_->analog(), sim_->discrete(), sup_, s);
+  // The simulated clock stands still while the loop works: the per-period stamps (sample in,
+  // step done, demand written) read the host's monotonic clock instead.
+  loop_->set_stamp_clock(&sim_->wall_clock());
 }
 
 SilRig::AnalysisDrain SilRig::drain_analysis(double timeout_s) {

@@ -70,7 +70,10 @@ inline constexpr uint16_t loop_max_latency_ns = 0x0408;  ///< u32, ns
 inline constexpr uint16_t loop_mean_latency_ns = 0x040A; ///< u32, ns
 inline constexpr uint16_t loop_p99_latency_ns = 0x040C;  ///< u32, ns (histogram bin edge)
 inline constexpr uint16_t loop_max_work_ns = 0x040E;     ///< u32, ns
-inline constexpr uint16_t loop_end = 0x0410;
+/// The loop's delay, sample instant -> demand written (LoopStats, issue 38), u32 ns each:
+/// p50, p99, p99.9 (histogram bin edges), max, mean; then the worst read, step and write.
+inline constexpr uint16_t loop_delay_ns = 0x0410;        ///< 8 x u32, ns
+inline constexpr uint16_t loop_end = 0x0420;
 
 // ---- link statistics (RO, u32 each) -------------------------------------------------------
 inline constexpr uint16_t can_stats = 0x0500;          ///< tx, rx, tx_dropped, rx_dropped, error_frames, bus_off_events, malformed (7 x u32)

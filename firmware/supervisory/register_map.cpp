@@ -249,6 +249,10 @@ bool RegisterMap::render(uint16_t start, uint16_t end, Block& b) {
       put32(b, 10, static_cast<uint64_t>(ls.mean_latency_ns()));
       put32(b, 12, static_cast<uint64_t>(ls.latency_quantile_ns(0.99)));
       put32(b, 14, static_cast<uint64_t>(ls.max_work_ns));
+      const int64_t delay[] = {ls.delay_quantile_ns(0.5), ls.delay_quantile_ns(0.99), ls.delay_quantile_ns(0.999),
+                               ls.max_delay_ns, static_cast<int64_t>(ls.mean_delay_ns()), ls.max_read_ns,
+                               ls.max_step_ns, ls.max_write_ns};
+      for (size_t i = 0; i < 8; ++i) put32(b, 16 + 2 * i, static_cast<uint64_t>(std::max<int64_t>(0, delay[i])));
       return true;
     }
     case regs::can_stats: {

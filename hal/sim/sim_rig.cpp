@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 namespace amb::hal::sim {
@@ -20,13 +22,57 @@ void SimRig::set_paced(bool paced) {
   wall_start_ns_ = wall_ns() - t_ns_;
 }
 
+void SimRig::set_demand_delay_ns(int64_t delay_ns) {
+  if (delay_ns < 0) throw std::invalid_argument("sim: demand delay must be >= 0 ns, got " + std::to_string(delay_ns));
+  demand_delay_ns_ = delay_ns;
+}
+
+void SimRig::submit(const model::PlantInputs& in) {
+  if (demand_delay_ns_ == 0) {
+    inputs_ = in;
+    return;
+  }
+  if (pending_count_ == k_max_pending) {
+    // More writes within the delay than the queue holds: the oldest acts now (counted).
+    inputs_ = pending_[pending_head_].inputs;
+    pending_head_ = (pending_head_ + 1) % k_max_pending;
+    --pending_count_;
+    ++delay_overflows_;
+  }
+  pending_[(pending_head_ + pending_count_) % k_max_pending] = {t_ns_ + demand_delay_ns_, in};
+  ++pending_count_;
+}
+
+void SimRig::advance_to(int64_t deadline_ns) {
+  // Each demand due by the deadline: the plant runs to its time on the demand before it.
+  while (pending_count_ > 0 && pending_[pending_head_].act_ns <= deadline_ns) {
+    const PendingDemand& p = pending_[pending_head_];
+    if (p.act_ns > t_ns_) {
+      plant_->step(static_cast<double>(p.act_ns - t_ns_) * 1e-9, inputs_);
+      t_ns_ = p.act_ns;
+    }
+    inputs_ = p.inputs;
+    pending_head_ = (pending_head_ + 1) % k_max_pending;
+    --pending_count_;
+  }
+  if (deadline_ns > t_ns_) {
+    plant_->step(static_cast<double>(deadline_ns - t_ns_) * 1e-9, inputs_);
+    t_ns_ = deadline_ns;
+  }
+}
+
+int64_t HostMonotonicClock::now_ns() { return wall_ns(); }
+
+int64_t HostMonotonicClock::wait_until_ns(int64_t deadline_ns) {
+  const int64_t now = wall_ns();
+  if (deadline_ns > now) std::this_thread::sleep_for(std::chrono::nanoseconds(deadline_ns - now));
+  return wall_ns();
+}
+
 int64_t SimClock::now_ns() { return rig_.t_ns_; }
 
 int64_t SimClock::wait_until_ns(int64_t deadline_ns) {
-  if (deadline_ns > rig_.t_ns_) {
-    rig_.plant_->step(static_cast<double>(deadline_ns - rig_.t_ns_) * 1e-9, rig_.inputs_);
-    rig_.t_ns_ = deadline_ns;
-  }
+  rig_.advance_to(deadline_ns);
   if (rig_.paced_) {
     const int64_t wake = rig_.wall_start_ns_ + deadline_ns;
     const int64_t now = wall_ns();
@@ -54,9 +100,11 @@ bool SimAnalogFrontEnd::read(AnalogInputs& in) {
 }
 
 void SimAnalogFrontEnd::write(const AnalogOutputs& out) {
-  for (size_t i = 0; i < 4; ++i) rig_.inputs_.current_demand_a[i] = out.current_demand_a[i];
-  rig_.inputs_.amplifiers_enabled = out.amplifiers_enabled;
-  rig_.inputs_.spin_speed_command_hz = out.spin_speed_command_hz;
+  model::PlantInputs in;
+  for (size_t i = 0; i < 4; ++i) in.current_demand_a[i] = out.current_demand_a[i];
+  in.amplifiers_enabled = out.amplifiers_enabled;
+  in.spin_speed_command_hz = out.spin_speed_command_hz;
+  rig_.submit(in);
 }
 
 bool MemoryStorage::write_atomic(std::string_view name, std::span<const uint8_t> bytes, std::string& error) {

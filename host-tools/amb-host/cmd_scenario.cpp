@@ -7,6 +7,7 @@
 #include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/scenario/drop_scenario.hpp"
+#include "host-tools/core/scenario/loop_rating.hpp"
 
 namespace {
 
@@ -15,9 +16,15 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json, bool quiet) {
   // Stages on stderr (also with --json: stdout carries the JSON only), one line each.
   if (!quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "scenario: %s\n", s.c_str()); };
   const auto s = amb::host::run_drop_scenario(opt);
+  // The loop's ISO 14839-3 rating with the board's own delay (exact sampled analysis).
+  const amb::host::LoopRating lr = amb::host::rate_loop(amb::board::load_board(opt.board));
   if (json) {
     nlohmann::json j;
     j["board"] = s.board;
+    j["loop_rating"] = {{"rate_hz", lr.rate_hz}, {"loop_delay_periods", lr.loop_delay_periods}, {"stable", lr.stable},
+                        {"sensitivity_peak", lr.sensitivity_peak}, {"sensitivity_peak_db", lr.sensitivity_peak_db},
+                        {"peak_hz", lr.peak_hz}, {"peak_axis", lr.peak_axis}, {"zone", lr.zone},
+                        {"rotor_mode_hz", lr.rotor_mode_hz}, {"rotor_mode_zeta", lr.rotor_mode_zeta}};
     j["levitated"] = s.levitated;
     j["liftoff_s"] = s.liftoff_s;
     j["reached_speed"] = s.reached_speed;
@@ -82,6 +89,9 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json, bool quiet) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("Drop scenario on %s (simulated rig, sim HAL backend)\n", s.board.c_str());
+    std::printf("  loop rating        : ISO 14839-3 peak %.2f (%.1f dB) at %.0f Hz, zone %s, with the board's delay of %.2f "
+                "periods (%s)\n", lr.sensitivity_peak, lr.sensitivity_peak_db, lr.peak_hz, lr.zone.c_str(),
+                lr.loop_delay_periods, lr.stable ? "stable" : "UNSTABLE");
     std::printf("  lift-off           : %s in %.3f s\n", s.levitated ? "levitated" : "FAILED", s.liftoff_s);
     std::printf("  spin-up            : %s, %.1f Hz (%.0f rpm) at the cut\n", s.reached_speed ? "reached" : "FAILED",
                 s.speed_at_cut_hz, s.speed_at_cut_hz * 60.0);

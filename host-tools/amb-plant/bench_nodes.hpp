@@ -4,8 +4,16 @@
 // Period-locked: each demand frame from the board advances the plant by one board period
 // (1 / controller.rate_hz) and is answered with the new sample (position + current frames,
 // or one FD sample frame). Heartbeats and amplifier status go out every heartbeat period.
+//
+// Loop delay (board key controller.loop_delay_periods = q + f, q whole periods): the demand of a
+// frame acts on the plant f periods into the period q periods after it; over a period the plant
+// runs f T on the demand before and (1 - f) T on it (as the sim backend, exact for the hold).
+// The board's round trip, sample frame sent -> demand frame received, is measured (wall time)
+// into a histogram with LoopStats' bins.
+#include <array>
 #include <cstdint>
 
+#include "firmware/app/loop_runner.hpp"
 #include "firmware/board/board.hpp"
 #include "firmware/fieldbus/protocol.hpp"
 #include "hal/interfaces.hpp"
@@ -21,6 +29,13 @@ struct BenchCounters {
   uint64_t foreign = 0;        ///< other traffic
   uint64_t board_timeouts = 0; ///< board silent longer than the node timeout (amplifiers cut)
   uint64_t tx_failures = 0;
+  /// Sample frame sent -> next demand frame received, ns (the board's loop as seen from here:
+  /// its wake-up, read, step and write, plus both frames on the bus).
+  uint64_t round_trips = 0;
+  int64_t max_round_trip_ns = 0;
+  std::array<uint64_t, fw::LoopStats::k_bins> round_trip_hist{};
+  /// Round trip below which fraction `q` of them fell, ns (upper bin edge, at most the max).
+  int64_t round_trip_quantile_ns(double q) const;
 };
 
 class BenchNodes {
@@ -46,6 +61,12 @@ class BenchNodes {
   bool board_lost_ = false;
   uint16_t seq_ = 0;
   model::PlantInputs in_{};
+  // Demands of the last periods (ring, by demand count) and the delay split.
+  static constexpr size_t k_history = 4;
+  std::array<model::PlantInputs, k_history> history_{};
+  int delay_whole_ = 0;
+  double delay_frac_ = 0.0;
+  int64_t sample_sent_ns_ = -1;
   BenchCounters c_{};
 };
 

@@ -121,9 +121,10 @@ int main(int argc, char** argv) {
   struct sigaction su{};
   su.sa_handler = on_report;
   ::sigaction(SIGUSR1, &su, nullptr);
-  std::printf("amb-plant: ready: board %s, CAN %s%s, nodes sensor %u amplifier %u, %.0f Hz period lock\n",
+  std::printf("amb-plant: ready: board %s, CAN %s%s, nodes sensor %u amplifier %u, %.0f Hz period lock, "
+              "loop delay %.2f periods\n",
               board.name.c_str(), iface.c_str(), c.fd ? " (FD)" : "", c.sensor_node_id, c.amplifier_node_id,
-              board.rate_hz);
+              board.rate_hz, board.loop_delay_periods);
   std::fflush(stdout);
   const int64_t t0 = amb::hal::linux_hw::monotonic_ns();
   while (!g_stop.load()) {
@@ -151,5 +152,10 @@ int main(int argc, char** argv) {
               static_cast<unsigned long long>(n.board_timeouts), static_cast<unsigned long long>(s.tx_frames),
               static_cast<unsigned long long>(s.rx_frames), static_cast<unsigned long long>(s.tx_dropped),
               static_cast<unsigned long long>(s.rx_dropped));
+  std::printf("amb-plant: board round trip (sample frame sent -> demand frame received, wall time): %llu periods, "
+              "p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us\n",
+              static_cast<unsigned long long>(n.round_trips), static_cast<double>(n.round_trip_quantile_ns(0.5)) * 1e-3,
+              static_cast<double>(n.round_trip_quantile_ns(0.99)) * 1e-3,
+              static_cast<double>(n.round_trip_quantile_ns(0.999)) * 1e-3, static_cast<double>(n.max_round_trip_ns) * 1e-3);
   return 0;
 }

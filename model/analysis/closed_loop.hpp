@@ -3,11 +3,20 @@
 //   rotor (modally reduced, gyroscopic, Rayleigh damping)
 //   + AMBs linearised at the centre (F = ks z + ki i per actuator axis, at +-45 deg)
 //   + sensors at their own planes and angles with first-order roll-off
-//   + per bearing plane: sensors -> (x, y), a continuous PID per direction in the form of
-//     seed 002 eq. 19, F = -(KP e + KI \int e + KD s/(1 + s/wf) e), the notches
-//     (s^2 + depth*BW s + w0^2) / (s^2 + BW s + w0^2), (Fx, Fy) -> actuator axes, i = f / ki
-//   + optional loop delay (first-order Pade, for the sampled controller)
-//   + first-order current amplifier per actuator axis.
+//   + first-order current amplifier per actuator axis
+//   + per bearing plane: sensors -> (x, y), a PID per direction in the form of seed 002 eq. 19,
+//     F = -(KP e + KI \int e + KD de/dt) with a filtered derivative, the notches, (Fx, Fy) ->
+//     actuator axes, i = f / ki.
+// Two controller forms:
+//   * continuous (sample_rate_hz == 0): analog PID, derivative s/(1 + s/wf), notches
+//     (s^2 + depth*BW s + w0^2) / (s^2 + BW s + w0^2); no delay;
+//   * sampled (sample_rate_hz > 0): the firmware's own difference equations (PidAxis: filtered
+//     backward difference, forward-Euler integrator, Tustin notches with a pre-warped centre;
+//     AxisTransform), the sensors sampled at the period, the demand held (zero-order hold) and
+//     applied `loop_delay_periods` after the sample instant (computation and transport). The
+//     rig (continuous part) is discretised exactly: matrix exponentials over the held intervals,
+//     a fractional delay split into its two held pieces. No Pade or other approximation: the
+//     discrete closed loop is exact for the linearised rig and the linear (unsaturated) PID.
 // This is the same structure as the firmware's discrete loop (PidAxis + AxisTransform).
 #include <complex>
 #include <vector>
@@ -20,12 +29,14 @@
 namespace amb::model::analysis {
 
 struct ClosedLoopOptions {
-  double spin_hz = 0.0;        ///< rotor speed, Hz
-  double loop_delay_s = 0.0;   ///< controller delay (e.g. 1.5 / rate_hz for a sampled loop), s; 0: none
-  int modes_per_plane = -1;    ///< modal basis; -1: the rig's modes_kept, 0: all FE modes
+  double spin_hz = 0.0;             ///< rotor speed, Hz
+  double sample_rate_hz = 0.0;      ///< loop rate of the sampled controller, Hz; 0: continuous (analog) PID
+  double loop_delay_periods = 0.0;  ///< sampled only: sample instant -> demand applied, in periods (0 .. 8)
+  int modes_per_plane = -1;         ///< modal basis; -1: the rig's modes_kept, 0: all FE modes
 };
 
-/// One closed-loop eigenvalue pair (Im > 0 member).
+/// One closed-loop eigenvalue pair (Im > 0 member). For the sampled loop the eigenvalue is the
+/// continuous equivalent s = ln(z) / T of the discrete one.
 struct ClosedLoopMode {
   std::complex<double> eigenvalue;  ///< 1/s
   double natural_rad_s = 0.0;       ///< |lambda|, rad/s
@@ -49,15 +60,18 @@ struct SensitivityPeak {
 
 class ClosedLoopModel {
  public:
-  /// Throws std::invalid_argument if the rig cannot be built (see rotor_model.hpp).
+  /// Throws std::invalid_argument if the rig cannot be built (see rotor_model.hpp) or an
+  /// option is out of range (sample rate < 0, delay outside 0 .. 8 periods).
   ClosedLoopModel(const PlantParams& rig, const PidParams& pid, const ClosedLoopOptions& o = {});
 
-  const Eigen::MatrixXd& a() const { return a_; }  ///< closed-loop state matrix
+  /// Closed-loop state matrix: dx/dt = A x (continuous) or x[k+1] = A x[k] (sampled).
+  const Eigen::MatrixXd& a() const { return a_; }
   int state_count() const { return static_cast<int>(a_.rows()); }
+  bool sampled() const { return period_s_ > 0.0; }
 
-  /// True if every eigenvalue has a negative real part.
+  /// True if every eigenvalue has a negative real part (sampled: lies inside the unit circle).
   bool stable() const;
-  /// Largest real part of the eigenvalues, 1/s.
+  /// Largest real part of the (continuous-equivalent) eigenvalues, 1/s.
   double spectral_abscissa() const;
   /// Oscillatory eigenvalues (Im > 0), ascending natural frequency.
   std::vector<ClosedLoopMode> modes() const;
@@ -66,16 +80,20 @@ class ClosedLoopModel {
   std::vector<ClosedLoopMode> rotor_modes(double min_share = 0.5, double merge_rel = 0.01) const;
 
   /// Sensitivity S = 1 / (1 + L) at actuator axis `axis` (0..3, [A1, A2, B1, B2]): the loop
-  /// broken at that axis' current demand, all other loops closed (ISO 14839-3).
+  /// broken at that axis' current demand, all other loops closed (ISO 14839-3). Sampled: the
+  /// injection is added to the digital demand, S evaluated at z = exp(j 2 pi f T).
   std::complex<double> sensitivity(int axis, double frequency_hz) const;
   /// Peak of |S| over [f_min, f_max] Hz: log grid then golden-section refinement.
   SensitivityPeak sensitivity_peak(int axis, double f_min_hz, double f_max_hz, int grid_points = 800) const;
 
  private:
   Eigen::MatrixXd a_;
-  std::vector<Eigen::VectorXd> b_inj_;     // per axis: state derivative per unit injected current
+  std::vector<Eigen::VectorXd> b_inj_;     // per axis: state derivative (or next state) per unit injected current
   std::vector<Eigen::RowVectorXd> c_cmd_;  // per axis: current demand before injection
+  std::vector<int> group_;                 // per state: participation group (see modes())
+  int groups_ = 0, rotor_groups_ = 0;      // groups in all; the first rotor_groups_ are the rotor's
   int modes_ = 0;
+  double period_s_ = 0.0;                  // 0: continuous
 };
 
 }  // namespace amb::model::analysis

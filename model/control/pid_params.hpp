@@ -22,6 +22,10 @@ struct PidParams {
   double derivative_filter_hz = 0.0;///< first-order low-pass on the derivative term, Hz
   double integrator_limit_n = 0.0;  ///< anti-windup: |K_I \int q| is clamped to this force, N
   double current_limit_a = 0.0;     ///< output saturation of the control current, A (per actuator axis)
+  /// Optional first-order lead on the controller output, (1 + s/wz) / (1 + s/wp): unit gain at
+  /// DC, phase lead between the zero and the pole, gain pole/zero above. Both 0: no lead.
+  double lead_zero_hz = 0.0;        ///< zero of the lead, Hz (< lead_pole_hz)
+  double lead_pole_hz = 0.0;        ///< pole of the lead, Hz
   std::array<NotchParams, k_max_notches> notches{};  ///< optional notches (centre_hz == 0: unused)
   int notch_count = 0;              ///< number of notches in use
 };

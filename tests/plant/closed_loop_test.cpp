@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "firmware/control/axis_transform.hpp"
@@ -17,8 +19,13 @@
 namespace amb::model::analysis {
 namespace {
 
-// The sampled loop of the firmware: zero-order hold of a 10 kHz controller ~ T/2 delay.
-double sampled_delay_s(double rate_hz) { return 0.5 / rate_hz; }
+// The firmware's sampled loop (exact discretisation, no computation delay) or the analog PID.
+ClosedLoopOptions loop_options(bool sampled, double rate_hz, double delay_periods = 0.0) {
+  ClosedLoopOptions o;
+  o.sample_rate_hz = sampled ? rate_hz : 0.0;
+  o.loop_delay_periods = delay_periods;
+  return o;
+}
 
 TEST(ClosedLoop, IsoZoneBoundaries) {
   EXPECT_EQ(iso14839_zone(2.99), IsoZone::A);
@@ -39,17 +46,15 @@ TEST(ClosedLoop, IsoZoneBoundaries) {
 TEST(ClosedLoop, BathNaturalFrequenciesMatchSeed000) {
   const auto board = test::board_from_repo("bath-amb-rig");
   const double seed[4] = {1049.0, 1252.0, 2329.0, 4599.0};
-  for (double delay : {0.0, sampled_delay_s(board.rate_hz)}) {
-    ClosedLoopOptions o;
-    o.loop_delay_s = delay;
-    const ClosedLoopModel cl(board.plant, board.controller, o);
-    ASSERT_TRUE(cl.stable()) << "delay " << delay;
+  for (bool delay : {false, true}) {
+    const ClosedLoopModel cl(board.plant, board.controller, loop_options(delay, board.rate_hz));
+    ASSERT_TRUE(cl.stable()) << "sampled " << delay;
     const std::vector<ClosedLoopMode> m = cl.rotor_modes(0.2);
     ASSERT_GE(m.size(), 4u);
     for (size_t i = 0; i < 4; ++i) {
       const double err = 100.0 * (m[i].natural_rad_s / seed[i] - 1.0);
       std::printf("[ RESULT ] bath (%s) mode %zu: %.0f seed, %.0f model, err %+.1f %%, zeta %.3f, rotor share %.2f\n",
-                  delay > 0.0 ? "sampled, T/2 delay" : "continuous", i + 1, seed[i], m[i].natural_rad_s, err,
+                  delay ? "sampled" : "continuous", i + 1, seed[i], m[i].natural_rad_s, err,
                   m[i].damping_ratio, m[i].rotor_share);
       if (i < 3) {
         EXPECT_LT(std::abs(err), 5.0) << "mode " << i + 1 << " delay " << delay;
@@ -96,25 +101,111 @@ struct ZoneCase {
 TEST(ClosedLoop, SensitivityPeaksAndIsoZones) {
   for (const ZoneCase& c : {ZoneCase{"bath-amb-rig", IsoZone::C, 4.63}, ZoneCase{"unicamp-amb-rig", IsoZone::D, 5.21}}) {
     const auto board = test::board_from_repo(c.board);
-    for (double delay : {0.0, sampled_delay_s(board.rate_hz)}) {
-      ClosedLoopOptions o;
-      o.loop_delay_s = delay;
-      const ClosedLoopModel cl(board.plant, board.controller, o);
+    for (bool delay : {false, true}) {
+      const ClosedLoopModel cl(board.plant, board.controller, loop_options(delay, board.rate_hz));
       double worst = 0.0;
       for (int axis = 0; axis < 4; ++axis) {
         const SensitivityPeak p = cl.sensitivity_peak(axis, 0.1, 0.5 * board.rate_hz, 500);
         std::printf("[ RESULT ] %s (%s) axis %d: sensitivity peak %.2f (%.1f dB) at %.1f Hz, zone %s\n", c.board,
-                    delay > 0.0 ? "sampled" : "continuous", axis, p.peak, p.peak_db, p.frequency_hz, to_string(p.zone));
+                    delay ? "sampled" : "continuous", axis, p.peak, p.peak_db, p.frequency_hz, to_string(p.zone));
         worst = std::max(worst, p.peak);
       }
       std::printf("[ RESULT ] %s (%s): worst sensitivity peak %.2f -> ISO 14839-3 zone %s\n", c.board,
-                  delay > 0.0 ? "sampled" : "continuous", worst, to_string(iso14839_zone(worst)));
-      if (delay == 0.0) {
+                  delay ? "sampled" : "continuous", worst, to_string(iso14839_zone(worst)));
+      if (!delay) {
         EXPECT_EQ(iso14839_zone(worst), c.expected) << c.board << " peak " << worst;
         EXPECT_LT(worst, 1.05 * c.peak) << c.board;
       } else {
         EXPECT_LT(worst, 1.1 * c.peak) << c.board;
       }
+    }
+  }
+}
+
+// The sampled loop with a computation/transport delay against an independent discrete-time
+// model of the rigs (issue 38: full Timoshenko rotor, the firmware's PID difference equations
+// and notches, exact ZOH; written from the board files, not from this code): ISO 14839-3 peak
+// per bearing plane at delay 0 and 1 period. Bath (both planes alike): 4.63 -> 7.38 at 177 Hz;
+// Unicamp plane A 5.35 -> 5.67, plane B 4.55 -> 4.79. Bound 5 % (the issue's acceptance band).
+// Also prints the table of docs/plant.md (0, 0.5, 1, 1.5 periods).
+struct DelayCase {
+  const char* board;
+  double peak_a[2];  // plane A: delay 0, 1 period
+  double peak_b[2];  // plane B
+};
+
+TEST(ClosedLoop, SampledLoopWithDelayMatchesIndependentModel) {
+  for (const DelayCase& c : {DelayCase{"bath-amb-rig", {4.63, 7.38}, {4.63, 7.38}},
+                             DelayCase{"unicamp-amb-rig", {5.35, 5.67}, {4.55, 4.79}}}) {
+    const auto board = test::board_from_repo(c.board);
+    for (double delay : {0.0, 0.5, 1.0, 1.5}) {
+      const ClosedLoopModel cl(board.plant, board.controller, loop_options(true, board.rate_hz, delay));
+      double plane[2] = {0.0, 0.0}, at_hz[2] = {0.0, 0.0};
+      for (int axis = 0; axis < 4; ++axis) {
+        const SensitivityPeak p = cl.sensitivity_peak(axis, 0.1, 0.5 * board.rate_hz, 500);
+        if (p.peak > plane[axis / 2]) {
+          plane[axis / 2] = p.peak;
+          at_hz[axis / 2] = p.frequency_hz;
+        }
+      }
+      const std::vector<ClosedLoopMode> m = cl.rotor_modes(0.2);
+      std::printf("[ RESULT ] %s delay %.1f periods: stable %d, plane A %.2f (%.1f dB) at %.0f Hz zone %s, "
+                  "plane B %.2f (%.1f dB) at %.0f Hz zone %s; first rotor modes %.0f Hz zeta %.3f, %.0f Hz zeta %.3f\n",
+                  c.board, delay, cl.stable(), plane[0], 20.0 * std::log10(plane[0]), at_hz[0],
+                  to_string(iso14839_zone(plane[0])), plane[1], 20.0 * std::log10(plane[1]), at_hz[1],
+                  to_string(iso14839_zone(plane[1])), m.size() > 0 ? m[0].natural_rad_s / (2 * M_PI) : 0.0,
+                  m.size() > 0 ? m[0].damping_ratio : 0.0, m.size() > 1 ? m[1].natural_rad_s / (2 * M_PI) : 0.0,
+                  m.size() > 1 ? m[1].damping_ratio : 0.0);
+      EXPECT_TRUE(cl.stable()) << c.board << " delay " << delay;
+      if (delay == 0.0 || delay == 1.0) {
+        const size_t i = delay == 0.0 ? 0 : 1;
+        EXPECT_NEAR(plane[0], c.peak_a[i], 0.05 * c.peak_a[i]) << c.board << " plane A, delay " << delay;
+        EXPECT_NEAR(plane[1], c.peak_b[i], 0.05 * c.peak_b[i]) << c.board << " plane B, delay " << delay;
+      }
+    }
+  }
+}
+
+// The Bath variant tuned for a one-period delay (boards/bath-amb-rig-delay1.toml): zone C or
+// better at its own delay (the issue's requirement; it reaches A), every rotor mode damped
+// >= 1 %, and stable from 0 to 2 periods (the board key's range).
+TEST(ClosedLoop, BathVariantTunedForOnePeriodIsZoneCOrBetter) {
+  const auto board = test::board_from_repo("bath-amb-rig-delay1");
+  ASSERT_EQ(board.loop_delay_periods, 1.0);
+  for (double delay : {0.0, 0.5, 1.0, 1.5, 2.0}) {
+    const ClosedLoopModel cl(board.plant, board.controller, loop_options(true, board.rate_hz, delay));
+    double worst = 0.0, at_hz = 0.0;
+    for (int axis = 0; axis < 4; ++axis) {
+      const SensitivityPeak p = cl.sensitivity_peak(axis, 0.1, 0.5 * board.rate_hz, 500);
+      if (p.peak > worst) {
+        worst = p.peak;
+        at_hz = p.frequency_hz;
+      }
+    }
+    double zeta_min = 1.0;
+    for (const auto& m : cl.rotor_modes(0.3)) zeta_min = std::min(zeta_min, m.damping_ratio);
+    std::printf("[ RESULT ] bath-amb-rig-delay1 delay %.1f periods: stable %d, worst peak %.2f (%.1f dB) at %.0f Hz, zone %s, "
+                "least damped rotor mode zeta %.3f\n", delay, cl.stable(), worst, 20.0 * std::log10(worst), at_hz,
+                to_string(iso14839_zone(worst)), zeta_min);
+    EXPECT_TRUE(cl.stable()) << delay;
+    if (delay == 1.0) {
+      EXPECT_LT(worst, 5.0);
+      EXPECT_GE(zeta_min, 0.01);
+    }
+  }
+}
+
+// Options out of range are refused with the option named.
+TEST(ClosedLoop, OptionsOutOfRangeAreRefused) {
+  const auto board = test::board_from_repo("bath-amb-rig");
+  for (const ClosedLoopOptions& o : {loop_options(true, board.rate_hz, -0.1), loop_options(true, board.rate_hz, 8.5),
+                                     loop_options(false, board.rate_hz, 1.0), loop_options(true, -1.0)}) {
+    try {
+      ClosedLoopModel cl(board.plant, board.controller, o);
+      ADD_FAILURE() << "accepted rate " << o.sample_rate_hz << " delay " << o.loop_delay_periods;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(o.sample_rate_hz < 0.0 ? "sample_rate_hz" : "loop_delay_periods"), std::string::npos)
+          << e.what();
     }
   }
 }

@@ -314,6 +314,16 @@ spin_and_settle() {  # levitated -> run -> at speed, then 3 s for the tracker's 
 }
 loop_figures() {  # loop_figures LABEL: cumulative loop statistics from the registers
   echo "loop $1: periods $(reg32 $((0x402))), overruns $(reg32 $((0x406))), p99 $(reg32 $((0x40C))) ns, max $(reg32 $((0x408))) ns, mean $(reg32 $((0x40A))) ns (state $(reg 256), phase $(reg 257))"
+  delay_figures "$1"
+}
+# The loop's delay, sample instant (deadline) -> demand frame written (registers 0x0410..,
+# docs/plant.md "Loop delay"): the distribution the board key loop_delay_periods is set from.
+delay_figures() {  # delay_figures LABEL
+  local v; v=($(regs_block $((0x0410)) 16))
+  if [ "${#v[@]}" -lt 16 ]; then echo "loop delay $1: registers 0x0410.. not read (${v[*]:-nothing})"; return; fi
+  local q=() i
+  for i in 0 2 4 6 8 10 12 14; do q+=($(( v[i] * 65536 + v[i + 1] ))); done
+  echo "loop delay $1 (sample instant -> demand written): p50 ${q[0]} ns, p99 ${q[1]} ns, p99.9 ${q[2]} ns, max ${q[3]} ns, mean ${q[4]} ns; worst read ${q[5]} ns, step ${q[6]} ns, write ${q[7]} ns"
 }
 regs_block() {  # regs_block ADDRESS COUNT: the registers' unsigned values, space separated
   mbpoll -m tcp -p "$PORT" -a 1 -0 -1 -t 4 -o 5 -r "$1" -c "$2" 127.0.0.1 2>/dev/null | sed -n 's/^\[[0-9]*\]:[[:space:]]*\([0-9]*\).*/\1/p' | tr '\n' ' '
