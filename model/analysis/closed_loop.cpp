@@ -37,10 +37,10 @@ struct RigBlock {
   int modes = 0;
 };
 
-RigBlock build_rig(const PlantParams& rig, int modes_per_plane, double spin_hz) {
-  const rotor::RotorModel fe = rotor::build_rotor_model(rig.rotor);
+RigBlock build_rig(const RigModel& rig_model, const PlantParams& rig, int modes_per_plane, double spin_hz) {
+  const rotor::RotorModel& fe = rig_model.rotor();
   const int keep = modes_per_plane < 0 ? rig.rotor.modes_kept : modes_per_plane;
-  const rotor::ReducedRotor red = rotor::reduce_rotor(fe, rig.rotor, keep);
+  const rotor::ReducedRotor red = rotor::truncate_basis(rig_model.modal_basis(), fe, keep);
   const int m = red.modes;
   RigBlock r;
   r.modes = m;
@@ -273,7 +273,12 @@ const char* to_string(IsoZone z) {
   }
 }
 
-ClosedLoopModel::ClosedLoopModel(const PlantParams& rig, const PidParams& pid, const ClosedLoopOptions& o) {
+ClosedLoopModel::ClosedLoopModel(const PlantParams& rig, const PidParams& pid, const ClosedLoopOptions& o)
+    : ClosedLoopModel(RigModel(rig), rig, pid, o) {}
+
+ClosedLoopModel::ClosedLoopModel(const RigModel& rig_model, const PlantParams& rig, const PidParams& pid,
+                                 const ClosedLoopOptions& o) {
+  rig_model.check_same_rig(rig, "closed loop");
   if (!(o.sample_rate_hz >= 0.0) || !std::isfinite(o.sample_rate_hz))
     throw std::invalid_argument("closed loop: sample_rate_hz must be >= 0 (0: continuous), got " +
                                 std::to_string(o.sample_rate_hz));
@@ -282,7 +287,7 @@ ClosedLoopModel::ClosedLoopModel(const PlantParams& rig, const PidParams& pid, c
                                 std::to_string(o.loop_delay_periods));
   if (o.sample_rate_hz == 0.0 && o.loop_delay_periods > 0.0)
     throw std::invalid_argument("closed loop: loop_delay_periods needs the sampled loop (sample_rate_hz > 0)");
-  const RigBlock p = build_rig(rig, o.modes_per_plane, o.spin_hz);
+  const RigBlock p = build_rig(rig_model, rig, o.modes_per_plane, o.spin_hz);
   modes_ = p.modes;
   period_s_ = o.sample_rate_hz > 0.0 ? 1.0 / o.sample_rate_hz : 0.0;
   const ControllerBlock k = build_controller(rig, pid, period_s_);

@@ -25,6 +25,7 @@
 
 #include "model/control/pid_params.hpp"
 #include "model/plant/plant_params.hpp"
+#include "model/rig/rig_model.hpp"
 
 namespace amb::model::analysis {
 
@@ -63,6 +64,9 @@ class ClosedLoopModel {
   /// Throws std::invalid_argument if the rig cannot be built (see rotor_model.hpp) or an
   /// option is out of range (sample rate < 0, delay outside 0 .. 8 periods).
   ClosedLoopModel(const PlantParams& rig, const PidParams& pid, const ClosedLoopOptions& o = {});
+  /// The same on a rig model built once by the caller (model/rig); `rig` carries the AMB,
+  /// sensor and amplifier parameters and must describe the rig model's rotor and planes.
+  ClosedLoopModel(const RigModel& rig_model, const PlantParams& rig, const PidParams& pid, const ClosedLoopOptions& o = {});
 
   /// Closed-loop state matrix: dx/dt = A x (continuous) or x[k+1] = A x[k] (sampled).
   const Eigen::MatrixXd& a() const { return a_; }
