@@ -174,6 +174,14 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
 
   const bool lcp = o_.cavitation == Cavitation::reynolds;
   if (!lcp) std::fill(active_.begin(), active_.end(), 0);
+  // Raimondi & Boyd's inlet: the row of cells with the largest film held at p = 0 for good.
+  int pinned_row = -1;
+  if (o_.zero_pressure_at_max_film) {
+    Eigen::Index imax = 0;
+    h_cell_.maxCoeff(&imax);
+    pinned_row = static_cast<int>(imax);
+    for (int j = 0; j < nz_; ++j) active_[static_cast<size_t>(pinned_row * nz_ + j)] = 1;
+  }
   FilmForces f;
   int it = 0;
   for (;;) {
@@ -224,6 +232,7 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
     w_ -= rhs_;
     bool changed = false;
     for (int k = 0; k < n; ++k) {
+      if (k / nz_ == pinned_row) continue;
       const bool now = active_[static_cast<size_t>(k)] ? (w_(k) > 0.0) : (p_(k) < 0.0);
       if (now != static_cast<bool>(active_[static_cast<size_t>(k)])) {
         active_[static_cast<size_t>(k)] = now ? 1 : 0;

@@ -56,6 +56,13 @@ struct ReynoldsOptions {
   Cavitation cavitation = Cavitation::reynolds;
   int max_active_set_iterations = 100;///< reynolds only
   int gauss_points = 3;               ///< per smooth piece of each centre-to-centre interval (1..4)
+  /// Raimondi & Boyd's (1958) inlet condition: p = 0 on the axial line of cells whose centre
+  /// has the largest film (the full film starts at the maximum film thickness), Reynolds
+  /// condition at the trailing edge. false (default): the complementarity problem alone
+  /// decides where the full film starts. For the comparison with their tables
+  /// (tests/journal/raimondi_boyd_test.cpp); the journal should then sit so that the maximum
+  /// film falls on a cell centre.
+  bool zero_pressure_at_max_film = false;
   /// Empty when valid, else the reason.
   const char* check() const;
 };
