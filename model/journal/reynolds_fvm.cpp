@@ -56,9 +56,13 @@ ReynoldsSolver::ReynoldsSolver(const BearingGeometry& g, const WearParams& wear,
   wear_ = WearShape(wear, g.bore_radius_m, g.clearance_m);
 
   nt_ = o.cells_theta;
-  nz_ = o.cells_axial;
+  // The film is symmetric about the mid-plane (the journal state has no tilt): with an even
+  // number of axial cells only the half x < 0 is solved, with zero axial flux through the
+  // mid-plane. The discrete solution is the full grid's, at half the unknowns.
+  half_ = o.midplane_symmetry && o.cells_axial % 2 == 0;
+  nz_ = half_ ? o.cells_axial / 2 : o.cells_axial;
   dtheta_ = k_two_pi / nt_;
-  dzeta_ = 1.0 / nz_;
+  dzeta_ = 1.0 / o.cells_axial;
   gauss_legendre_01(o.gauss_points, gauss_x_, gauss_w_);
   cos_int_.resize(static_cast<size_t>(nt_));
   sin_int_.resize(static_cast<size_t>(nt_));
@@ -160,11 +164,12 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
     for (int i = 0; i < nt_; ++i) {
       const int im = (i + nt_ - 1) % nt_, ip = (i + 1) % nt_;
       const double az = axial(i);
+      const double upper_end = half_ ? 0.0 : 2.0 * az;
       for (int j = 0; j < nz_; ++j) {
         const int k = i * nz_ + j;
         double d = cond_theta_(i) + cond_theta_(im);
         double v = -cond_theta_(im) * p(im * nz_ + j) - cond_theta_(i) * p(ip * nz_ + j);
-        d += (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : 2.0 * az);
+        d += (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : upper_end);
         if (j > 0) v -= az * p(k - 1);
         if (j + 1 < nz_) v -= az * p(k + 1);
         out(k) = d * p(k) + v;
@@ -198,7 +203,7 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
           } else {
             const double az = axial(i);
             e.valueRef() = cond_theta_(i) + cond_theta_((i + nt_ - 1) % nt_) + (j > 0 ? az : 2.0 * az) +
-                           (j + 1 < nz_ ? az : 2.0 * az);
+                           (j + 1 < nz_ ? az : (half_ ? 0.0 : 2.0 * az));
           }
           continue;
         }
@@ -262,7 +267,7 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
     sx += col * cos_int_[static_cast<size_t>(i)];
     sy += col * sin_int_[static_cast<size_t>(i)];
   }
-  const double scale = -pressure_scale_pa_ * g_.bore_radius_m * g_.length_m * dzeta_;
+  const double scale = -pressure_scale_pa_ * g_.bore_radius_m * g_.length_m * dzeta_ * (half_ ? 2.0 : 1.0);
   f.fx_n = scale * sx;
   f.fy_n = scale * sy;
   f.max_pressure_pa = pressure_scale_pa_ * pmax;
@@ -271,9 +276,10 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
 }
 
 Eigen::MatrixXd ReynoldsSolver::pressure_pa() const {
-  Eigen::MatrixXd m(nt_, nz_);
+  const int nz = o_.cells_axial;
+  Eigen::MatrixXd m(nt_, nz);
   for (int i = 0; i < nt_; ++i)
-    for (int j = 0; j < nz_; ++j) m(i, j) = pressure_scale_pa_ * p_(i * nz_ + j);
+    for (int j = 0; j < nz; ++j) m(i, j) = pressure_scale_pa_ * p_(i * nz_ + (j < nz_ ? j : nz - 1 - j));
   return m;
 }
 
