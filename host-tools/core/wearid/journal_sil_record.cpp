@@ -38,6 +38,10 @@ JournalSilSummary record_journal_sil(const JournalSilOptions& o, const std::stri
   sil::SilRig rig(b, so);
   auto* plant = dynamic_cast<model::RotorAmbPlant*>(&rig.plant());
   if (plant == nullptr) throw std::invalid_argument("journal SIL: the board's plant is not the rotor-AMB plant");
+  if (o.film) {
+    if (o.full_film_s > 0.0) throw std::invalid_argument("journal SIL: another film model (film) is for the linear element only");
+    plant->set_journal(model::journal::place_journal(b.plant, b.journal, 2.0 * M_PI * b.lifecycle.operating_speed_hz, o.film));
+  }
   fw::Supervisor& sup = rig.supervisor();
   JournalSilSummary s;
   s.journal_clearance_m = b.journal.geometry.clearance_m;
@@ -85,7 +89,7 @@ JournalSilSummary record_journal_sil(const JournalSilOptions& o, const std::stri
     rig.on_period = nullptr;
     if (cnt > 0) {
       plant->set_journal(model::journal::relinearise_journal(plant->journal(), b.journal, sx / static_cast<double>(cnt),
-                                                             sy / static_cast<double>(cnt)));
+                                                             sy / static_cast<double>(cnt), o.film));
       rig.run_for(o.relinearise_s);
     }
   }

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <string>
 
+#include "model/journal/journal_rig.hpp"
 #include "model/journal/wear_geometry.hpp"
 
 namespace amb::host::wearid {
@@ -35,6 +36,10 @@ struct JournalSilOptions {
   /// film_grid_refinement.hpp); the plant's film uses that grid. 0 (the library's default):
   /// the board's grid. `amb-host journal-sil` defaults to 0.002 (--grid-tolerance).
   double grid_tolerance = 0.0;
+  /// Another film model for the plant's linear film element (placement and re-linearisation;
+  /// not with full_film_s > 0): records the project's own film solver did not make (the
+  /// independent finite-difference solver of tests/journal). Empty: the board's solver.
+  model::journal::FilmCoefficientsFn film;
 };
 
 struct JournalSilSummary {
