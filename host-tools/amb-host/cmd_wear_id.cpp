@@ -118,6 +118,21 @@ int run(const Args& a) {
     return 2;
   }
   if (!a.quiet) {
+    std::fprintf(stderr, "wear-id: %s (dBIC %.1f, effect %.1f sigma; %s)\n",
+                 r.wear_measurable ? "wear measured" : "no measurable wear", r.delta_bic, r.effect_sigma,
+                 r.decision_reason.c_str());
+    if (!r.identified) {
+      std::fprintf(stderr,
+                   "wear-id: not identifiable from %s: intervals (2 sigma) d0 %.1f..%.1f um, gamma %.1f..%.1f deg, beta "
+                   "%.1f..%.1f deg; flat direction (d0 um, gamma deg, beta deg) = (%.2f, %.2f, %.2f), 1-sigma %.3g along it\n",
+                   r.records > 1 ? "these records" : "this record alone", r.d0_um - 2 * r.d0_uncertainty_um,
+                   r.d0_um + 2 * r.d0_uncertainty_um, r.gamma_deg - 2 * r.gamma_uncertainty_deg,
+                   r.gamma_deg + 2 * r.gamma_uncertainty_deg, r.beta_deg - 2 * r.beta_uncertainty_deg,
+                   r.beta_deg + 2 * r.beta_uncertainty_deg, r.flat_direction[0], r.flat_direction[1], r.flat_direction[2],
+                   r.flat_direction_sigma);
+      if (r.records == 1)
+        std::fprintf(stderr, "wear-id: fit it together with a record of the same bearing at another static eccentricity: --with EVENT2\n");
+    }
     if (o.grid_tolerance > 0.0)
       std::fprintf(stderr, "wear-id: film grid %d x %d, estimated K/C error %.3f %% (tolerance %.3f %%%s); the board's %d x %d grid is %.2f %% off it\n",
                    r.grid_theta, r.grid_axial, 100.0 * r.grid_error_estimate, 100.0 * o.grid_tolerance,
@@ -154,6 +169,17 @@ int run(const Args& a) {
         {"amb_nonlinear", o.amb_nonlinear},
         {"film_harmonics", o.film_harmonics},
         {"refined_starts", r.refined_starts},
+        {"identified", r.identified},
+        {"flat_direction", {{"d0_um", r.flat_direction[0]}, {"gamma_deg", r.flat_direction[1]}, {"beta_deg", r.flat_direction[2]}}},
+        {"flat_direction_sigma", r.flat_direction_sigma},
+        {"wear_measurable", r.wear_measurable},
+        {"verdict", r.wear_measurable ? "wear" : "no measurable wear"},
+        {"model_comparison",
+         {{"criterion", "residual loop engine::decide (default settings)"},
+          {"unworn_cost", r.unworn_cost},
+          {"delta_bic", r.delta_bic},
+          {"effect_sigma", r.effect_sigma},
+          {"reason", r.decision_reason}}},
         {"film_grid",
          {{"cells_theta", r.grid_theta},
           {"cells_axial", r.grid_axial},
@@ -178,6 +204,9 @@ int run(const Args& a) {
     // Non-finite uncertainties (Jacobian failed) become null.
     for (const char* k : {"d0_um_uncertainty", "gamma_deg_uncertainty", "beta_deg_uncertainty"})
       if (!std::isfinite(j[k].get<double>())) j[k] = nullptr;
+    for (const char* k : {"unworn_cost", "delta_bic", "effect_sigma"})
+      if (!std::isfinite(j["model_comparison"][k].get<double>())) j["model_comparison"][k] = nullptr;
+    if (!std::isfinite(j["flat_direction_sigma"].get<double>())) j["flat_direction_sigma"] = nullptr;
     for (const char* k : {"error_estimate", "board_grid_error"})
       if (!std::isfinite(j["film_grid"][k].get<double>())) j["film_grid"][k] = nullptr;
     std::printf("%s\n", j.dump(2).c_str());

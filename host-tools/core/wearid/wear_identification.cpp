@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "host-tools/core/residual/engine/criterion.hpp"
 #include "model/journal/film_grid_refinement.hpp"
 #include "model/journal/reynolds_fvm.hpp"
 
@@ -623,8 +624,62 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       const double u = 1.0 - r.d0_um / c_um;
       r.beta_uncertainty_deg = 2.0 / std::sqrt(std::max(1e-12, 1.0 - u * u)) / c_um * r.d0_uncertainty_um / k_deg;
     }
+    // The direction the records do not determine: the eigenvector of J^T J (noise-normalised,
+    // per um / deg) with the smallest eigenvalue.
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
+    const Eigen::VectorXd v = eig.eigenvectors().col(0);
+    r.flat_direction = {v(0), v(1), n == 3 ? v(2) : 0.0};
+    r.flat_direction_sigma = eig.eigenvalues()(0) > 0.0 ? 1.0 / std::sqrt(eig.eigenvalues()(0)) : INFINITY;
   } else {
     r.d0_uncertainty_um = r.gamma_uncertainty_deg = r.beta_uncertainty_deg = NAN;
+  }
+  // Identifiable: every parameter's 1-sigma within a quarter of its bound range (the residual
+  // loop's rule, host-tools/core/residual/journal_residual.hpp).
+  r.identified = ok && r.d0_uncertainty_um <= 0.25 * (o.depth_um[1] - o.depth_um[0]) &&
+                 r.gamma_uncertainty_deg <= 0.25 * (o.position_deg[1] - o.position_deg[0]) &&
+                 (n == 2 || r.beta_uncertainty_deg <= 0.25 * (o.span_deg[1] - o.span_deg[0])) && !r.bound_active;
+
+  // Is there a measurable wear? Model comparison of the unworn bore against the fitted wear on
+  // the same forward model (the refined grid when refined), decided by the residual loop's
+  // one criterion (engine::decide): information criterion (BIC with the records' off-bin
+  // noise, plus the model-error floor when set), the effect against the noise, identifiability
+  // and the misfit's fall.
+  {
+    Evaluator ev(board, meas, o);
+    if (o.grid_tolerance > 0.0) {
+      mj::ReynoldsOptions g = board.journal.grid;
+      g.cells_theta = r.grid_theta;
+      g.cells_axial = r.grid_axial;
+      ev.set_grid(g);
+    }
+    try {
+      const std::vector<double> rn = ev.residual_of(mj::WearParams{}), rf = ev.residual_of(w);
+      double chi_n = 0.0, chi_f = 0.0, eff = 0.0, mis_n = 0.0, mis_f = 0.0;
+      for (size_t k = 0; k < rn.size(); ++k) {
+        const double sg = ev.sigma(static_cast<int>(k));
+        chi_n += (rn[k] / sg) * (rn[k] / sg);
+        chi_f += (rf[k] / sg) * (rf[k] / sg);
+        eff = std::max(eff, std::abs(rf[k] - rn[k]) / sg);
+        mis_n += rn[k] * rn[k];
+        mis_f += rf[k] * rf[k];
+      }
+      residual::engine::CandidateEvidence c;
+      c.element = "journal_bearing_wear";
+      c.delta_ic = chi_n - chi_f - n * std::log(static_cast<double>(rn.size()));
+      c.ic_basis = "BIC, Gaussian off-bin noise of the +-1x components";
+      c.effect_sigma = eff;
+      c.identified = r.identified;
+      if (!r.identified) c.not_identified = "a parameter's 1-sigma exceeds a quarter of its range, or it is on a bound";
+      c.decision.push_back({"spectral misfit", "1", std::sqrt(mis_n), std::sqrt(mis_f), false, 0.0});
+      const residual::engine::Decision d = residual::engine::decide(c, residual::engine::Criterion{});
+      r.unworn_cost = 0.5 * mis_n;
+      r.delta_bic = c.delta_ic;
+      r.effect_sigma = eff;
+      r.wear_measurable = d.kept;
+      r.decision_reason = d.reason;
+    } catch (const std::invalid_argument& ex) {
+      r.decision_reason = std::string("model comparison failed: ") + ex.what();
+    }
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

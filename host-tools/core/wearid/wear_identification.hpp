@@ -115,6 +115,19 @@ struct WearIdResult {
   int grid_iterations = 0;           ///< defect-correction rounds on the refined grid
   int fine_evaluations = 0;          ///< coefficient sets (or costs) evaluated on the refined grid
   double grid_wall_s = 0.0;          ///< time of the refinement and the polish on it, s
+  /// Identifiable: every parameter's 1-sigma within a quarter of its bound range and none on a
+  /// bound. When not, `flat_direction` (unit vector in d0 um, gamma deg, beta deg) is the
+  /// combination the records leave undetermined, with 1-sigma `flat_direction_sigma` along it.
+  bool identified = false;
+  std::array<double, 3> flat_direction{};
+  double flat_direction_sigma = NAN;
+  /// Model comparison, unworn bore against the fitted wear (residual loop's criterion,
+  /// host-tools/core/residual/engine/criterion.hpp, default settings): false = "no measurable wear".
+  bool wear_measurable = false;
+  double unworn_cost = NAN;          ///< cost of the unworn bore, same forward model
+  double delta_bic = NAN;            ///< BIC(unworn) - BIC(wear), 1
+  double effect_sigma = NAN;         ///< largest change of a residual between the two, noise sigmas
+  std::string decision_reason;       ///< the criterion's reason in words
 };
 
 /// Run the identification on a measurement. Throws std::invalid_argument on bad options.
