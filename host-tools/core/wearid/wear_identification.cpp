@@ -538,38 +538,54 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
     };
     if (!e.full_film()) {
       Evaluator ce(board, meas, o);
-      for (int it = 0; it < 6; ++it) {
+      auto correction_at = [&](const std::vector<double>& xs) {
         std::vector<mj::DynamicCoefficients> corr(meas.size());
         for (size_t rec = 0; rec < meas.size(); ++rec) {
-          const mj::DynamicCoefficients f = fe.coefficients(e.wear_of(x), rec), c = ce.coefficients(e.wear_of(x), rec);
+          const mj::DynamicCoefficients f = fe.coefficients(e.wear_of(xs), rec), c = ce.coefficients(e.wear_of(xs), rec);
           corr[rec].fx0_n = f.fx0_n - c.fx0_n;
           corr[rec].fy0_n = f.fy0_n - c.fy0_n;
           corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - c.stiffness_n_per_m;
           corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - c.damping_n_s_per_m;
           r.fine_evaluations += 2;
         }
+        return corr;
+      };
+      // Each round: the correction at x makes the corrected cost at x the refined grid's cost
+      // there; the best such point is kept. A round whose new point is worse than the best on
+      // the refined grid steps back halfway towards the best (the board grid's cost is rough,
+      // so an undamped iteration can cycle between valleys: seen on an FD-film record).
+      std::vector<double> fine_best = x;
+      std::vector<mj::DynamicCoefficients> best_corr;
+      double fine_best_f = INFINITY;
+      for (int it = 0; it < 10; ++it) {
+        const std::vector<mj::DynamicCoefficients> corr = correction_at(x);
         ce.set_correction(corr);
-        e.set_correction(corr);
+        const double fx = ce.cost(x);
+        ++r.grid_iterations;
+        if (fx < fine_best_f) {
+          fine_best_f = fx;
+          fine_best = x;
+          best_corr = corr;
+        } else {
+          double gap = 0.0;
+          for (int i = 0; i < n; ++i) {
+            x[static_cast<size_t>(i)] = 0.5 * (x[static_cast<size_t>(i)] + fine_best[static_cast<size_t>(i)]);
+            gap = std::max(gap, std::abs(x[static_cast<size_t>(i)] - fine_best[static_cast<size_t>(i)]));
+          }
+          if (gap < 1e-4) break;
+          continue;
+        }
         std::vector<double> xn = x;
         polish(ce, xn, o.max_evaluations);
         double moved = 0.0;
         for (int i = 0; i < n; ++i) moved = std::max(moved, std::abs(xn[static_cast<size_t>(i)] - x[static_cast<size_t>(i)]));
         x = xn;
-        ++r.grid_iterations;
         if (moved < 1e-4) break;
       }
       r.evaluations += ce.evaluations;
-      // The correction is recomputed at the final point: the cost there is the fine grid's.
-      std::vector<mj::DynamicCoefficients> corr(meas.size());
-      for (size_t rec = 0; rec < meas.size(); ++rec) {
-        const mj::DynamicCoefficients f = fe.coefficients(e.wear_of(x), rec), c = ce.coefficients(e.wear_of(x), rec);
-        corr[rec].fx0_n = f.fx0_n - c.fx0_n;
-        corr[rec].fy0_n = f.fy0_n - c.fy0_n;
-        corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - c.stiffness_n_per_m;
-        corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - c.damping_n_s_per_m;
-      }
-      e.set_correction(corr);
-      r.cost = fe.cost(x);
+      x = fine_best;
+      e.set_correction(best_corr);
+      r.cost = fine_best_f;
     } else {
       r.cost = polish(fe, x, o.max_evaluations);
       e.set_grid(fine);
