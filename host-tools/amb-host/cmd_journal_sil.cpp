@@ -25,6 +25,7 @@ struct Args {
   double record_s = 2.0;
   unsigned long long seed = 1;
   double full_film_s = 0.0;
+  double grid_tolerance = 2e-3;
   bool json = false;
 };
 
@@ -79,6 +80,7 @@ int run(const Args& a) {
   o.record_s = a.record_s;
   o.noise_seed = a.seed;
   o.full_film_s = a.full_film_s;
+  o.grid_tolerance = a.grid_tolerance;
   amb::host::wearid::JournalSilSummary s;
   try {
     s = amb::host::wearid::record_journal_sil(o, a.out);
@@ -97,11 +99,25 @@ int run(const Args& a) {
     return 2;
   }
   std::fprintf(stderr, "journal-sil: wrote %s.csv / %s.json\n", a.out.c_str(), a.out.c_str());
+  if (std::isfinite(s.grid_error_estimate))
+    std::fprintf(stderr, "journal-sil: film grid %d x %d, estimated K/C error %.3f %% (tolerance %.3f %%%s)\n", s.grid_theta,
+                 s.grid_axial, 100.0 * s.grid_error_estimate, 100.0 * a.grid_tolerance,
+                 s.grid_converged ? "" : ", NOT reached within the grid limits");
+  else
+    std::fprintf(stderr, "journal-sil: film grid %d x %d (the board's; --grid-tolerance 0: error not estimated)\n",
+                 s.grid_theta, s.grid_axial);
   if (a.json) {
-    const nlohmann::json j = {{"speed_hz", s.speed_hz},
+    nlohmann::json j = {{"speed_hz", s.speed_hz},
                               {"static_eccentricity", s.static_eccentricity},
                               {"journal_orbit_peak_um", s.orbit_peak_m * 1e6},
-                              {"simulated_s", s.sim_s}};
+                              {"simulated_s", s.sim_s},
+                              {"film_grid",
+                               {{"cells_theta", s.grid_theta},
+                                {"cells_axial", s.grid_axial},
+                                {"tolerance", a.grid_tolerance},
+                                {"error_estimate", s.grid_error_estimate},
+                                {"converged", s.grid_converged}}}};
+    if (!std::isfinite(s.grid_error_estimate)) j["film_grid"]["error_estimate"] = nullptr;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("speed %.3f Hz, journal static eccentricity %.3f, orbit peak %.2f um (clearance %.0f um)\n", s.speed_hz,
@@ -126,6 +142,10 @@ const amb::host::Registration reg{
                               "full (nonlinear) Reynolds film in the plant from this long before the end of the settle, s "
                               "(0: linear film element only)"),
                0.0, 600.0, "s");
+      hc::real(sub.add_option("--grid-tolerance", args->grid_tolerance,
+                              "film grid refined at the static journal position until the estimated K/C error is below "
+                              "this (relative; 0: the board's grid)"),
+               0.0, 0.49);
       sub.add_flag("--json", args->json, "print the figures as JSON");
       run_fn = [args] { return run(*args); };
     }};

@@ -35,6 +35,7 @@ struct Args {
   bool amb_linear = false;
   bool second_harmonic = false;
   double model_error_1x = 0.0;
+  double grid_tolerance = 2e-3;
   int film_samples = 32;
   int film_harmonics = 3;
   int threads = 2;
@@ -72,13 +73,14 @@ int run(const Args& a) {
   }
   o.amb_nonlinear = !a.amb_linear;
   o.model_error_1x = a.model_error_1x;
+  o.grid_tolerance = a.grid_tolerance;
   o.film_samples = a.film_samples;
   o.film_harmonics = a.film_harmonics;
   if (!a.quiet) o.progress = amb::host::ui::periodic_lines("wear-id", 5.0);
   if (const std::string why = o.check(); !why.empty()) {
     std::fprintf(stderr, "amb-host wear-id: error: %s\n", amb::host::cli::in_option_names(why, {{"doe_points", "--doe"}, {"polished_starts", "--starts"}, {"threads", "--threads"}, {"window_s", "--window"},
                                   {"film_samples", "--film-samples"}, {"film_harmonics", "--film-harmonics"},
-                                  {"model_error_1x", "--model-error"}, {"full_film", "--full-film"}}).c_str());
+                                  {"model_error_1x", "--model-error"}, {"full_film", "--full-film"}, {"grid_tolerance", "--grid-tolerance"}}).c_str());
     return 1;
   }
   wi::WearIdResult r;
@@ -115,6 +117,31 @@ int run(const Args& a) {
     std::fprintf(stderr, "amb-host wear-id: error: %s\n", e.what());
     return 2;
   }
+  if (!a.quiet) {
+    std::fprintf(stderr, "wear-id: %s (dBIC %.1f, effect %.1f sigma; %s)\n",
+                 r.wear_measurable ? "wear measured" : "no measurable wear", r.delta_bic, r.effect_sigma,
+                 r.decision_reason.c_str());
+    if (!r.identified) {
+      std::fprintf(stderr,
+                   "wear-id: not identifiable from %s: intervals (2 sigma) d0 %.1f..%.1f um, gamma %.1f..%.1f deg, beta "
+                   "%.1f..%.1f deg; flat direction (d0 um, gamma deg, beta deg) = (%.2f, %.2f, %.2f), 1-sigma %.3g along it\n",
+                   r.records > 1 ? "these records" : "this record alone", r.d0_um - 2 * r.d0_uncertainty_um,
+                   r.d0_um + 2 * r.d0_uncertainty_um, r.gamma_deg - 2 * r.gamma_uncertainty_deg,
+                   r.gamma_deg + 2 * r.gamma_uncertainty_deg, r.beta_deg - 2 * r.beta_uncertainty_deg,
+                   r.beta_deg + 2 * r.beta_uncertainty_deg, r.flat_direction[0], r.flat_direction[1], r.flat_direction[2],
+                   r.flat_direction_sigma);
+      if (r.records == 1)
+        std::fprintf(stderr, "wear-id: fit it together with a record of the same bearing at another static eccentricity: --with EVENT2\n");
+    }
+    if (o.grid_tolerance > 0.0)
+      std::fprintf(stderr, "wear-id: film grid %d x %d, estimated K/C error %.3f %% (tolerance %.3f %%%s); the board's %d x %d grid is %.2f %% off it\n",
+                   r.grid_theta, r.grid_axial, 100.0 * r.grid_error_estimate, 100.0 * o.grid_tolerance,
+                   r.grid_converged ? "" : ", NOT reached within the grid limits", r.coarse_grid_theta, r.coarse_grid_axial,
+                   100.0 * r.coarse_grid_error);
+    else
+      std::fprintf(stderr, "wear-id: film grid %d x %d (the board's; --grid-tolerance 0: no refinement, error not estimated)\n",
+                   r.grid_theta, r.grid_axial);
+  }
   if (a.json) {
     nlohmann::json j = {
         {"model", r.model},
@@ -142,6 +169,29 @@ int run(const Args& a) {
         {"amb_nonlinear", o.amb_nonlinear},
         {"film_harmonics", o.film_harmonics},
         {"refined_starts", r.refined_starts},
+        {"identified", r.identified},
+        {"flat_direction", {{"d0_um", r.flat_direction[0]}, {"gamma_deg", r.flat_direction[1]}, {"beta_deg", r.flat_direction[2]}}},
+        {"flat_direction_sigma", r.flat_direction_sigma},
+        {"wear_measurable", r.wear_measurable},
+        {"verdict", r.wear_measurable ? "wear" : "no measurable wear"},
+        {"model_comparison",
+         {{"criterion", "residual loop engine::decide (default settings)"},
+          {"unworn_cost", r.unworn_cost},
+          {"delta_bic", r.delta_bic},
+          {"effect_sigma", r.effect_sigma},
+          {"reason", r.decision_reason}}},
+        {"film_grid",
+         {{"cells_theta", r.grid_theta},
+          {"cells_axial", r.grid_axial},
+          {"tolerance", o.grid_tolerance},
+          {"error_estimate", r.grid_error_estimate},
+          {"converged", r.grid_converged},
+          {"board_cells_theta", r.coarse_grid_theta},
+          {"board_cells_axial", r.coarse_grid_axial},
+          {"board_grid_error", r.coarse_grid_error},
+          {"correction_rounds", r.grid_iterations},
+          {"fine_evaluations", r.fine_evaluations},
+          {"wall_s", r.grid_wall_s}}},
         {"spectrum",
          {{"measured", {{"forward", component(r.measured.spectrum.forward_m)}, {"backward", component(r.measured.spectrum.backward_m)}}},
           {"fitted", {{"forward", component(r.fitted.forward_m)}, {"backward", component(r.fitted.backward_m)}}},
@@ -154,6 +204,11 @@ int run(const Args& a) {
     // Non-finite uncertainties (Jacobian failed) become null.
     for (const char* k : {"d0_um_uncertainty", "gamma_deg_uncertainty", "beta_deg_uncertainty"})
       if (!std::isfinite(j[k].get<double>())) j[k] = nullptr;
+    for (const char* k : {"unworn_cost", "delta_bic", "effect_sigma"})
+      if (!std::isfinite(j["model_comparison"][k].get<double>())) j["model_comparison"][k] = nullptr;
+    if (!std::isfinite(j["flat_direction_sigma"].get<double>())) j["flat_direction_sigma"] = nullptr;
+    for (const char* k : {"error_estimate", "board_grid_error"})
+      if (!std::isfinite(j["film_grid"][k].get<double>())) j["film_grid"][k] = nullptr;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("wear (%s model): d0 = %.2f +- %.2f um, gamma = %.2f +- %.2f deg, beta = %.2f +- %.2f deg%s\n",
@@ -219,6 +274,10 @@ const amb::host::Registration reg{
                 2, 6);
       hc::real(sub.add_option("--model-error", args->model_error_1x,
                               "relative model-error floor of the 1x residuals, e.g. 0.0025 (0: the seed's equal weights)"),
+               0.0, 0.49);
+      hc::real(sub.add_option("--grid-tolerance", args->grid_tolerance,
+                              "film grid refined at the optimum until the estimated K/C error is below this (relative; "
+                              "0: the board's grid only)"),
                0.0, 0.49);
       sub.add_flag("--json", args->json, "print the figures as JSON");
       sub.add_flag("--quiet", args->quiet, "no progress lines on stderr");

@@ -57,11 +57,15 @@ std::array<double, 2> static_displacement_m(const PlantParams& rig, double at_ax
 }
 
 LinearJournal place_journal(const PlantParams& rig, const JournalBearingParams& jb, double spin_rad_s) {
+  return place_journal(rig, jb, spin_rad_s, FilmCoefficientsFn{});
+}
+
+LinearJournal place_journal(const PlantParams& rig, const JournalBearingParams& jb, double spin_rad_s,
+                            const FilmCoefficientsFn& film) {
   if (!jb.present) return {};
   if (!(jb.static_eccentricity >= 0.0 && jb.static_eccentricity <= 0.95))
     throw std::invalid_argument("journal placement: static_eccentricity must be in [0, 0.95]");
   if (!(spin_rad_s > 0.0)) throw std::invalid_argument("journal placement: linearisation speed must be > 0");
-  ReynoldsSolver solver(jb.geometry, jb.wear, jb.grid);
   const JournalState s = static_journal_state(jb);
   LinearJournal j;
   j.enabled = true;
@@ -69,7 +73,12 @@ LinearJournal place_journal(const PlantParams& rig, const JournalBearingParams& 
   j.lin_x_m = s.x_m;
   j.lin_y_m = s.y_m;
   j.ref_spin_rad_s = spin_rad_s;
-  j.coeff = perturbation_coefficients(solver, s, spin_rad_s);
+  if (film) {
+    j.coeff = film(s, spin_rad_s);
+  } else {
+    ReynoldsSolver solver(jb.geometry, jb.wear, jb.grid);
+    j.coeff = perturbation_coefficients(solver, s, spin_rad_s);
+  }
   j.probe_angle_deg = jb.probe_angle_deg;
   j.probe_noise_rms_m = jb.probe_noise_rms_m;
   j.clearance_m = jb.geometry.clearance_m;
@@ -80,14 +89,23 @@ LinearJournal place_journal(const PlantParams& rig, const JournalBearingParams& 
 }
 
 LinearJournal relinearise_journal(const LinearJournal& j, const JournalBearingParams& jb, double x_m, double y_m) {
+  return relinearise_journal(j, jb, x_m, y_m, FilmCoefficientsFn{});
+}
+
+LinearJournal relinearise_journal(const LinearJournal& j, const JournalBearingParams& jb, double x_m, double y_m,
+                                  const FilmCoefficientsFn& film) {
   if (!j.enabled) throw std::invalid_argument("journal re-linearisation: the element is not enabled");
   if (!(std::hypot(x_m, y_m) < 0.98 * jb.geometry.clearance_m))
     throw std::invalid_argument("journal re-linearisation: position outside 0.98 of the clearance");
-  ReynoldsSolver solver(jb.geometry, jb.wear, jb.grid);
   LinearJournal r = j;
   r.lin_x_m = x_m;
   r.lin_y_m = y_m;
-  r.coeff = perturbation_coefficients(solver, {x_m, y_m, 0.0, 0.0}, j.ref_spin_rad_s);
+  if (film) {
+    r.coeff = film({x_m, y_m, 0.0, 0.0}, j.ref_spin_rad_s);
+  } else {
+    ReynoldsSolver solver(jb.geometry, jb.wear, jb.grid);
+    r.coeff = perturbation_coefficients(solver, {x_m, y_m, 0.0, 0.0}, j.ref_spin_rad_s);
+  }
   return r;
 }
 

@@ -19,6 +19,7 @@
 #include <array>
 
 #include <Eigen/Core>
+#include <functional>
 
 #include "model/journal/reynolds_fvm.hpp"
 #include "model/journal/wear_geometry.hpp"
@@ -75,11 +76,22 @@ std::array<double, 2> static_displacement_m(const PlantParams& rig, double at_ax
 /// Throws std::invalid_argument for an unusable bearing description.
 LinearJournal place_journal(const PlantParams& rig, const JournalBearingParams& jb, double spin_rad_s);
 
+/// Another film model's static force and coefficients at a journal state and spin speed
+/// (rad/s): e.g. an independent solver in the tests, to make records the project's own
+/// film did not make. Empty: the board's ReynoldsSolver on jb.grid.
+using FilmCoefficientsFn = std::function<DynamicCoefficients(const JournalState&, double spin_rad_s)>;
+/// place_journal with the film's coefficients from `film` (empty: the board's solver).
+LinearJournal place_journal(const PlantParams& rig, const JournalBearingParams& jb, double spin_rad_s,
+                            const FilmCoefficientsFn& film);
+
 /// The same element linearised afresh about another journal position (x_m, y_m from the bore
 /// centre, m) at the element's reference speed: the static force and the coefficients of
 /// the film at that position (the bore and its wear unchanged). For a plant whose journal
 /// settled slightly away from the placement point (the AMBs' integral action is slow): a
 /// real film's coefficients are those of where the journal actually sits.
 LinearJournal relinearise_journal(const LinearJournal& j, const JournalBearingParams& jb, double x_m, double y_m);
+/// The same with the film's coefficients from `film` (empty: the board's solver).
+LinearJournal relinearise_journal(const LinearJournal& j, const JournalBearingParams& jb, double x_m, double y_m,
+                                  const FilmCoefficientsFn& film);
 
 }  // namespace amb::model::journal

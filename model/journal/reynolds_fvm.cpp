@@ -56,9 +56,13 @@ ReynoldsSolver::ReynoldsSolver(const BearingGeometry& g, const WearParams& wear,
   wear_ = WearShape(wear, g.bore_radius_m, g.clearance_m);
 
   nt_ = o.cells_theta;
-  nz_ = o.cells_axial;
+  // The film is symmetric about the mid-plane (the journal state has no tilt): with an even
+  // number of axial cells only the half x < 0 is solved, with zero axial flux through the
+  // mid-plane. The discrete solution is the full grid's, at half the unknowns.
+  half_ = o.midplane_symmetry && o.cells_axial % 2 == 0;
+  nz_ = half_ ? o.cells_axial / 2 : o.cells_axial;
   dtheta_ = k_two_pi / nt_;
-  dzeta_ = 1.0 / nz_;
+  dzeta_ = 1.0 / o.cells_axial;
   gauss_legendre_01(o.gauss_points, gauss_x_, gauss_w_);
   cos_int_.resize(static_cast<size_t>(nt_));
   sin_int_.resize(static_cast<size_t>(nt_));
@@ -160,11 +164,12 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
     for (int i = 0; i < nt_; ++i) {
       const int im = (i + nt_ - 1) % nt_, ip = (i + 1) % nt_;
       const double az = axial(i);
+      const double upper_end = half_ ? 0.0 : 2.0 * az;
       for (int j = 0; j < nz_; ++j) {
         const int k = i * nz_ + j;
         double d = cond_theta_(i) + cond_theta_(im);
         double v = -cond_theta_(im) * p(im * nz_ + j) - cond_theta_(i) * p(ip * nz_ + j);
-        d += (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : 2.0 * az);
+        d += (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : upper_end);
         if (j > 0) v -= az * p(k - 1);
         if (j + 1 < nz_) v -= az * p(k + 1);
         out(k) = d * p(k) + v;
@@ -174,6 +179,14 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
 
   const bool lcp = o_.cavitation == Cavitation::reynolds;
   if (!lcp) std::fill(active_.begin(), active_.end(), 0);
+  // Raimondi & Boyd's inlet: the row of cells with the largest film held at p = 0 for good.
+  int pinned_row = -1;
+  if (o_.zero_pressure_at_max_film) {
+    Eigen::Index imax = 0;
+    h_cell_.maxCoeff(&imax);
+    pinned_row = static_cast<int>(imax);
+    for (int j = 0; j < nz_; ++j) active_[static_cast<size_t>(pinned_row * nz_ + j)] = 1;
+  }
   FilmForces f;
   int it = 0;
   for (;;) {
@@ -190,7 +203,7 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
           } else {
             const double az = axial(i);
             e.valueRef() = cond_theta_(i) + cond_theta_((i + nt_ - 1) % nt_) + (j > 0 ? az : 2.0 * az) +
-                           (j + 1 < nz_ ? az : 2.0 * az);
+                           (j + 1 < nz_ ? az : (half_ ? 0.0 : 2.0 * az));
           }
           continue;
         }
@@ -224,6 +237,7 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
     w_ -= rhs_;
     bool changed = false;
     for (int k = 0; k < n; ++k) {
+      if (k / nz_ == pinned_row) continue;
       const bool now = active_[static_cast<size_t>(k)] ? (w_(k) > 0.0) : (p_(k) < 0.0);
       if (now != static_cast<bool>(active_[static_cast<size_t>(k)])) {
         active_[static_cast<size_t>(k)] = now ? 1 : 0;
@@ -253,7 +267,7 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
     sx += col * cos_int_[static_cast<size_t>(i)];
     sy += col * sin_int_[static_cast<size_t>(i)];
   }
-  const double scale = -pressure_scale_pa_ * g_.bore_radius_m * g_.length_m * dzeta_;
+  const double scale = -pressure_scale_pa_ * g_.bore_radius_m * g_.length_m * dzeta_ * (half_ ? 2.0 : 1.0);
   f.fx_n = scale * sx;
   f.fy_n = scale * sy;
   f.max_pressure_pa = pressure_scale_pa_ * pmax;
@@ -262,9 +276,10 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
 }
 
 Eigen::MatrixXd ReynoldsSolver::pressure_pa() const {
-  Eigen::MatrixXd m(nt_, nz_);
+  const int nz = o_.cells_axial;
+  Eigen::MatrixXd m(nt_, nz);
   for (int i = 0; i < nt_; ++i)
-    for (int j = 0; j < nz_; ++j) m(i, j) = pressure_scale_pa_ * p_(i * nz_ + j);
+    for (int j = 0; j < nz; ++j) m(i, j) = pressure_scale_pa_ * p_(i * nz_ + (j < nz_ ? j : nz - 1 - j));
   return m;
 }
 

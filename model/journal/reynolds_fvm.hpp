@@ -56,6 +56,17 @@ struct ReynoldsOptions {
   Cavitation cavitation = Cavitation::reynolds;
   int max_active_set_iterations = 100;///< reynolds only
   int gauss_points = 3;               ///< per smooth piece of each centre-to-centre interval (1..4)
+  /// Raimondi & Boyd's (1958) inlet condition: p = 0 on the axial line of cells whose centre
+  /// has the largest film (the full film starts at the maximum film thickness), Reynolds
+  /// condition at the trailing edge. false (default): the complementarity problem alone
+  /// decides where the full film starts. For the comparison with their tables
+  /// (tests/journal/raimondi_boyd_test.cpp); the journal should then sit so that the maximum
+  /// film falls on a cell centre.
+  bool zero_pressure_at_max_film = false;
+  /// Solve only the half width x < 0 when cells_axial is even (zero axial flux through the
+  /// mid-plane): the film of an untilted journal is symmetric, so the discrete solution is the
+  /// full grid's at half the unknowns (2-4x faster). false: the full width (for the check).
+  bool midplane_symmetry = true;
   /// Empty when valid, else the reason.
   const char* check() const;
 };
@@ -101,7 +112,8 @@ class ReynoldsSolver {
   BearingGeometry g_;
   WearShape wear_;
   ReynoldsOptions o_;
-  int nt_ = 0, nz_ = 0;
+  int nt_ = 0, nz_ = 0;                        // nz_: axial rows solved (half the cells when even)
+  bool half_ = false;
   double dtheta_ = 0.0, dzeta_ = 0.0, pressure_scale_pa_ = 0.0;
   std::vector<double> cos_int_, sin_int_;      // per theta cell: int cos, int sin over the cell
   std::vector<double> gauss_x_, gauss_w_;      // on [0, 1]

@@ -9,6 +9,8 @@
 #include "firmware/board/board.hpp"
 #include "firmware/sil/sil_rig.hpp"
 #include "host-tools/core/events/measured_event.hpp"
+#include "model/journal/film_grid_refinement.hpp"
+#include "model/journal/journal_rig.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
 
 namespace amb::host::wearid {
@@ -19,14 +21,34 @@ JournalSilSummary record_journal_sil(const JournalSilOptions& o, const std::stri
   b.journal.static_eccentricity = o.eccentricity;
   b.journal.wear = o.wear;
   b.lifecycle.operating_speed_hz = o.speed_hz;
+  double grid_error = NAN;
+  bool grid_converged = false;
+  if (o.grid_tolerance > 0.0) {
+    model::journal::GridRefinementOptions go;
+    go.tolerance = o.grid_tolerance;
+    const model::journal::RefinedGrid rg = model::journal::refine_film_grid(
+        b.journal.geometry, b.journal.wear, model::journal::static_journal_state(b.journal), 2.0 * M_PI * o.speed_hz, go,
+        b.journal.grid);
+    b.journal.grid = rg.grid;
+    grid_error = rg.error_estimate;
+    grid_converged = rg.converged;
+  }
   sil::SilOptions so;
   so.noise_seed = o.noise_seed;
   sil::SilRig rig(b, so);
   auto* plant = dynamic_cast<model::RotorAmbPlant*>(&rig.plant());
   if (plant == nullptr) throw std::invalid_argument("journal SIL: the board's plant is not the rotor-AMB plant");
+  if (o.film) {
+    if (o.full_film_s > 0.0) throw std::invalid_argument("journal SIL: another film model (film) is for the linear element only");
+    plant->set_journal(model::journal::place_journal(b.plant, b.journal, 2.0 * M_PI * b.lifecycle.operating_speed_hz, o.film));
+  }
   fw::Supervisor& sup = rig.supervisor();
   JournalSilSummary s;
   s.journal_clearance_m = b.journal.geometry.clearance_m;
+  s.grid_theta = b.journal.grid.cells_theta;
+  s.grid_axial = b.journal.grid.cells_axial;
+  s.grid_error_estimate = grid_error;
+  s.grid_converged = grid_converged;
   auto at = [](fw::Phase p) { return [p](const fw::Status& st) { return st.phase == p || st.state == fw::State::fault; }; };
   rig.run_for(0.02);
   sup.post(fw::Command::levitate);
@@ -67,7 +89,7 @@ JournalSilSummary record_journal_sil(const JournalSilOptions& o, const std::stri
     rig.on_period = nullptr;
     if (cnt > 0) {
       plant->set_journal(model::journal::relinearise_journal(plant->journal(), b.journal, sx / static_cast<double>(cnt),
-                                                             sy / static_cast<double>(cnt)));
+                                                             sy / static_cast<double>(cnt), o.film));
       rig.run_for(o.relinearise_s);
     }
   }

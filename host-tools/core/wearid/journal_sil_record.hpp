@@ -7,9 +7,11 @@
 //
 // This is the data generator of the wear-identification checks: it knows the wear it puts
 // into the plant; the identification (wear_identification.hpp) only ever reads the files.
+#include <cmath>
 #include <cstdint>
 #include <string>
 
+#include "model/journal/journal_rig.hpp"
 #include "model/journal/wear_geometry.hpp"
 
 namespace amb::host::wearid {
@@ -29,6 +31,15 @@ struct JournalSilOptions {
   /// ~7 um backward against a ~52 um minimum film) makes the real film add 2x components of
   /// ~0.3-0.7 um and move the 1x by ~10 %. One Reynolds solve per loop period (~0.1 ms).
   double full_film_s = 0.0;
+  /// Film grid refined at the static journal position (the placement point, with the wear)
+  /// until the estimated K/C error is below this (relative, model/journal/
+  /// film_grid_refinement.hpp); the plant's film uses that grid. 0 (the library's default):
+  /// the board's grid. `amb-host journal-sil` defaults to 0.002 (--grid-tolerance).
+  double grid_tolerance = 0.0;
+  /// Another film model for the plant's linear film element (placement and re-linearisation;
+  /// not with full_film_s > 0): records the project's own film solver did not make (the
+  /// independent finite-difference solver of tests/journal). Empty: the board's solver.
+  model::journal::FilmCoefficientsFn film;
 };
 
 struct JournalSilSummary {
@@ -39,6 +50,9 @@ struct JournalSilSummary {
   double orbit_peak_m = 0.0;        ///< peak journal excursion from its mean (truth), m
   double journal_clearance_m = 0.0;
   double sim_s = 0.0;               ///< simulated time, s
+  int grid_theta = 0, grid_axial = 0;  ///< film grid the plant used
+  double grid_error_estimate = NAN;    ///< its estimated relative K/C error (NaN: not refined, the board's grid)
+  bool grid_converged = false;         ///< the tolerance was reached within the grid limits
 };
 
 /// Run the SIL and write STEM.csv / STEM.json. Throws std::runtime_error on I/O errors and

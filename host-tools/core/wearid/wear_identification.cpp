@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "host-tools/core/residual/engine/criterion.hpp"
+#include "model/journal/film_grid_refinement.hpp"
 #include "model/journal/reynolds_fvm.hpp"
 
 namespace amb::host::wearid {
@@ -23,7 +25,7 @@ class Evaluator {
   // the residuals of each are normalised by its own measured spectrum, so each record
   // weighs by its relative misfit.
   Evaluator(const board::BoardConfig& b, const std::vector<JournalMeasurement>& ms, const WearIdOptions& o)
-      : b_(b), ms_(ms), o_(o) {
+      : b_(b), ms_(ms), o_(o), grid_(b.journal.grid) {
     n_ = o.model == mj::WearModel::two_parameter ? 2 : 3;
     planes_ = o.use_amb_planes;
     for (const auto& m : ms) planes_ = planes_ && m.has_amb_planes;
@@ -85,11 +87,30 @@ class Evaluator {
     return w;
   }
 
+  /// Film grid of the forward model (default: the board's).
+  void set_grid(const mj::ReynoldsOptions& g) { grid_ = g; }
+  const mj::ReynoldsOptions& grid() const { return grid_; }
+  /// Defect correction (linear film only): added to the coefficients of every evaluation of
+  /// record `rec` (the fine grid's minus this grid's, at one wear). Empty: none.
+  void set_correction(std::vector<mj::DynamicCoefficients> c) { correction_ = std::move(c); }
+  /// The film's static force and coefficients of record `rec` at a wear, on this grid.
+  mj::DynamicCoefficients coefficients(const mj::WearParams& w, size_t rec) const {
+    mj::ReynoldsSolver s(b_.journal.geometry, w, grid_);
+    return mj::perturbation_coefficients(s, ms_[rec].journal, 2.0 * M_PI * ms_[rec].speed_hz);
+  }
+
   std::array<FullSpectrum, 3> spectra(const mj::WearParams& w, size_t rec = 0) {
-    mj::ReynoldsSolver s(b_.journal.geometry, w, b_.journal.grid);
+    mj::ReynoldsSolver s(b_.journal.geometry, w, grid_);
     const JournalMeasurement& m = ms_[rec];
     const double spin = 2.0 * M_PI * m.speed_hz;
-    const mj::DynamicCoefficients d = mj::perturbation_coefficients(s, m.journal, spin);
+    mj::DynamicCoefficients d = mj::perturbation_coefficients(s, m.journal, spin);
+    if (!correction_.empty() && !full_) {
+      const mj::DynamicCoefficients& c = correction_[rec];
+      d.fx0_n += c.fx0_n;
+      d.fy0_n += c.fy0_n;
+      d.stiffness_n_per_m += c.stiffness_n_per_m;
+      d.damping_n_s_per_m += c.damping_n_s_per_m;
+    }
     rigs_[rec].set_static_film_force({d.fx0_n, d.fy0_n});
     if (!full_) return rigs_[rec].all_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
     // Full film: harmonic balance, started from the previous wear's orbit (the optimiser's
@@ -155,6 +176,8 @@ class Evaluator {
   std::vector<double> scales_, sigma_, weight_;
   std::vector<FullFilmSpectrum> last_;
   std::vector<FullSpectrum> second_z_;
+  mj::ReynoldsOptions grid_;
+  std::vector<mj::DynamicCoefficients> correction_;
   int n_ = 3;
   bool planes_ = false, full_ = false, second_ = false;
 };
@@ -199,6 +222,8 @@ std::string WearIdOptions::check() const {
   if (2 * film_harmonics >= film_samples) return "film_samples must be more than twice film_harmonics";
   if (!(model_error_1x >= 0.0 && model_error_1x < 0.5)) return "model_error_1x must be in [0, 0.5)";
   if (!(film_tolerance > 0.0 && film_tolerance < 1e-2)) return "film_tolerance must be in (0, 1e-2)";
+  if (!(grid_tolerance == 0.0 || (grid_tolerance >= 1e-4 && grid_tolerance < 0.5)))
+    return "grid_tolerance must be 0 (board grid) or in [1e-4, 0.5)";
   return "";
 }
 
@@ -442,12 +467,134 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   const size_t win = winner();
   for (int v : pevals) r.evaluations += v;
   r.evaluations += r.doe_evaluations;
-  const std::vector<double> x = best_x[win];
+  std::vector<double> x = best_x[win];
   r.cost = best_f[win];
   r.stop_reason = reasons[win];
-  for (double v : x) r.bound_active = r.bound_active || v < 0.005 || v > 0.995;
+  r.grid_theta = r.coarse_grid_theta = board.journal.grid.cells_theta;
+  r.grid_axial = r.coarse_grid_axial = board.journal.grid.cells_axial;
 
   Evaluator e(board, meas, o);
+  // Converged film: the search above ran on the board's grid; the grid is now refined to the
+  // tolerance at the winning wear (each record's journal position; the finest of the grids
+  // the records need), and the optimum is polished on it. Linear film: by defect correction,
+  // the fine grid's coefficients minus the board grid's, both at the current wear, added to
+  // every evaluation of a cheap polish on the board grid; repeated at the new optimum until
+  // it moves < 1e-4 of the box (the correction is exact at the result, so its cost there is
+  // the fine grid's cost). Full film: the polish runs on the fine grid.
+  if (o.grid_tolerance > 0.0) {
+    const auto tg = std::chrono::steady_clock::now();
+    mj::GridRefinementOptions go;
+    go.tolerance = o.grid_tolerance;
+    mj::ReynoldsOptions fine = board.journal.grid;
+    fine.cells_theta = fine.cells_axial = 0;
+    r.grid_error_estimate = 0.0;
+    r.grid_converged = true;
+    r.coarse_grid_error = 0.0;
+    for (size_t rec = 0; rec < meas.size(); ++rec) {
+      const mj::RefinedGrid rg =
+          mj::refine_film_grid(board.journal.geometry, e.wear_of(x), meas[rec].journal, 2.0 * M_PI * meas[rec].speed_hz, go,
+                               board.journal.grid);
+      fine.cells_theta = std::max(fine.cells_theta, rg.grid.cells_theta);
+      fine.cells_axial = std::max(fine.cells_axial, rg.grid.cells_axial);
+      r.grid_error_estimate = std::max(r.grid_error_estimate, rg.error_estimate);
+      r.grid_converged = r.grid_converged && rg.converged;
+      r.coarse_grid_error = std::max(r.coarse_grid_error, mj::coefficient_change(e.coefficients(e.wear_of(x), rec), rg.coefficients));
+    }
+    r.grid_theta = fine.cells_theta;
+    r.grid_axial = fine.cells_axial;
+    if (o.progress)
+      o.progress("film grid refined to " + std::to_string(fine.cells_theta) + " x " + std::to_string(fine.cells_axial) +
+                 " (estimated K/C error " + std::to_string(100.0 * r.grid_error_estimate) + " %; the board's " +
+                 std::to_string(board.journal.grid.cells_theta) + " x " + std::to_string(board.journal.grid.cells_axial) +
+                 " grid is " + std::to_string(100.0 * r.coarse_grid_error) + " % off it)");
+    Evaluator fe(board, meas, o);
+    fe.set_grid(fine);
+    auto polish = [&](Evaluator& ev, std::vector<double>& xs, int max_eval) {
+      nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
+      opt.set_lower_bounds(std::vector<double>(static_cast<size_t>(n), 0.0));
+      opt.set_upper_bounds(std::vector<double>(static_cast<size_t>(n), 1.0));
+      opt.set_min_objective(nlopt_cost, &ev);
+      opt.set_xtol_rel(o.xtol_rel);
+      opt.set_ftol_abs(1e-14);
+      opt.set_maxeval(max_eval);
+      double f = ev.cost(xs);
+      for (int restart = 0; restart <= o.max_restarts; ++restart) {
+        std::vector<double> x2 = xs;
+        for (double& v : x2) v = std::clamp(v, 0.03, 0.97);
+        opt.set_initial_step(0.02);
+        double f2 = 1e300;
+        try {
+          opt.optimize(x2, f2);
+        } catch (const std::exception&) {
+          f2 = ev.cost(x2);
+        }
+        if (!(f2 < f)) break;
+        const bool small_gain = f - f2 < 1e-3 * f;
+        xs = x2;
+        f = f2;
+        if (small_gain) break;
+      }
+      return f;
+    };
+    if (!e.full_film()) {
+      Evaluator ce(board, meas, o);
+      auto correction_at = [&](const std::vector<double>& xs) {
+        std::vector<mj::DynamicCoefficients> corr(meas.size());
+        for (size_t rec = 0; rec < meas.size(); ++rec) {
+          const mj::DynamicCoefficients f = fe.coefficients(e.wear_of(xs), rec), c = ce.coefficients(e.wear_of(xs), rec);
+          corr[rec].fx0_n = f.fx0_n - c.fx0_n;
+          corr[rec].fy0_n = f.fy0_n - c.fy0_n;
+          corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - c.stiffness_n_per_m;
+          corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - c.damping_n_s_per_m;
+          r.fine_evaluations += 2;
+        }
+        return corr;
+      };
+      // Each round: the correction at x makes the corrected cost at x the refined grid's cost
+      // there; the best such point is kept. A round whose new point is worse than the best on
+      // the refined grid steps back halfway towards the best (the board grid's cost is rough,
+      // so an undamped iteration can cycle between valleys: seen on an FD-film record).
+      std::vector<double> fine_best = x;
+      std::vector<mj::DynamicCoefficients> best_corr;
+      double fine_best_f = INFINITY;
+      for (int it = 0; it < 10; ++it) {
+        const std::vector<mj::DynamicCoefficients> corr = correction_at(x);
+        ce.set_correction(corr);
+        const double fx = ce.cost(x);
+        ++r.grid_iterations;
+        if (fx < fine_best_f) {
+          fine_best_f = fx;
+          fine_best = x;
+          best_corr = corr;
+        } else {
+          double gap = 0.0;
+          for (int i = 0; i < n; ++i) {
+            x[static_cast<size_t>(i)] = 0.5 * (x[static_cast<size_t>(i)] + fine_best[static_cast<size_t>(i)]);
+            gap = std::max(gap, std::abs(x[static_cast<size_t>(i)] - fine_best[static_cast<size_t>(i)]));
+          }
+          if (gap < 1e-4) break;
+          continue;
+        }
+        std::vector<double> xn = x;
+        polish(ce, xn, o.max_evaluations);
+        double moved = 0.0;
+        for (int i = 0; i < n; ++i) moved = std::max(moved, std::abs(xn[static_cast<size_t>(i)] - x[static_cast<size_t>(i)]));
+        x = xn;
+        if (moved < 1e-4) break;
+      }
+      r.evaluations += ce.evaluations;
+      x = fine_best;
+      e.set_correction(best_corr);
+      r.cost = fine_best_f;
+    } else {
+      r.cost = polish(fe, x, o.max_evaluations);
+      e.set_grid(fine);
+      r.fine_evaluations += fe.evaluations;
+    }
+    r.grid_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tg).count();
+  }
+  for (double v : x) r.bound_active = r.bound_active || v < 0.005 || v > 0.995;
+
   const mj::WearParams w = e.wear_of(x);
   r.d0_um = w.depth_m * 1e6;
   r.gamma_deg = w.position_rad / k_deg;
@@ -493,8 +640,62 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       const double u = 1.0 - r.d0_um / c_um;
       r.beta_uncertainty_deg = 2.0 / std::sqrt(std::max(1e-12, 1.0 - u * u)) / c_um * r.d0_uncertainty_um / k_deg;
     }
+    // The direction the records do not determine: the eigenvector of J^T J (noise-normalised,
+    // per um / deg) with the smallest eigenvalue.
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
+    const Eigen::VectorXd v = eig.eigenvectors().col(0);
+    r.flat_direction = {v(0), v(1), n == 3 ? v(2) : 0.0};
+    r.flat_direction_sigma = eig.eigenvalues()(0) > 0.0 ? 1.0 / std::sqrt(eig.eigenvalues()(0)) : INFINITY;
   } else {
     r.d0_uncertainty_um = r.gamma_uncertainty_deg = r.beta_uncertainty_deg = NAN;
+  }
+  // Identifiable: every parameter's 1-sigma within a quarter of its bound range (the residual
+  // loop's rule, host-tools/core/residual/journal_residual.hpp).
+  r.identified = ok && r.d0_uncertainty_um <= 0.25 * (o.depth_um[1] - o.depth_um[0]) &&
+                 r.gamma_uncertainty_deg <= 0.25 * (o.position_deg[1] - o.position_deg[0]) &&
+                 (n == 2 || r.beta_uncertainty_deg <= 0.25 * (o.span_deg[1] - o.span_deg[0])) && !r.bound_active;
+
+  // Is there a measurable wear? Model comparison of the unworn bore against the fitted wear on
+  // the same forward model (the refined grid when refined), decided by the residual loop's
+  // one criterion (engine::decide): information criterion (BIC with the records' off-bin
+  // noise, plus the model-error floor when set), the effect against the noise, identifiability
+  // and the misfit's fall.
+  {
+    Evaluator ev(board, meas, o);
+    if (o.grid_tolerance > 0.0) {
+      mj::ReynoldsOptions g = board.journal.grid;
+      g.cells_theta = r.grid_theta;
+      g.cells_axial = r.grid_axial;
+      ev.set_grid(g);
+    }
+    try {
+      const std::vector<double> rn = ev.residual_of(mj::WearParams{}), rf = ev.residual_of(w);
+      double chi_n = 0.0, chi_f = 0.0, eff = 0.0, mis_n = 0.0, mis_f = 0.0;
+      for (size_t k = 0; k < rn.size(); ++k) {
+        const double sg = ev.sigma(static_cast<int>(k));
+        chi_n += (rn[k] / sg) * (rn[k] / sg);
+        chi_f += (rf[k] / sg) * (rf[k] / sg);
+        eff = std::max(eff, std::abs(rf[k] - rn[k]) / sg);
+        mis_n += rn[k] * rn[k];
+        mis_f += rf[k] * rf[k];
+      }
+      residual::engine::CandidateEvidence c;
+      c.element = "journal_bearing_wear";
+      c.delta_ic = chi_n - chi_f - n * std::log(static_cast<double>(rn.size()));
+      c.ic_basis = "BIC, Gaussian off-bin noise of the +-1x components";
+      c.effect_sigma = eff;
+      c.identified = r.identified;
+      if (!r.identified) c.not_identified = "a parameter's 1-sigma exceeds a quarter of its range, or it is on a bound";
+      c.decision.push_back({"spectral misfit", "1", std::sqrt(mis_n), std::sqrt(mis_f), false, 0.0});
+      const residual::engine::Decision d = residual::engine::decide(c, residual::engine::Criterion{});
+      r.unworn_cost = 0.5 * mis_n;
+      r.delta_bic = c.delta_ic;
+      r.effect_sigma = eff;
+      r.wear_measurable = d.kept;
+      r.decision_reason = d.reason;
+    } catch (const std::invalid_argument& ex) {
+      r.decision_reason = std::string("model comparison failed: ") + ex.what();
+    }
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

@@ -13,6 +13,7 @@
 //
 // The identification is given the event and the board only: never the wear it is after.
 #include <array>
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -74,6 +75,12 @@ struct WearIdOptions {
   /// orbit's 3x is neglected, and with it the film's 2x from the product of the 3x and the 1x
   /// (5 % of the 2x at e = 0.1, docs/journal-bearing.md "The 3x").
   int film_harmonics = 3;
+  /// Converged film (issue 33): after the search on the board's grid, the film grid is refined
+  /// at the winning wear until the estimated K/C error is below this (relative; 0.002 =
+  /// 0.2 %; model/journal/film_grid_refinement.hpp) and the optimum is polished on that grid.
+  /// 0 (the library's default, which the residual loop's journal path uses): the board's grid
+  /// only, as before issue 33. `amb-host wear-id` defaults to 0.002 (--grid-tolerance).
+  double grid_tolerance = 0.0;
   /// Progress lines ("design of experiments 120/729", "polish 3/8 starts done"); called from
   /// the worker threads one at a time (serialised here). Empty: silent.
   std::function<void(const std::string&)> progress;
@@ -98,6 +105,29 @@ struct WearIdResult {
   FullSpectrum fitted_2x;            ///< full film: model +-2x at the optimum (journal probes), m; zero otherwise
   bool used_full_film = false, used_second_harmonic = false;
   bool used_amb_planes = false;
+  /// Film grid of the result (grid_tolerance > 0: the refined one) and its estimated relative
+  /// K/C error (Richardson); the board's grid and how far its K/C are from the refined ones.
+  int grid_theta = 0, grid_axial = 0;
+  double grid_error_estimate = NAN;
+  bool grid_converged = false;
+  int coarse_grid_theta = 0, coarse_grid_axial = 0;
+  double coarse_grid_error = NAN;
+  int grid_iterations = 0;           ///< defect-correction rounds on the refined grid
+  int fine_evaluations = 0;          ///< coefficient sets (or costs) evaluated on the refined grid
+  double grid_wall_s = 0.0;          ///< time of the refinement and the polish on it, s
+  /// Identifiable: every parameter's 1-sigma within a quarter of its bound range and none on a
+  /// bound. When not, `flat_direction` (unit vector in d0 um, gamma deg, beta deg) is the
+  /// combination the records leave undetermined, with 1-sigma `flat_direction_sigma` along it.
+  bool identified = false;
+  std::array<double, 3> flat_direction{};
+  double flat_direction_sigma = NAN;
+  /// Model comparison, unworn bore against the fitted wear (residual loop's criterion,
+  /// host-tools/core/residual/engine/criterion.hpp, default settings): false = "no measurable wear".
+  bool wear_measurable = false;
+  double unworn_cost = NAN;          ///< cost of the unworn bore, same forward model
+  double delta_bic = NAN;            ///< BIC(unworn) - BIC(wear), 1
+  double effect_sigma = NAN;         ///< largest change of a residual between the two, noise sigmas
+  std::string decision_reason;       ///< the criterion's reason in words
 };
 
 /// Run the identification on a measurement. Throws std::invalid_argument on bad options.
