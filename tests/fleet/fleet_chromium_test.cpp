@@ -11,6 +11,7 @@
 #include "host-tools/core/fleet/fleet_report.hpp"
 #include "tests/fleet/fleet_fixture.hpp"
 #include "tests/support/headless_chromium.hpp"
+#include "tests/support/read_text.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace fl = amb::host::fleet;
@@ -20,11 +21,7 @@ namespace ch = amb::test::chromium;
 
 namespace {
 
-size_t count(const std::string& s, const std::string& what) {
-  size_t n = 0;
-  for (size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
-  return n;
-}
+using amb::test::count_of;
 
 }  // namespace
 
@@ -53,7 +50,7 @@ TEST(FleetChromium, FleetPageRendersWithoutPageErrors) {
   EXPECT_NE(html.find("<svg id=\"trend\""), std::string::npos);
   // 10 bearings in the nearest table (+ header row), 5 machines, one legend entry per curve.
   const size_t t0 = html.find("<table id=\"nearest\""), t1 = html.find("</table>", t0);
-  EXPECT_EQ(count(html.substr(t0, t1 - t0), "<tr>"), 11u);
+  EXPECT_EQ(count_of(html.substr(t0, t1 - t0), "<tr>"), 11u);
   for (int m = 1; m <= 5; ++m) EXPECT_NE(html.find("board-" + std::to_string(m) + " aux 2"), std::string::npos) << m;
   EXPECT_EQ(ch::page_errors(ch::slurp(log1)), "");
 

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/support/headless_chromium.hpp"
+#include "tests/support/read_text.hpp"
 #include "tests/support/run_json_cli.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -20,11 +21,7 @@ namespace ch = amb::test::chromium;
 
 namespace {
 
-size_t count(const std::string& s, const std::string& what) {
-  size_t n = 0;
-  for (size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
-  return n;
-}
+using amb::test::count_of;
 
 }  // namespace
 
@@ -94,11 +91,11 @@ TEST(HybridCli, ThreePointsPredictJsonHasEveryModelAndTheBandAndThePageRenders) 
   EXPECT_NE(html.find("<table id=\"hybrid-scores\""), std::string::npos);
   EXPECT_NE(html.find("<svg id=\"hybrid-log-spectrum\""), std::string::npos);
   EXPECT_NE(html.find("<svg id=\"hybrid-envelope\""), std::string::npos);
-  EXPECT_EQ(count(html, "class=\"band\""), 2u) << "one band polygon per plot";
+  EXPECT_EQ(count_of(html, "class=\"band\""), 2u) << "one band polygon per plot";
   for (const char* legend : {"measured", "hybrid band", "interpolated transport", "nearest transport", "data only", "physics ("})
-    EXPECT_EQ(count(html, std::string(">") + legend), 2u) << legend;
+    EXPECT_EQ(count_of(html, std::string(">") + legend), 2u) << legend;
   const size_t t0 = html.find("<table id=\"hybrid-scores\""), t1 = html.find("</table>", t0);
-  EXPECT_EQ(count(html.substr(t0, t1 - t0), "<tr"), 6u) << "header and five models";
+  EXPECT_EQ(count_of(html.substr(t0, t1 - t0), "<tr"), 6u) << "header and five models";
   EXPECT_EQ(ch::page_errors(ch::slurp(log1)), "");
   const fs::path art = fs::absolute(amb::test::artefact_dir());
   fs::create_directories(art);
