@@ -1,3 +1,4 @@
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
 
 #include <Eigen/Dense>
@@ -23,11 +24,6 @@ namespace {
 
 using Readings = std::vector<std::array<double, 4>>;
 
-std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, f, a, b, c, d);
-  return buf;
-}
 
 std::array<double, 2> rig_centre(const model::PlantParams& rig, int k) {
   const auto& a = rig.aux[static_cast<size_t>(k)];
@@ -425,7 +421,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       out.levitated_note = std::string("levitated part not analysed: ") + e.what();
     }
   } else {
-    out.levitated_note = fmt("levitated part not analysed: %.2f s of pre-trigger history < %.2f s", lev_s, o.min_levitated_s);
+    out.levitated_note = io::printf_text("levitated part not analysed: %.2f s of pre-trigger history < %.2f s", lev_s, o.min_levitated_s);
   }
 
   // Drop part, the measurement as recorded.
@@ -482,7 +478,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       try {
         fit::DropFitResult f = fit::fit_drop(m, bl, fo);
         out.drop_notes.push_back(std::string("contact law ") + law_name[static_cast<int>(law)] +
-                                 fmt(": friction %.3f, Phase C cost %.4g", f.friction_coefficient, f.cost.total));
+                                 io::printf_text(": friction %.3f, Phase C cost %.4g", f.friction_coefficient, f.cost.total));
         if (f.cost.total < base.cost.total) {
           base = std::move(f);
           bu = bl;
@@ -496,16 +492,16 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   const SagViewShift sag = gravity_sag_view_shift_m(b.plant, *rig_model);
   out.drop_before = evaluate(m, base, bu.plant, o, sag);
   out.drop_after = out.drop_before;
-  out.drop_notes.push_back(fmt("drop model fitted: friction coefficient %.3f, Phase C cost %.4g", base.friction_coefficient,
+  out.drop_notes.push_back(io::printf_text("drop model fitted: friction coefficient %.3f, Phase C cost %.4g", base.friction_coefficient,
                                base.cost.total) + ", contact law " + out.contact_law +
-                           fmt(", rotor %.0f modes per plane (2: rigid)", static_cast<double>(base.rotor_modes_per_plane)));
+                           io::printf_text(", rotor %.0f modes per plane (2: rigid)", static_cast<double>(base.rotor_modes_per_plane)));
   if (out.drop_before.sag_scale > 0.0) {
-    out.drop_notes.push_back(fmt("rigid drop model: the board's flexible rotor's sag bias added to its contact circles, "
+    out.drop_notes.push_back(io::printf_text("rigid drop model: the board's flexible rotor's sag bias added to its contact circles, "
                                  "%.1f / %.1f um (static) x %.2f (mean contact force / weight)",
                                  sag.shift_m[0] * 1e6, sag.shift_m[1] * 1e6, out.drop_before.sag_scale));
   }
   out.drop_notes.push_back(out.angle_known_after_trigger_s > 0.0
-                               ? fmt("rotor angle known for %.3f s after the trigger (speed record)", out.angle_known_after_trigger_s)
+                               ? io::printf_text("rotor angle known for %.3f s after the trigger (speed record)", out.angle_known_after_trigger_s)
                                : std::string("rotor angle unknown after the trigger (no spin-speed record there)"));
   const engine::Criterion& crit = o.loop.criterion;
   // The drop trajectory after the first impacts is chaotic: two drops that differ by a few
@@ -521,7 +517,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     return v;
   };
   auto errs = [](const ErrorFigures& e) {
-    return fmt("orbit rms %.4f, spectral %.2f dB, pearson %.3f", e.rms, e.spectral, e.pearson) + fmt(", contact misfit %.4f", e.statics);
+    return io::printf_text("orbit rms %.4f, spectral %.2f dB, pearson %.3f", e.rms, e.spectral, e.pearson) + io::printf_text(", contact misfit %.4f", e.statics);
   };
   std::vector<EffectAdded> drop_added;
   ContactGeometryOptions geo;
@@ -585,7 +581,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
         mask[p][h] = z >= crit.min_effect_sigma && (h > 0 || amp > out.runout_floor_m[p]);
         any = any || mask[p][h];
         list += std::string(list.empty() ? "" : ", ") + (p == 0 ? "A " : "B ") +
-                fmt("%.0fx %.2f um", static_cast<double>(h + 1), amp * 1e6) + fmt(" (%.1f sigma)", z);
+                io::printf_text("%.0fx %.2f um", static_cast<double>(h + 1), amp * 1e6) + io::printf_text(" (%.1f sigma)", z);
       }
     if (any) {
       sel = estimate_contact_runout(raw_after, angle_after, bu.plant, fs, geo, mask);
@@ -593,10 +589,10 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     }
     rc.delta_bic = any && sel.testable ? sel.delta_bic : out.drop_runout.delta_bic;
     rc.evidence = "spin-locked departure of the contact points from the clearance circles: " + list +
-                  fmt("; 1x floor (fitted unbalance bending the shaft between the contacts, x%.2f): A %.2f um, ", o.spin_locked_factor,
+                  io::printf_text("; 1x floor (fitted unbalance bending the shaft between the contacts, x%.2f): A %.2f um, ", o.spin_locked_factor,
                       out.runout_floor_m[0] * 1e6) +
-                  fmt("B %.2f um; %.0f decorrelated contact points", out.runout_floor_m[1] * 1e6, out.drop_runout.n_eff) +
-                  fmt("; BIC decrease %.1f", rc.delta_bic);
+                  io::printf_text("B %.2f um; %.0f decorrelated contact points", out.runout_floor_m[1] * 1e6, out.drop_runout.n_eff) +
+                  io::printf_text("; BIC decrease %.1f", rc.delta_bic);
     if (!any) rc.evidence += " (no phasor beyond the noise and the unbalance's signature)";
   }
   // What is subtracted from the drop readings: the drop part's estimate decides the 1x (the
@@ -718,12 +714,12 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       for (size_t p = 0; p < 2; ++p) {
         const double z = g0.sigma[p] > 0.0 ? std::abs(g0.log_ratio[p]) / g0.sigma[p] : 0.0;
         fr[p] = z >= crit.min_effect_sigma && std::abs(g0.log_ratio[p]) >= o.min_gain_log_ratio;
-        list += std::string(list.empty() ? "" : ", ") + (p == 0 ? "A1/A2 " : "B1/B2 ") + fmt("%.4f", std::exp(g0.log_ratio[p])) +
-                fmt(" (%.1f sigma)", z);
+        list += std::string(list.empty() ? "" : ", ") + (p == 0 ? "A1/A2 " : "B1/B2 ") + io::printf_text("%.4f", std::exp(g0.log_ratio[p])) +
+                io::printf_text(" (%.1f sigma)", z);
       }
       gc.evidence = "contact points on ellipses along the probe axes: gain ratios " + list +
-                    fmt("; smallest ratio claimed %.1f %%", 100.0 * o.min_gain_log_ratio) +
-                    fmt("; %.0f decorrelated contact points", g0.n_eff);
+                    io::printf_text("; smallest ratio claimed %.1f %%", 100.0 * o.min_gain_log_ratio) +
+                    io::printf_text("; %.0f decorrelated contact points", g0.n_eff);
       gc.delta_bic = g0.delta_bic;
       if (!fr[0] && !fr[1]) {
         gc.evidence += " (no ratio beyond the noise and the smallest claimed)";
@@ -797,7 +793,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     const double R = b.plant.aux[static_cast<size_t>(k)].clearance_m;
     if (!mc.valid || !sc.valid) {
       testable = false;
-      out.drop_notes.push_back(fmt("aux bearing %.0f: too few contact points for the circle fit", k));
+      out.drop_notes.push_back(io::printf_text("aux bearing %.0f: too few contact points for the circle fit", static_cast<double>(k)));
       continue;
     }
     delta[static_cast<size_t>(k)] = {mc.centre_m[0] - sc.centre_m[0], mc.centre_m[1] - sc.centre_m[1]};
@@ -810,7 +806,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     const double raw = std::hypot(mc.centre_m[0] - mcen[0], mc.centre_m[1] - mcen[1]);
     const bool sig_k = dn > std::max(4.0 * sig, o.min_offset_fraction * R) && raw > std::max(4.0 * mc.sigma_m, o.min_offset_fraction * R);
     significant = significant || sig_k;
-    out.drop_notes.push_back(fmt("aux bearing %.0f: contact circle centre %+.1f / %+.1f um from the model's (sigma %.1f um)", k,
+    out.drop_notes.push_back(io::printf_text("aux bearing %.0f: contact circle centre %+.1f / %+.1f um from the model's (sigma %.1f um)", static_cast<double>(k),
                                  delta[static_cast<size_t>(k)][0] * 1e6, delta[static_cast<size_t>(k)][1] * 1e6, sig * 1e6) +
                              (sig_k ? " -- significant" : ""));
   }
@@ -824,7 +820,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     for (const auto& [rms, cnt] : mis) ssr += rms * rms * cnt;
     cand.delta_bic = offset_delta_bic(cur.misfit_ssr_m2, ssr, cur.misfit_points, fs, o);
     const double n_eff = std::max(1.0, cur.misfit_points * std::min(1.0, 1.0 / (fs * o.decorrelation_s)));
-    cand.evidence = fmt("contact circles off the model's centres by %.1f and %.1f um (%.0f decorrelated contact points)",
+    cand.evidence = io::printf_text("contact circles off the model's centres by %.1f and %.1f um (%.0f decorrelated contact points)",
                         std::hypot(delta[0][0], delta[0][1]) * 1e6, std::hypot(delta[1][0], delta[1][1]) * 1e6, n_eff);
     cand.evidence += significant ? "" : "; within the estimator's uncertainty";
   } else {
@@ -875,8 +871,8 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       fit::DropFitResult rn = fit::fit_drop(m, bn, fo);
       DropErrors an = evaluate(m, rn, bn.plant, o, sag);
       const double c2n = centre_chi2(an, nullptr);
-      out.drop_notes.push_back(fmt("offset iteration %.0f: centre chi2 %.1f -> %.1f", it + 1.0, c2, c2n) +
-                               fmt(", rotor %.0f modes per plane", static_cast<double>(rn.rotor_modes_per_plane)));
+      out.drop_notes.push_back(io::printf_text("offset iteration %.0f: centre chi2 %.1f -> %.1f", it + 1.0, c2, c2n) +
+                               io::printf_text(", rotor %.0f modes per plane", static_cast<double>(rn.rotor_modes_per_plane)));
       if (!(c2n < c2)) break;
       delta = next;
       b2 = std::move(bn);
@@ -884,7 +880,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       after = std::move(an);
     }
     const double dbic = offset_delta_bic(cur.misfit_ssr_m2, after.misfit_ssr_m2, cur.misfit_points, fs, o);
-    out.drop_notes.push_back(fmt("refit with the offset: friction %.3f, contact misfit %.4g -> %.4g of the clearance, dBIC %.1f",
+    out.drop_notes.push_back(io::printf_text("refit with the offset: friction %.3f, contact misfit %.4g -> %.4g of the clearance, dBIC %.1f",
                                  refit.friction_coefficient, cur.error.statics, after.error.statics, dbic));
     out.drop_notes.push_back("with the offset: " + errs(cur.error) + " -> " + errs(after.error));
     // The engine decides on the contact geometry: the radial scatter of the contact points
@@ -910,10 +906,10 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
         z1 = sig1 > 0.0 ? std::hypot(mcir.centre_m[0] - s1.centre_m[0], mcir.centre_m[1] - s1.centre_m[1]) / sig1 : 0.0;
       } else {
         ce.identified = false;
-        ce.not_identified = fmt("the refitted simulation touches aux bearing %.0f too briefly for a circle", static_cast<double>(k));
+        ce.not_identified = io::printf_text("the refitted simulation touches aux bearing %.0f too briefly for a circle", static_cast<double>(k));
       }
       ce.effect_sigma = std::max(ce.effect_sigma, z0);
-      ce.decision.push_back({fmt("aux bearing %.0f centre, measured - model", static_cast<double>(k)), "sigma", z0, z1, false,
+      ce.decision.push_back({io::printf_text("aux bearing %.0f centre, measured - model", static_cast<double>(k)), "sigma", z0, z1, false,
                              crit.min_effect_sigma});
       for (size_t c = 0; c < 2; ++c)
         if (spec != nullptr && !engine::within_bounds(*spec, pn[2 * k + c], b2.plant.aux[k].centre_offset_x_m * (c == 0) +
@@ -925,7 +921,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     ce.decision.push_back({"contact misfit", "clearance", cur.error.statics, after.error.statics});
     ce.information = information(cur, after);
     if (refit.bound_active && !base.bound_active)
-      out.drop_notes.push_back(fmt("the refit with the offset puts a fitted value on its bound (friction %.3f); reported, not decided on",
+      out.drop_notes.push_back(io::printf_text("the refit with the offset puts a fitted value on its bound (friction %.3f); reported, not decided on",
                                    refit.friction_coefficient));
     const engine::Decision dec = engine::decide(ce, crit);
     for (auto& cs : out.drop_ranking)
@@ -978,10 +974,10 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       const double n_eff = std::max(2.0, static_cast<double>(cc.points[k]) / std::max(1.0, fs * o.decorrelation_s));
       sc.delta_bic = z * z - std::log(n_eff);
       const double ks = dc > 0.0 ? 1.0 / dc : 0.0;
-      sc.evidence = fmt("contact deflection grows with the force at aux bearing %.0f by %.3g m/N beyond the other's", static_cast<double>(k), dc) +
-                    fmt(" (%.1f sigma; support stiffness %.3g N/m); ", z, ks) +
-                    fmt("predicted change of the contact radius at the mean force %.0f N: %.1f um", cc.mean_force_n[k], change * 1e6) +
-                    fmt(" against a floor of %.1f um", floor * 1e6) + fmt("; BIC decrease %.1f", sc.delta_bic);
+      sc.evidence = io::printf_text("contact deflection grows with the force at aux bearing %.0f by %.3g m/N beyond the other's", static_cast<double>(k), dc) +
+                    io::printf_text(" (%.1f sigma; support stiffness %.3g N/m); ", z, ks) +
+                    io::printf_text("predicted change of the contact radius at the mean force %.0f N: %.1f um", cc.mean_force_n[k], change * 1e6) +
+                    io::printf_text(" against a floor of %.1f um", floor * 1e6) + io::printf_text("; BIC decrease %.1f", sc.delta_bic);
       // The engine's criterion on the force-deflection evidence. The refit cannot carry it:
       // the drop model holds one contact stiffness for both bearings
       // (DropModel::set_contact_stiffness), so a support under one bearing is not identified
@@ -994,7 +990,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       ce.effect_sigma = change > floor ? z : 0.0;
       ce.identified = false;
       ce.not_identified = "the drop model holds one contact stiffness for both aux bearings, so a support under one bearing cannot be refitted";
-      ce.decision.push_back({fmt("aux bearing %.0f compliance beyond the other's", static_cast<double>(k)), "sigma", z, z});
+      ce.decision.push_back({io::printf_text("aux bearing %.0f compliance beyond the other's", static_cast<double>(k)), "sigma", z, z});
       const engine::Decision dec = engine::decide(ce, crit);
       out.drop_ranking.push_back(scored(ce, dec));
       (void)ks;
@@ -1097,8 +1093,8 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
           cs.information_features.push_back({"levitated part: unexplained speed-order lines", "lines", static_cast<double>(lines_before),
                                             static_cast<double>(lines_after)});
         }
-      out.drop_notes.push_back(fmt("levitated part re-evaluated with the drop's runout held: rms %.4f -> %.4f, ", e0.rms, ev.error.rms) +
-                               fmt("unexplained speed-order lines %.0f -> %.0f", static_cast<double>(lines_before), static_cast<double>(lines_after)));
+      out.drop_notes.push_back(io::printf_text("levitated part re-evaluated with the drop's runout held: rms %.4f -> %.4f, ", e0.rms, ev.error.rms) +
+                               io::printf_text("unexplained speed-order lines %.0f -> %.0f", static_cast<double>(lines_before), static_cast<double>(lines_after)));
     } catch (const std::exception& e) {
       out.drop_notes.push_back(std::string("levitated part not re-evaluated with the drop's runout: ") + e.what());
     }

@@ -1,3 +1,4 @@
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/residual/journal_residual.hpp"
 
 #include "host-tools/core/residual/candidate_report.hpp"
@@ -29,11 +30,6 @@ JournalErrors errors_of(const wi::FullSpectrum& model, const wi::JournalMeasurem
   return e;
 }
 
-std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, f, a, b, c, d);
-  return buf;
-}
 }  // namespace
 
 bool is_journal_event(const LoadedEvent& ev, const board::BoardConfig& b, std::string* why) {
@@ -70,9 +66,9 @@ JournalResidualOutcome run_journal_residual(const LoadedEvent& ev, const board::
   const wi::FullSpectrum base = wi::predict_spectrum(b, b.journal.wear, m.journal, m.speed_hz);
   r.before = errors_of(base, m, 0);
   r.after = r.before;
-  r.notes.push_back(fmt("journal probes at %.3f Hz, static eccentricity %.3f: +1x %.3f um, -1x %.3f um measured", m.speed_hz,
+  r.notes.push_back(io::printf_text("journal probes at %.3f Hz, static eccentricity %.3f: +1x %.3f um, -1x %.3f um measured", m.speed_hz,
                         m.eccentricity, std::abs(m.spectrum.forward_m) * 1e6, std::abs(m.spectrum.backward_m) * 1e6));
-  r.notes.push_back(fmt("board model (declared bore) misses +1x by %.3f um and -1x by %.3f um: %.2f %% of the spectrum, "
+  r.notes.push_back(io::printf_text("board model (declared bore) misses +1x by %.3f um and -1x by %.3f um: %.2f %% of the spectrum, "
                         "%.0f noise standard errors",
                         r.before.forward_m * 1e6, r.before.backward_m * 1e6, 100.0 * r.before.spectral,
                         std::sqrt(r.before.chi2)));
@@ -90,9 +86,9 @@ JournalResidualOutcome run_journal_residual(const LoadedEvent& ev, const board::
   CandidateScore c;
   c.name = k_name;
   c.delta_bic = r.delta_bic;
-  c.evidence = fmt("wear d0 %.2f um, gamma %.2f deg, beta %.2f deg: spectral error %.3g -> ", r.fit.d0_um, r.fit.gamma_deg,
+  c.evidence = io::printf_text("wear d0 %.2f um, gamma %.2f deg, beta %.2f deg: spectral error %.3g -> ", r.fit.d0_um, r.fit.gamma_deg,
                    r.fit.beta_deg, r.before.spectral) +
-               fmt("%.3g (%.0f %% less), dBIC %.1f, effect %.1f sigma", with.spectral, 100.0 * r.relative_improvement,
+               io::printf_text("%.3g (%.0f %% less), dBIC %.1f, effect %.1f sigma", with.spectral, 100.0 * r.relative_improvement,
                    r.delta_bic, r.effect_sigma);
   r.ranking.push_back(c);
 
@@ -106,7 +102,7 @@ JournalResidualOutcome run_journal_residual(const LoadedEvent& ev, const board::
   for (int i = 0; i < 3; ++i)
     r.worst_sigma_of_range = std::isfinite(sig_fit[i]) ? std::max(r.worst_sigma_of_range, sig_fit[i] / ranges[i]) : INFINITY;
   const bool identified = r.worst_sigma_of_range <= o.max_sigma_of_range;
-  c.evidence += fmt(", largest 1-sigma %.3g of its range", r.worst_sigma_of_range);
+  c.evidence += io::printf_text(", largest 1-sigma %.3g of its range", r.worst_sigma_of_range);
   r.ranking.back().evidence = c.evidence;
   engine::CandidateEvidence ce;
   ce.element = k_name;
@@ -115,7 +111,7 @@ JournalResidualOutcome run_journal_residual(const LoadedEvent& ev, const board::
   ce.ic_basis = "BIC of the +1x/-1x journal components, Gaussian with the record's off-bin noise, 3 parameters";
   ce.effect_sigma = r.effect_sigma;
   ce.identified = identified;
-  if (!identified) ce.not_identified = fmt("a 1-sigma is %.3g of its range > %.2f", r.worst_sigma_of_range, o.max_sigma_of_range);
+  if (!identified) ce.not_identified = io::printf_text("a 1-sigma is %.3g of its range > %.2f", r.worst_sigma_of_range, o.max_sigma_of_range);
   ce.decision.push_back({"spectral error", "1", r.before.spectral, with.spectral});
   const engine::Decision dec = engine::decide(ce, o.criterion);
   r.ranking.back() = scored(ce, dec);
@@ -178,12 +174,12 @@ std::string journal_residual_text(const JournalResidualOutcome& r) {
   for (const auto& c : r.ranking) s += "  " + candidate_text(c) + "\n";
   for (const auto& e : r.effects_added) {
     s += "added " + e.name + ":";
-    for (const auto& [k, x] : e.parameters) s += " " + k + "=" + fmt("%.4g", x);
+    for (const auto& [k, x] : e.parameters) s += " " + k + "=" + io::printf_text("%.4g", x);
     s += "\n";
   }
-  s += fmt("error before: spectral %.4g (+1x %.4g um, -1x %.4g um)\n", r.before.spectral, r.before.forward_m * 1e6,
+  s += io::printf_text("error before: spectral %.4g (+1x %.4g um, -1x %.4g um)\n", r.before.spectral, r.before.forward_m * 1e6,
            r.before.backward_m * 1e6);
-  s += fmt("error after : spectral %.4g (+1x %.4g um, -1x %.4g um)\n", r.after.spectral, r.after.forward_m * 1e6,
+  s += io::printf_text("error after : spectral %.4g (+1x %.4g um, -1x %.4g um)\n", r.after.spectral, r.after.forward_m * 1e6,
            r.after.backward_m * 1e6);
   s += "verdict: " + r.verdict + "\n";
   return s;

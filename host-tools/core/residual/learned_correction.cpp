@@ -1,3 +1,4 @@
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/residual/learned_correction.hpp"
 
 #include <algorithm>
@@ -30,11 +31,6 @@ bool LearnedCorrectionOptions::valid(std::string* why) const {
 namespace {
 
 
-std::string fmt(const char* f, double a, double b = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, f, a, b);
-  return buf;
-}
 
 // Digamma and trigamma for x > 0 (recurrence to x >= 6, then the asymptotic series): the
 // mean and the variance of ln of a Gamma(K, 1/K) variable, i.e. of a log Welch estimate
@@ -307,13 +303,13 @@ CorrectionPart steady_half_part(const SteadyData& d, const SteadyEvaluation& mod
   const size_t len = d.window_len / 2;
   const auto seg = static_cast<size_t>(so.segment_s * d.fs_hz);
   if (len < 3 * seg || d.window[0].size() < 2 * len)
-    throw std::runtime_error(fmt("a half of the steady window (%.2f s) is shorter than 3 Welch segments of %.2f s (5 with 50 %% overlap)",
+    throw std::runtime_error(io::printf_text("a half of the steady window (%.2f s) is shorter than 3 Welch segments of %.2f s (5 with 50 %% overlap)",
                                  static_cast<double>(len) / d.fs_hz, so.segment_s));
   const std::vector<Band> h = remainder_bands(d, half == 0 ? 0 : len, len, so);
   if (h.size() != d.bands.size() || model.psd_pred.size() != d.bands.size())
     throw std::runtime_error("the half's bands differ from the record's (steady options differ from the loop's)");
   CorrectionPart p;
-  p.name = fmt(half == 0 ? "first half of the steady window (%.2f s)" : "second half of the steady window (%.2f s)",
+  p.name = io::printf_text(half == 0 ? "first half of the steady window (%.2f s)" : "second half of the steady window (%.2f s)",
                static_cast<double>(len) / d.fs_hz);
   p.db_per_ln = 10.0 / std::log(10.0);
   for (int c = 0; c < k_channels; ++c) {
@@ -361,7 +357,7 @@ LearnedCorrectionSummary learned_correction_steady(const SteadyData& d, const St
              "-octave bands, mean and speed orders 1..3 removed";
   const double half_s = static_cast<double>(d.window_len / 2) / d.fs_hz;
   if (half_s < o.min_half_s || half_s < 3.0 * so.segment_s) {
-    s.skipped_why = fmt("steady window %.2f s: a half is shorter than %.2f s, too short to train on one half and score on the other",
+    s.skipped_why = io::printf_text("steady window %.2f s: a half is shorter than %.2f s, too short to train on one half and score on the other",
                         d.window_s, std::max(o.min_half_s, 3.0 * so.segment_s));
     return s;
   }

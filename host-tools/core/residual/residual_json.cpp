@@ -1,34 +1,13 @@
 #include "host-tools/core/residual/residual_json.hpp"
 
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
 
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/residual/candidate_report.hpp"
 #include "host-tools/core/residual/sweep_report.hpp"
 
 namespace amb::host::residual {
 namespace {
-
-void appendf(std::string& out, const char* format, ...) __attribute__((format(printf, 2, 3)));
-void appendf(std::string& out, const char* format, ...) {
-  char buf[1024];
-  va_list ap;
-  va_start(ap, format);
-  const int n = std::vsnprintf(buf, sizeof buf, format, ap);
-  va_end(ap);
-  if (n < 0) return;
-  if (static_cast<size_t>(n) < sizeof buf) {
-    out += buf;
-    return;
-  }
-  std::string big(static_cast<size_t>(n) + 1, '\0');
-  va_start(ap, format);
-  std::vsnprintf(big.data(), big.size(), format, ap);
-  va_end(ap);
-  big.resize(static_cast<size_t>(n));
-  out += big;
-}
 
 nlohmann::json model_update_json(const ResidualOutcome& o) {
   const auto& u = o.model_update;
@@ -58,6 +37,22 @@ nlohmann::json score_json(const CorrectionScore& c) {
           {"points", c.points}};
 }
 
+}  // namespace
+
+namespace {
+// The part every record kind's document starts with.
+nlohmann::json verdict_json(const std::vector<EffectAdded>& added, const ErrorFigures& before, const ErrorFigures& after,
+                            const std::string& verdict, const std::vector<CandidateScore>& ranking,
+                            const std::vector<std::string>& notes) {
+  nlohmann::json j;
+  j["effects_added"] = effects_added_json(added);
+  j["error_before"] = error_figures_json(before);
+  j["error_after"] = error_figures_json(after);
+  j["verdict"] = verdict;
+  j["ranking"] = candidates_json(ranking);
+  j["structure"] = notes;
+  return j;
+}
 }  // namespace
 
 nlohmann::json error_figures_json(const ErrorFigures& e) {
@@ -136,13 +131,7 @@ std::vector<CandidateScore> drop_ranking(const DropResidualOutcome& o) {
 }
 
 nlohmann::json steady_residual_json(const SteadyData& d, const ResidualOutcome& o) {
-  nlohmann::json j;
-  j["effects_added"] = effects_added_json(o.effects_added);
-  j["error_before"] = error_figures_json(o.before.error);
-  j["error_after"] = error_figures_json(o.after.error);
-  j["verdict"] = o.verdict;
-  j["ranking"] = candidates_json(o.ranking);
-  j["structure"] = o.structure.notes;
+  nlohmann::json j = verdict_json(o.effects_added, o.before.error, o.after.error, o.verdict, o.ranking, o.structure.notes);
   j["spin_hz"] = d.spin_hz;
   j["bic_before"] = o.before.bic;
   j["bic_after"] = o.after.bic;
@@ -160,14 +149,8 @@ nlohmann::json steady_residual_json(const SteadyData& d, const ResidualOutcome& 
 }
 
 nlohmann::json drop_residual_json(const DropResidualOutcome& o) {
-  nlohmann::json j;
+  nlohmann::json j = verdict_json(o.effects_added, o.before, o.after, o.verdict, drop_ranking(o), drop_notes(o));
   j["event_kind"] = "drop";
-  j["effects_added"] = effects_added_json(o.effects_added);
-  j["error_before"] = error_figures_json(o.before);
-  j["error_after"] = error_figures_json(o.after);
-  j["verdict"] = o.verdict;
-  j["ranking"] = candidates_json(drop_ranking(o));
-  j["structure"] = drop_notes(o);
   nlohmann::json seg;
   if (o.levitated_analysed) {
     seg["levitated"] = {{"error_before", error_figures_json(o.levitated.before.error)},
@@ -200,13 +183,7 @@ nlohmann::json drop_residual_json(const DropResidualOutcome& o) {
 }
 
 nlohmann::json sweep_residual_json(const SweepOutcome& o) {
-  nlohmann::json j;
-  j["effects_added"] = effects_added_json(o.effects_added);
-  j["error_before"] = error_figures_json(o.before.error);
-  j["error_after"] = error_figures_json(o.after.error);
-  j["verdict"] = o.verdict;
-  j["ranking"] = candidates_json(o.ranking);
-  j["structure"] = o.notes;
+  nlohmann::json j = verdict_json(o.effects_added, o.before.error, o.after.error, o.verdict, o.ranking, o.notes);
   j["accelerometer_axial_m"] = o.after.accel_axial_m;
   j["excited_axis"] = o.after.excited_axis;
   j["gain_scale"] = o.after.gain_scale;
@@ -225,11 +202,11 @@ std::string residual_text(const std::string& verdict, const ErrorFigures& b, con
   for (const auto& c : rank) out += "  " + candidate_text(c) + "\n";
   for (const auto& e : add) {
     out += "added " + e.name + ":";
-    for (const auto& [k, x] : e.parameters) appendf(out, " %s=%.4g", k.c_str(), x);
+    for (const auto& [k, x] : e.parameters) out += io::printf_text(" %s=%.4g", k.c_str(), x);
     out += "\n";
   }
-  appendf(out, "error before: rms %.4g  spectral %.3g  pearson %.3f\n", b.rms, b.spectral, b.pearson);
-  appendf(out, "error after : rms %.4g  spectral %.3g  pearson %.3f\n", a.rms, a.spectral, a.pearson);
+  out += io::printf_text("error before: rms %.4g  spectral %.3g  pearson %.3f\n", b.rms, b.spectral, b.pearson);
+  out += io::printf_text("error after : rms %.4g  spectral %.3g  pearson %.3f\n", a.rms, a.spectral, a.pearson);
   out += "verdict: " + verdict + "\n";
   return out;
 }
@@ -238,20 +215,20 @@ std::string learned_correction_text(const LearnedCorrectionSummary& s) {
   std::string out = "learned correction (NOT a physical explanation; not part of the verdict):\n";
   if (!s.done) return out + "  skipped: " + s.skipped_why + "\n";
   const auto line = [&out](const char* what, const CorrectionScore& c) {
-    appendf(out, "  %s: unexplained %.3g dB -> %.3g dB (noise floor %.3g dB), absorbed %.1f %%", what, c.before_db, c.after_db,
+    out += io::printf_text("  %s: unexplained %.3g dB -> %.3g dB (noise floor %.3g dB), absorbed %.1f %%", what, c.before_db, c.after_db,
             c.noise_floor_db, 100.0 * c.absorbed_fraction);
     if (std::isfinite(c.absorbed_fraction_of_excess))
-      appendf(out, " (%.1f %% of the excess over the floor)", 100.0 * c.absorbed_fraction_of_excess);
-    appendf(out, ", %d points\n", c.points);
+      out += io::printf_text(" (%.1f %% of the excess over the floor)", 100.0 * c.absorbed_fraction_of_excess);
+    out += io::printf_text(", %d points\n", c.points);
   };
   out += "  " + s.domain + "\n  trained on " + s.trained_on + ", scored on " + s.scored_on + "\n";
   line("held out", s.held_out);
   if (s.has_reverse) line("reverse (parts swapped)", s.reverse_held_out);
   line("training part (optimistic)", s.training);
   for (const auto& g : s.groups)
-    appendf(out, "  %-16s %.3g -> %.3g dB, lambda %.3g, %.1f effective of %d weights\n", g.name.c_str(), g.held_out.before_db,
+    out += io::printf_text("  %-16s %.3g -> %.3g dB, lambda %.3g, %.1f effective of %d weights\n", g.name.c_str(), g.held_out.before_db,
             g.held_out.after_db, g.lambda, g.effective_parameters, g.weights);
-  appendf(out, "  map: %d weights, %.1f effective parameters, trained on %d points\n", s.weights, s.effective_parameters,
+  out += io::printf_text("  map: %d weights, %.1f effective parameters, trained on %d points\n", s.weights, s.effective_parameters,
           s.training_points);
   return out;
 }

@@ -1,3 +1,4 @@
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/residual/residual_loop.hpp"
 
 #include <Eigen/Dense>
@@ -24,11 +25,6 @@ constexpr double k_inf = std::numeric_limits<double>::infinity();
 // magnetic saturation acts within the recorded range (below it, it is a constant gain).
 constexpr double k_min_ki_variation = 0.01;
 
-std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, f, a, b, c);
-  return buf;
-}
 
 // ---- nonlinear parameters of the elements present, as one vector (logs) ----
 struct Bounds {
@@ -230,37 +226,37 @@ std::string evidence_for(EffectKind k, const ResidualStructure& s, double delta_
   switch (k) {
     case EffectKind::pedestal_resonance:
       if (!s.resonance_excess.empty())
-        e = fmt("fixed-frequency resonance the model lacks at %.1f Hz (+%.1f dB over the model PSD)",
+        e = io::printf_text("fixed-frequency resonance the model lacks at %.1f Hz (+%.1f dB over the model PSD)",
                 s.resonance_excess.front().first, s.resonance_excess.front().second);
       else e = "no unexplained fixed-frequency peak";
       break;
     case EffectKind::sensor_runout:
-      e = fmt("speed-locked residual lines: 1x %.0f, 2x %.0f, 3x %.0f times the noise power", s.order_excess_snr[0],
+      e = io::printf_text("speed-locked residual lines: 1x %.0f, 2x %.0f, 3x %.0f times the noise power", s.order_excess_snr[0],
               s.order_excess_snr[1], s.order_excess_snr[2]);
       break;
     case EffectKind::aux_bearing_offset:
-      e = s.has_rest ? fmt("rest position off the model by (%.1f, %.1f) um at plane A sensors, %.1f um at B1",
+      e = s.has_rest ? io::printf_text("rest position off the model by (%.1f, %.1f) um at plane A sensors, %.1f um at B1",
                            s.rest_offset_m[0] * 1e6, s.rest_offset_m[1] * 1e6, s.rest_offset_m[2] * 1e6)
                      : "no rest or contact segment in the record: not testable";
       break;
     case EffectKind::amplifier_lag:
-      e = fmt("current lags the model by %.1f deg at 1x; spectral shape near the loop crossover", s.current_phase_lag_deg);
+      e = io::printf_text("current lags the model by %.1f deg at 1x; spectral shape near the loop crossover", s.current_phase_lag_deg);
       break;
     case EffectKind::rotor_mode:
       if (!s.resonance_deficit.empty() || !s.resonance_excess.empty())
-        e = fmt("model peak at %.1f Hz without a measured counterpart, measured excess at %.1f Hz",
+        e = io::printf_text("model peak at %.1f Hz without a measured counterpart, measured excess at %.1f Hz",
                 s.resonance_deficit.empty() ? 0.0 : s.resonance_deficit.front().first,
                 s.resonance_excess.empty() ? 0.0 : s.resonance_excess.front().first);
       else e = "no shifted mode";
       break;
     case EffectKind::magnetic_saturation:
-      e = fmt("static currents %.2f times the model's (force per ampere below the board's ki)", s.static_current_ratio);
+      e = io::printf_text("static currents %.2f times the model's (force per ampere below the board's ki)", s.static_current_ratio);
       break;
     case EffectKind::sensor_mass: e = "not applicable to displacement-sensor records"; break;
     case EffectKind::aux_support_compliance: e = "acts only in contact: a drop-part candidate"; break;
     case EffectKind::sensor_gain: e = "read from the contact geometry: a drop-part candidate"; break;
   }
-  return e + fmt("; BIC decrease %.1f", delta_bic);
+  return e + io::printf_text("; BIC decrease %.1f", delta_bic);
 }
 
 }  // namespace
@@ -429,19 +425,19 @@ ResidualStructure analyse_structure(const SteadyData& d, const board::BoardConfi
   }
   // Notes.
   for (size_t i = 0; i < std::min<size_t>(3, s.resonance_excess.size()); ++i)
-    s.notes.push_back(fmt("fixed-frequency excess at %.1f Hz: +%.1f dB (", s.resonance_excess[i].first, s.resonance_excess[i].second) +
+    s.notes.push_back(io::printf_text("fixed-frequency excess at %.1f Hz: +%.1f dB (", s.resonance_excess[i].first, s.resonance_excess[i].second) +
                       (std::abs(std::fmod(s.resonance_excess[i].first / d.spin_hz + 0.5, 1.0) - 0.5) < 0.05 ? "near a speed order)" : "not speed-locked)"));
   for (size_t i = 0; i < std::min<size_t>(2, s.resonance_deficit.size()); ++i)
-    s.notes.push_back(fmt("model peak without data at %.1f Hz: %.1f dB", s.resonance_deficit[i].first, s.resonance_deficit[i].second));
+    s.notes.push_back(io::printf_text("model peak without data at %.1f Hz: %.1f dB", s.resonance_deficit[i].first, s.resonance_deficit[i].second));
   for (int h = 1; h <= k_orders; ++h)
     if (s.order_excess_snr[static_cast<size_t>(h - 1)] > 10.0)
-      s.notes.push_back(fmt("speed-locked residual at order %.0f: %.0f times the noise", h, s.order_excess_snr[static_cast<size_t>(h - 1)]));
+      s.notes.push_back(io::printf_text("speed-locked residual at order %d: %.0f times the noise", h, s.order_excess_snr[static_cast<size_t>(h - 1)]));
   if (std::abs(s.subsynchronous_excess_db) > 2.0)
-    s.notes.push_back(fmt("sub-synchronous content off the model by %.1f dB", s.subsynchronous_excess_db));
+    s.notes.push_back(io::printf_text("sub-synchronous content off the model by %.1f dB", s.subsynchronous_excess_db));
   if (std::abs(s.static_current_ratio - 1.0) > 0.1)
-    s.notes.push_back(fmt("static currents %.2f times the model's", s.static_current_ratio));
+    s.notes.push_back(io::printf_text("static currents %.2f times the model's", s.static_current_ratio));
   if (d.has_rest)
-    s.notes.push_back(fmt("rest readings off the model by %.1f / %.1f um (plane A), %.1f um (B1)", s.rest_offset_m[0] * 1e6,
+    s.notes.push_back(io::printf_text("rest readings off the model by %.1f / %.1f um (plane A), %.1f um (B1)", s.rest_offset_m[0] * 1e6,
                           s.rest_offset_m[1] * 1e6, s.rest_offset_m[2] * 1e6));
   return s;
 }
@@ -650,10 +646,10 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
       }
       const bool out_of_range = ki_variation < k_min_ki_variation;
       c.evidence = evidence_for(k, st, c.delta_bic) +
-                   fmt("; spectral %.2f -> %.2f dB, rms %.4f", now.error.spectral, ev.error.spectral, now.error.rms) +
-                   fmt(" -> %.4f; largest predicted change %.1f sigma", ev.error.rms, z);
+                   io::printf_text("; spectral %.2f -> %.2f dB, rms %.4f", now.error.spectral, ev.error.spectral, now.error.rms) +
+                   io::printf_text(" -> %.4f; largest predicted change %.1f sigma", ev.error.rms, z);
       if (out_of_range)
-        c.evidence += fmt(" (no effect within the recorded range: force per ampere varies by %.2g %% over the recorded currents)",
+        c.evidence += io::printf_text(" (no effect within the recorded range: force per ampere varies by %.2g %% over the recorded currents)",
                           100.0 * ki_variation);
       engine::CandidateEvidence ce =
           evidence_of(c.name, now, ev, !bound, bound ? "a fitted parameter is at its bound or not bounded by the data" : "", !out_of_range);

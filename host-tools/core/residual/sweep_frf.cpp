@@ -1,3 +1,4 @@
+#include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/residual/sweep_frf.hpp"
 
 #include <algorithm>
@@ -19,11 +20,6 @@ namespace {
 using cd = std::complex<double>;
 constexpr double k_inf = std::numeric_limits<double>::infinity();
 
-std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0, double d = 0.0, double e = 0.0) {
-  char buf[400];
-  std::snprintf(buf, sizeof buf, f, a, b, c, d, e);
-  return buf;
-}
 
 FrfFitData make_data(const SweepFrf& frf, const SweepOptions& o) {
   FrfFitData d;
@@ -382,7 +378,7 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
                      return true;
                    }});
   for (double z : {0.0, len})
-    cands.push_back({"drive_coupling", fmt("drive coupling mass on the shaft end at %.0f mm", z * 1e3), [&, z](UpdateModel& t, std::vector<double>& v) {
+    cands.push_back({"drive_coupling", io::printf_text("drive coupling mass on the shaft end at %.0f mm", z * 1e3), [&, z](UpdateModel& t, std::vector<double>& v) {
                        if (t.coupling) return false;
                        add_coupling(t, z, 0.02);
                        v.push_back(0.02);
@@ -406,7 +402,7 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
                      return true;
                    }});
   for (int j : {0, 1})
-    cands.push_back({"pedestal_resonance", fmt("housing / foundation mode at the AMB at %.0f mm", m.base.bearing[static_cast<size_t>(j)].axial_m * 1e3),
+    cands.push_back({"pedestal_resonance", io::printf_text("housing / foundation mode at the AMB at %.0f mm", m.base.bearing[static_cast<size_t>(j)].axial_m * 1e3),
                      [&, j](UpdateModel& t, std::vector<double>& v) {
                        if (t.housing) return false;
                        UpdateModel tm;
@@ -490,19 +486,19 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
             if (element_of(id.names[a2]) == name || (name == "amplifier_lag" && id.names[a2] == "amplifier_lag_s"))
               own_share += id.null_share[a2];
           if (deficit > tr.rank_deficit && own_share > 0.5 * (deficit - tr.rank_deficit))
-            why = fmt("Jacobian rank %.0f of %.0f", id.rank, static_cast<double>(id.names.size())) +
-                  fmt(", its own parameters %.0f %% of the unidentified directions", 100.0 * own_share / deficit);
+            why = io::printf_text("Jacobian rank %d of %.0f", id.rank, static_cast<double>(id.names.size())) +
+                  io::printf_text(", its own parameters %.0f %% of the unidentified directions", 100.0 * own_share / deficit);
           for (size_t a2 = 0; a2 < id.names.size(); ++a2)
             for (size_t b2 = 0; b2 < id.names.size(); ++b2)
               if (a2 != b2 && (element_of(id.names[a2]) == name || (name == "amplifier_lag" && id.names[a2] == "amplifier_lag_s")) &&
                   std::abs(id.correlation[a2][b2]) >= 0.99 && element_of(id.names[b2]) != name)
-                why += (why.empty() ? "" : "; ") + id.names[a2] + " and " + id.names[b2] + fmt(" correlated %.3f", id.correlation[a2][b2]);
+                why += (why.empty() ? "" : "; ") + id.names[a2] + " and " + id.names[b2] + io::printf_text(" correlated %.3f", id.correlation[a2][b2]);
         }
         // The engine's criterion (engine/criterion.hpp). The misfit is coherence-weighted
         // (the H1 estimator's noise), so its decrease is the element's effect in noise units.
         engine::CandidateEvidence ce;
         ce.element = cands[t1.k].name;
-        ce.evidence = cands[t1.k].what + fmt(" (round %.0f): misfit %.5g -> %.5g", round, tr.cur.cost, f.cost);
+        ce.evidence = cands[t1.k].what + io::printf_text(" (round %d): misfit %.5g -> %.5g", round, tr.cur.cost, f.cost);
         ce.delta_ic = dbic;
         ce.ic_basis = "BIC of the FRF: complex Gaussian per bin with the H1 estimator's coherence-based variance";
         ce.effect_sigma = std::sqrt(std::max(0.0, tr.cur.cost - f.cost));
@@ -544,7 +540,7 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
             CandidateScore cs;
             cs.name = cands[t1.k].name;
             cs.delta_bic = t1.dbic;
-            cs.evidence = cands[t1.k].what + fmt(" (round %.0f): screening BIC decrease %.1f: not added", round, t1.dbic);
+            cs.evidence = cands[t1.k].what + io::printf_text(" (round %d): screening BIC decrease %.1f: not added", round, t1.dbic);
             tr.ranking.push_back(cs);
           }
         break;
@@ -567,7 +563,7 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
       for (const auto& r : tr.ranking) std::fprintf(stderr, "   %s %.1f %s\n", r.name.c_str(), r.delta_bic, r.evidence.c_str());
       for (size_t i = 0; i < tr.m.p.size(); ++i) std::fprintf(stderr, "   %-26s %.5g%s\n", tr.m.p[i].name.c_str(), tr.cur.values[i], at_bound(tr.m.p[i], tr.cur.values[i]) ? " AT BOUND" : "");
     }
-    std::string ev = fmt(c == 1.0 ? "read as the control current: BIC %.6g after updating, %.6g with the elements; force gain %.1f N/A"
+    std::string ev = io::printf_text(c == 1.0 ? "read as the control current: BIC %.6g after updating, %.6g with the elements; force gain %.1f N/A"
                                   : "read as the difference of the two coil currents (2x the control current): BIC %.6g after updating, "
                                     "%.6g with the elements; force gain %.1f N/A per control ampere",
                          bic_of(m, tr.updated, d, all), tr.bic, value_in(tr.m, tr.cur.values, "force_gain_n_per_a"));
@@ -658,26 +654,26 @@ SweepOutcome run_sweep_residual(const std::vector<double>& input, const std::vec
   }
 
   // Notes.
-  out.notes.push_back(fmt("compared band %.0f-%.0f Hz where coherence >= %.2f per channel: %.0f of the channel-bins", o.f_min_hz,
+  out.notes.push_back(io::printf_text("compared band %.0f-%.0f Hz where coherence >= %.2f per channel: %.0f of the channel-bins", o.f_min_hz,
                           o.f_max_hz, o.min_coherence, out.after.data_points / 2.0));
-  for (const auto& s : out.nonlinear) out.notes.push_back(fmt("nonlinear stretch %.2f-%.2f s left out: ", s.t0_s, s.t1_s) + s.reason);
-  out.notes.push_back(fmt("excited: the AMB at %.0f mm (current as input, the other bearing closed), sign %+.0f",
+  for (const auto& s : out.nonlinear) out.notes.push_back(io::printf_text("nonlinear stretch %.2f-%.2f s left out: ", s.t0_s, s.t1_s) + s.reason);
+  out.notes.push_back(io::printf_text("excited: the AMB at %.0f mm (current as input, the other bearing closed), sign %+.0f",
                           m.base.bearing[static_cast<size_t>(m.base.excited)].axial_m * 1e3, m.sign));
   for (const auto& e : out.channel_evidence) out.notes.push_back("current channel " + e);
   std::string pos = "accelerometer positions fitted (mm):";
-  for (double z : out.after.accel_axial_m) pos += fmt(" %.0f", z * 1e3);
+  for (double z : out.after.accel_axial_m) pos += io::printf_text(" %.0f", z * 1e3);
   out.notes.push_back(pos);
   for (const auto& mm : out.modes_after) {
-    out.notes.push_back(fmt("peak %.2f Hz: model %.2f Hz (%+.2f %%), MAC %.3f", mm.measured_hz, mm.model_hz, mm.error_pct, mm.mac));
-    out.notes.push_back(fmt("  modal fit: measured %.2f Hz (damping %.2f %%), model %.2f Hz (%.2f %%): %+.2f %%", mm.ema_measured_hz,
+    out.notes.push_back(io::printf_text("peak %.2f Hz: model %.2f Hz (%+.2f %%), MAC %.3f", mm.measured_hz, mm.model_hz, mm.error_pct, mm.mac));
+    out.notes.push_back(io::printf_text("  modal fit: measured %.2f Hz (damping %.2f %%), model %.2f Hz (%.2f %%): %+.2f %%", mm.ema_measured_hz,
                             100.0 * mm.ema_measured_zeta, mm.ema_model_hz, 100.0 * mm.ema_model_zeta, mm.ema_error_pct) +
-                        fmt(", residue MAC %.3f", mm.ema_mac));
+                        io::printf_text(", residue MAC %.3f", mm.ema_mac));
   }
   for (const auto& n : out.identifiability.notes) out.notes.push_back("identifiability: " + n);
   for (size_t i = 0; i < out.parameters.size(); ++i)
     if (out.parameter_at_bound[i]) out.notes.push_back("parameter on its bound: " + out.parameters[i].name);
   if (out.current_loop.done)
-    out.notes.push_back(fmt("current per sweep voltage (not fitted; injection gain %.3g A/V): %.2f dB rms, Pearson %.3f (board model %.2f dB, %.3f)",
+    out.notes.push_back(io::printf_text("current per sweep voltage (not fitted; injection gain %.3g A/V): %.2f dB rms, Pearson %.3f (board model %.2f dB, %.3f)",
                             out.current_loop.gain, out.current_loop.error.spectral_db, out.current_loop.error.pearson,
                             out.current_loop.error_board.spectral_db, out.current_loop.error_board.pearson));
   std::string v;
