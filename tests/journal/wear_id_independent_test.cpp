@@ -18,6 +18,7 @@
 #include "host-tools/core/wearid/journal_sil_record.hpp"
 #include "host-tools/core/wearid/journal_spectrum.hpp"
 #include "host-tools/core/wearid/wear_identification.hpp"
+#include "tests/journal/table2_wears.hpp"
 #include "tests/support/test_paths.hpp"
 
 using namespace amb;
@@ -26,11 +27,8 @@ namespace wi = amb::host::wearid;
 
 namespace {
 constexpr double k_deg = M_PI / 180.0;
-struct Wear {
-  const char* tag;
-  double d0_um, gamma_deg, beta_deg;
-};
-const Wear k_wears[] = {{"w1", 46.5, 23.0, 77.0}, {"w2", 98.28, 5.1, 74.0}, {"w3", 15.02, 19.0, 102.0}};  // seed 002 Table 2
+using Wear = amb::test::journal::Table2Wear;
+constexpr auto& k_wears = amb::test::journal::k_table2_wears;  // seed 002 Table 2
 
 std::string fd_record(const Wear& w, double ecc, int seed) {
   const std::string dir = std::string(test::artefact_dir()) + "/journal_wear_fd";
@@ -110,7 +108,7 @@ TEST(JournalWearIdIndependent, UnwornRecordsHaveNoMeasurableWear) {
   // Unworn bore, FD-film records at both eccentricities: the model comparison (residual
   // loop's criterion) must say "no measurable wear".
   const board::BoardConfig b = board::load_board("unicamp-journal-rig");
-  const Wear none{"unworn", 0.0, 0.0, 0.0};
+  const Wear none{"unworn", "unworn", 0.0, 0.0, 0.0};
   int seed = 91;
   for (double ecc : {0.1, 0.7}) {
     const std::string dir = std::string(test::artefact_dir()) + "/journal_wear_fd";

@@ -27,6 +27,7 @@
 #include "model/journal/reynolds_fvm.hpp"
 #include "model/rotor/rotor_model.hpp"
 #include "host-tools/core/wearid/wear_identification.hpp"
+#include "tests/journal/table2_wears.hpp"
 #include "tests/support/test_paths.hpp"
 
 using namespace amb;
@@ -35,19 +36,15 @@ namespace wi = amb::host::wearid;
 
 namespace {
 constexpr double k_deg = M_PI / 180.0;
-struct Wear {
-  const char* name;
-  double d0_um, gamma_deg, beta_deg;
-};
-// Seed 002 Table 2.
-const Wear k_wears[] = {{"wear 1", 46.5, 23.0, 77.0}, {"wear 2", 98.28, 5.1, 74.0}, {"wear 3", 15.02, 19.0, 102.0}};
+using Wear = amb::test::journal::Table2Wear;
+constexpr auto& k_wears = amb::test::journal::k_table2_wears;  // seed 002 Table 2
 
 std::string record(const Wear& w, double ecc, int seed, const char* tag = "", double full_film_s = 0.0,
                    double record_s = 2.0) {
   const std::string dir = std::string(test::artefact_dir()) + "/journal_wear";
   std::filesystem::create_directories(dir);
   char stem[256];
-  std::snprintf(stem, sizeof stem, "%s/%s%s_e%02d", dir.c_str(), tag, w.name[5] == '1' ? "w1" : (w.name[5] == '2' ? "w2" : "w3"),
+  std::snprintf(stem, sizeof stem, "%s/%s%s_e%02d", dir.c_str(), tag, w.tag,
                 static_cast<int>(std::lround(ecc * 10)));
   wi::JournalSilOptions o;
   o.eccentricity = ecc;
