@@ -89,7 +89,7 @@ int run(const amb::host::DropScenarioOptions& opt_in, bool json, bool quiet) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("Drop scenario on %s (simulated rig, sim HAL backend)\n", s.board.c_str());
-    std::printf("  loop rating        : ISO 14839-3 peak %.2f (%.1f dB) at %.0f Hz, zone %s, with the board's delay of %.2f "
+    std::printf("  loop rating        : ISO 14839-3 peak %.2f (%.1f dB) at %.3g Hz, zone %s, with the board's delay of %.2f "
                 "periods (%s)\n", lr.sensitivity_peak, lr.sensitivity_peak_db, lr.peak_hz, lr.zone.c_str(),
                 lr.loop_delay_periods, lr.stable ? "stable" : "UNSTABLE");
     std::printf("  lift-off           : %s in %.3f s\n", s.levitated ? "levitated" : "FAILED", s.liftoff_s);
