@@ -229,23 +229,21 @@ std::string catalogue_text() {
   return s;
 }
 
-const amb::host::Registration reg{
-    "bearing-check",
-    "rolling-bearing diagnosis of a vibration record (pre-whitening, SK band, envelope, family scores)",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto args = std::make_shared<Args>();
-      namespace hc = amb::host::cli;
-      hc::input_file(sub.add_option("--mat", args->mat_file, "MATLAB .mat file with the vibration record")->required(), "mat");
-      sub.add_option("--var", args->var, "variable of the record (default DE_time; FE_time with --end fan)");
-      sub.add_option("--end", args->end, "CWRU end: drive (DE_time, SKF 6205) or fan (FE_time, SKF 6203)");
-      hc::real(sub.add_option("--fs", args->fs_hz, "sample rate, Hz (default: the file's 'fs'; the file's value wins)"),
-               k_fs_min_hz, k_fs_max_hz, "Hz");
-      hc::real(sub.add_option("--rpm", args->rpm, "nominal shaft speed, rpm (default: the file's 'RPM'; the file's value wins)"),
-               k_rpm_min, k_rpm_max, "rpm");
-      sub.add_option("--bearing", args->bearing, "bearing name from the catalogue below, e.g. 'SKF 6205' or 6205");
-      sub.add_flag("--json", args->json, "print the figures as JSON");
-      sub.footer(catalogue_text());
-      run_fn = [args] { return run(*args); };
-    }};
+void declare(CLI::App& sub, Args& args) {
+  namespace hc = amb::host::cli;
+  hc::input_file(sub.add_option("--mat", args.mat_file, "MATLAB .mat file with the vibration record")->required(), "mat");
+  sub.add_option("--var", args.var, "variable of the record (default DE_time; FE_time with --end fan)");
+  sub.add_option("--end", args.end, "CWRU end: drive (DE_time, SKF 6205) or fan (FE_time, SKF 6203)");
+  hc::real(sub.add_option("--fs", args.fs_hz, "sample rate, Hz (default: the file's 'fs'; the file's value wins)"),
+           k_fs_min_hz, k_fs_max_hz, "Hz");
+  hc::real(sub.add_option("--rpm", args.rpm, "nominal shaft speed, rpm (default: the file's 'RPM'; the file's value wins)"),
+           k_rpm_min, k_rpm_max, "rpm");
+  sub.add_option("--bearing", args.bearing, "bearing name from the catalogue below, e.g. 'SKF 6205' or 6205");
+  sub.add_flag("--json", args.json, "print the figures as JSON");
+  sub.footer(catalogue_text());
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "bearing-check", "rolling-bearing diagnosis of a vibration record (pre-whitening, SK band, envelope, family scores)", declare, run);
 
 }  // namespace

@@ -122,22 +122,21 @@ int run(const Args& a) {
   return s.cases_failed > 0 ? 2 : 0;
 }
 
-const amb::host::Registration reg{
-    "envelope", "drop-envelope study: many drops over speed, friction, unbalance, clearance, offsets, failed channels",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto args = std::make_shared<Args>();
-      namespace hc = amb::host::cli;
-      hc::input_file(sub.add_option("spec", args->spec, "study spec (TOML; docs/envelope.md)")->required(), "envelope-spec");
-      hc::output_path(sub.add_option("--out", args->out_dir, "output directory: case files, results.csv/json, report.html"));
-      hc::whole(sub.add_option("--threads", args->threads, "worker threads"), 1, 256);
-      sub.add_option("--shard", args->shard, "run only cases with index % N == K (K/N; a job-array task; no results written)");
-      sub.add_flag("--slurm", args->slurm,
-                   "run the cases as a Slurm job array (sbatch --wait; --out must be on storage the nodes share), then collect");
-      hc::whole(sub.add_option("--slurm-tasks", args->slurm_tasks, "array tasks with --slurm; each uses --threads threads"), 1, 100000);
-      sub.add_option("--slurm-partition", args->slurm_partition, "partition with --slurm (default: the cluster's)");
-      sub.add_flag("--json", args->json, "print the summary as JSON");
-      sub.add_flag("--quiet", args->quiet, "no progress lines on stderr");
-      run_fn = [args] { return run(*args); };
-    }};
+void declare(CLI::App& sub, Args& args) {
+  namespace hc = amb::host::cli;
+  hc::input_file(sub.add_option("spec", args.spec, "study spec (TOML; docs/envelope.md)")->required(), "envelope-spec");
+  hc::output_path(sub.add_option("--out", args.out_dir, "output directory: case files, results.csv/json, report.html"));
+  hc::whole(sub.add_option("--threads", args.threads, "worker threads"), 1, 256);
+  sub.add_option("--shard", args.shard, "run only cases with index % N == K (K/N; a job-array task; no results written)");
+  sub.add_flag("--slurm", args.slurm,
+               "run the cases as a Slurm job array (sbatch --wait; --out must be on storage the nodes share), then collect");
+  hc::whole(sub.add_option("--slurm-tasks", args.slurm_tasks, "array tasks with --slurm; each uses --threads threads"), 1, 100000);
+  sub.add_option("--slurm-partition", args.slurm_partition, "partition with --slurm (default: the cluster's)");
+  sub.add_flag("--json", args.json, "print the summary as JSON");
+  sub.add_flag("--quiet", args.quiet, "no progress lines on stderr");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "envelope", "drop-envelope study: many drops over speed, friction, unbalance, clearance, offsets, failed channels", declare, run);
 
 }  // namespace

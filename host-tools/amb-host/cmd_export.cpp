@@ -44,15 +44,14 @@ int run(const Args& a) {
   return 0;
 }
 
-const amb::host::Registration reg{
-    "export", "Convert an event (board AMBE file) to the measured-event exchange format (CSV + JSON)",
-    [](CLI::App& sub, std::function<int()>& runner) {
-      auto args = std::make_shared<Args>();
-      namespace hc = amb::host::cli;
-      hc::input_file(sub.add_option("EVENT", args->event, "board event file (or a measured event)")->required(), "event");
-      hc::output_file(sub.add_option("--out", args->out, "output stem: writes STEM.csv and STEM.json")->required());
-      sub.add_flag("--json", args->json, "print what was written as JSON");
-      runner = [args] { return run(*args); };
-    }};
+void declare(CLI::App& sub, Args& args) {
+  namespace hc = amb::host::cli;
+  hc::input_file(sub.add_option("EVENT", args.event, "board event file (or a measured event)")->required(), "event");
+  hc::output_file(sub.add_option("--out", args.out, "output stem: writes STEM.csv and STEM.json")->required());
+  sub.add_flag("--json", args.json, "print what was written as JSON");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "export", "Convert an event (board AMBE file) to the measured-event exchange format (CSV + JSON)", declare, run);
 
 }  // namespace

@@ -132,17 +132,16 @@ void add_link_options(CLI::App& sub, lk::LinkOptions& o) {
   hc::whole(sub.add_option("--retries", o.max_retries, "reconnect attempts before giving up"), 0, 1000);
 }
 
-const amb::host::Registration reg{
-    "fetch", "download drop events (resumable, CRC-checked) from a board over Modbus TCP",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto a = std::make_shared<Args>();
-      add_link_options(sub, a->link);
-      amb::host::cli::output_path(sub.add_option("--out", a->out_dir, "directory for the event files"));
-      sub.add_option("--name", a->names, "fetch only these events (default: all)");
-      sub.add_flag("--list", a->list_only, "only list the events on the board");
-      amb::host::cli::output_file(sub.add_option("--wear", a->wear_out, "also download the stored wear record to this file"));
-      sub.add_flag("--json", a->json, "print figures as JSON");
-      run_fn = [a] { return run(*a); };
-    }};
+void declare(CLI::App& sub, Args& a) {
+  add_link_options(sub, a.link);
+  amb::host::cli::output_path(sub.add_option("--out", a.out_dir, "directory for the event files"));
+  sub.add_option("--name", a.names, "fetch only these events (default: all)");
+  sub.add_flag("--list", a.list_only, "only list the events on the board");
+  amb::host::cli::output_file(sub.add_option("--wear", a.wear_out, "also download the stored wear record to this file"));
+  sub.add_flag("--json", a.json, "print figures as JSON");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "fetch", "download drop events (resumable, CRC-checked) from a board over Modbus TCP", declare, run);
 
 }  // namespace

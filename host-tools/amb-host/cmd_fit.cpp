@@ -144,29 +144,28 @@ int run(const Args& a) {
   return 0;
 }
 
-const amb::host::Registration reg{
-    "fit", "fit the multibody drop model to a measured drop (friction coefficient, rubbing states)",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto args = std::make_shared<Args>();
-      namespace hc = amb::host::cli;
-      hc::input_file(sub.add_option("EVENT", args->event, "measured event (.json sidecar of amb-measured-event/1, or its .csv)")->required(),
-                     "event");
-      hc::input_file(sub.add_option("--board", args->board, "board name or file (default: the event's rig)"), "board");
-      sub.add_flag("--force", args->force, "use --board even when it is a board of another rig than the event's");
-      hc::positive(sub.add_option("--window", args->window_s, "longest event window compared, s"), 60.0, "s");
-      sub.add_flag("--fit-restitution", args->fit_restitution, "also fit the restitution coefficient");
-      sub.add_flag("--fit-offset", args->fit_offset, "also fit an offset of the aux-bearing centres");
-      sub.add_flag("--fit-law-shape", args->fit_law_shape,
-                   "compliant laws: also fit the friction regularisation velocity and the spring exponent");
-      sub.add_flag("--lock-in-cost", args->lock_in_cost,
-                   "backward-whirl records: compare the whirl after lock-in (speed level, spin-down, force-penetration) instead of lock-in-dependent terms");
-      sub.add_flag("--friction-from-fit", args->friction_from_fit,
-                   "fit the friction with the model instead of reading it from the contact forces (friction_estimate.hpp)");
-      hc::input_file(sub.add_option("--wear-in", args->wear_in, "previous wear record (AMBW) to update"), "wear-record");
-      hc::output_path(sub.add_option("--wear-out", args->wear_out, "write the updated wear record here"));
-      sub.add_flag("--json", args->json, "print the figures as JSON");
-      sub.add_flag("--quiet", args->quiet, "no progress lines on stderr");
-      run_fn = [args] { return run(*args); };
-    }};
+void declare(CLI::App& sub, Args& args) {
+  namespace hc = amb::host::cli;
+  hc::input_file(sub.add_option("EVENT", args.event, "measured event (.json sidecar of amb-measured-event/1, or its .csv)")->required(),
+                 "event");
+  hc::input_file(sub.add_option("--board", args.board, "board name or file (default: the event's rig)"), "board");
+  sub.add_flag("--force", args.force, "use --board even when it is a board of another rig than the event's");
+  hc::positive(sub.add_option("--window", args.window_s, "longest event window compared, s"), 60.0, "s");
+  sub.add_flag("--fit-restitution", args.fit_restitution, "also fit the restitution coefficient");
+  sub.add_flag("--fit-offset", args.fit_offset, "also fit an offset of the aux-bearing centres");
+  sub.add_flag("--fit-law-shape", args.fit_law_shape,
+               "compliant laws: also fit the friction regularisation velocity and the spring exponent");
+  sub.add_flag("--lock-in-cost", args.lock_in_cost,
+               "backward-whirl records: compare the whirl after lock-in (speed level, spin-down, force-penetration) instead of lock-in-dependent terms");
+  sub.add_flag("--friction-from-fit", args.friction_from_fit,
+               "fit the friction with the model instead of reading it from the contact forces (friction_estimate.hpp)");
+  hc::input_file(sub.add_option("--wear-in", args.wear_in, "previous wear record (AMBW) to update"), "wear-record");
+  hc::output_path(sub.add_option("--wear-out", args.wear_out, "write the updated wear record here"));
+  sub.add_flag("--json", args.json, "print the figures as JSON");
+  sub.add_flag("--quiet", args.quiet, "no progress lines on stderr");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "fit", "fit the multibody drop model to a measured drop (friction coefficient, rubbing states)", declare, run);
 
 }  // namespace

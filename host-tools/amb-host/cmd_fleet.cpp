@@ -220,27 +220,26 @@ int run(const Args& a) {
   return 1;
 }
 
-const amb::host::Registration reg{
-    "fleet", "fleet store: events, wear records, fits and residual results per machine (SQLite or PostgreSQL)",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto a = std::make_shared<Args>();
-      sub.add_option("--store", a->store,
-                     "store: a SQLite file (default $AMB_FLEET_STORE or amb-out/fleet.sqlite) or postgresql://... / postgres:CONNINFO");
-      sub.add_flag("--create", a->create, "create the SQLite store when it does not exist (add creates it anyway)");
-      sub.require_subcommand(1);
-      a->add = sub.add_subcommand("add", "import .ambe events, .ambw wear records, fit/residual --json files (or directories of them)");
-      a->add->add_option("files", a->files, "files or directories")->required();
-      a->add->add_option("--machine", a->machine, "machine name (default: the board name in the file)");
-      a->add->add_flag("--json", a->json, "print what was imported as JSON");
-      a->list = sub.add_subcommand("list", "machines and what is stored for each");
-      a->list->add_flag("--json", a->json, "print as JSON");
-      a->trend = sub.add_subcommand("trend", "life used per aux bearing over time");
-      a->trend->add_option("--machine", a->machine, "only this machine");
-      a->trend->add_flag("--json", a->json, "print as JSON");
-      a->report = sub.add_subcommand("report", "bearings nearest their budget and the HTML fleet page");
-      amb::host::cli::output_path(a->report->add_option("--out", a->out, "fleet page"));
-      a->report->add_flag("--json", a->json, "print as JSON");
-      run_fn = [a] { return run(*a); };
-    }};
+void declare(CLI::App& sub, Args& a) {
+  sub.add_option("--store", a.store,
+                 "store: a SQLite file (default $AMB_FLEET_STORE or amb-out/fleet.sqlite) or postgresql://... / postgres:CONNINFO");
+  sub.add_flag("--create", a.create, "create the SQLite store when it does not exist (add creates it anyway)");
+  sub.require_subcommand(1);
+  a.add = sub.add_subcommand("add", "import .ambe events, .ambw wear records, fit/residual --json files (or directories of them)");
+  a.add->add_option("files", a.files, "files or directories")->required();
+  a.add->add_option("--machine", a.machine, "machine name (default: the board name in the file)");
+  a.add->add_flag("--json", a.json, "print what was imported as JSON");
+  a.list = sub.add_subcommand("list", "machines and what is stored for each");
+  a.list->add_flag("--json", a.json, "print as JSON");
+  a.trend = sub.add_subcommand("trend", "life used per aux bearing over time");
+  a.trend->add_option("--machine", a.machine, "only this machine");
+  a.trend->add_flag("--json", a.json, "print as JSON");
+  a.report = sub.add_subcommand("report", "bearings nearest their budget and the HTML fleet page");
+  amb::host::cli::output_path(a.report->add_option("--out", a.out, "fleet page"));
+  a.report->add_flag("--json", a.json, "print as JSON");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "fleet", "fleet store: events, wear records, fits and residual results per machine (SQLite or PostgreSQL)", declare, run);
 
 }  // namespace

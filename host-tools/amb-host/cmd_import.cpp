@@ -57,14 +57,13 @@ int run(const Args& a) {
   return 0;
 }
 
-const amb::host::Registration reg{
-    "import", "Read and validate an event (board AMBE file or amb-measured-event/1 JSON+CSV)",
-    [](CLI::App& sub, std::function<int()>& runner) {
-      auto args = std::make_shared<Args>();
-      amb::host::cli::input_file(sub.add_option("FILE", args->file, "board event file, or measured event .json/.csv/stem")->required(),
-                                 "event");
-      sub.add_flag("--json", args->json, "print the summary as JSON");
-      runner = [args] { return run(*args); };
-    }};
+void declare(CLI::App& sub, Args& args) {
+  amb::host::cli::input_file(sub.add_option("FILE", args.file, "board event file, or measured event .json/.csv/stem")->required(),
+                             "event");
+  sub.add_flag("--json", args.json, "print the summary as JSON");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "import", "Read and validate an event (board AMBE file or amb-measured-event/1 JSON+CSV)", declare, run);
 
 }  // namespace

@@ -126,28 +126,27 @@ int run(const Args& a) {
   return 0;
 }
 
-const amb::host::Registration reg{
-    "journal-sil", "steady SIL record of the journal-bearing rig with a given wear (test data for wear-id)",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto args = std::make_shared<Args>();
-      namespace hc = amb::host::cli;
-      hc::output_file(sub.add_option("--out", args->out, "output stem (writes STEM.csv and STEM.json)")->required());
-      hc::input_file(sub.add_option("--board", args->board, "board with a [journal_bearing]"), "board");
-      sub.add_option("--wear", args->wear, "none | 2p:D0_UM,GAMMA_DEG | 3p:D0_UM,GAMMA_DEG,BETA_DEG");
-      hc::real(sub.add_option("--eccentricity", args->eccentricity, "static eccentricity ratio the AMBs hold"), 0.0, 0.9);
-      hc::number(sub.add_option("--speed", args->speed_hz, "steady speed, Hz"), {1.0, 500.0, true, false, "Hz"});
-      hc::number(sub.add_option("--record", args->record_s, "recorded time, s"), {0.2, 600.0, true, false, "s"});
-      hc::whole(sub.add_option("--seed", args->seed, "sensor-noise seed"), 0, 9.0e15);
-      hc::real(sub.add_option("--full-film", args->full_film_s,
-                              "full (nonlinear) Reynolds film in the plant from this long before the end of the settle, s "
-                              "(0: linear film element only)"),
-               0.0, 600.0, "s");
-      hc::real(sub.add_option("--grid-tolerance", args->grid_tolerance,
-                              "film grid refined at the static journal position until the estimated K/C error is below "
-                              "this (relative; 0: the board's grid)"),
-               0.0, 0.49);
-      sub.add_flag("--json", args->json, "print the figures as JSON");
-      run_fn = [args] { return run(*args); };
-    }};
+void declare(CLI::App& sub, Args& args) {
+  namespace hc = amb::host::cli;
+  hc::output_file(sub.add_option("--out", args.out, "output stem (writes STEM.csv and STEM.json)")->required());
+  hc::input_file(sub.add_option("--board", args.board, "board with a [journal_bearing]"), "board");
+  sub.add_option("--wear", args.wear, "none | 2p:D0_UM,GAMMA_DEG | 3p:D0_UM,GAMMA_DEG,BETA_DEG");
+  hc::real(sub.add_option("--eccentricity", args.eccentricity, "static eccentricity ratio the AMBs hold"), 0.0, 0.9);
+  hc::number(sub.add_option("--speed", args.speed_hz, "steady speed, Hz"), {1.0, 500.0, true, false, "Hz"});
+  hc::number(sub.add_option("--record", args.record_s, "recorded time, s"), {0.2, 600.0, true, false, "s"});
+  hc::whole(sub.add_option("--seed", args.seed, "sensor-noise seed"), 0, 9.0e15);
+  hc::real(sub.add_option("--full-film", args.full_film_s,
+                          "full (nonlinear) Reynolds film in the plant from this long before the end of the settle, s "
+                          "(0: linear film element only)"),
+           0.0, 600.0, "s");
+  hc::real(sub.add_option("--grid-tolerance", args.grid_tolerance,
+                          "film grid refined at the static journal position until the estimated K/C error is below "
+                          "this (relative; 0: the board's grid)"),
+           0.0, 0.49);
+  sub.add_flag("--json", args.json, "print the figures as JSON");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "journal-sil", "steady SIL record of the journal-bearing rig with a given wear (test data for wear-id)", declare, run);
 
 }  // namespace

@@ -73,20 +73,19 @@ int run(const Options& o) {
   return ok ? 0 : 2;
 }
 
-const amb::host::Registration reg{
-    "replay", "replay a recorded event through the firmware (replay HAL) and check it bit for bit",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto o = std::make_shared<Options>();
-      namespace hc = amb::host::cli;
-      hc::input_file(sub.add_option("EVENT", o->event, "board event file (AMBE v1..v3, e.g. event_00000001.ambe)")->required(), "ambe");
-      hc::input_file(sub.add_option("--board", o->board, "board name or file to replay with (default: the board named in the event)"),
-                     "board");
-      hc::whole(sub.add_option("--max-differences", o->max_differences, "differences listed at most"), 0, 100000);
-      sub.add_flag("--json", o->json, "print the result as JSON on stdout");
-      sub.add_flag("--progress", o->progress, "show a progress bar on stderr even when it is not a terminal");
-      sub.add_flag("--quiet", o->quiet, "no progress bar, not even on a terminal")->excludes("--progress");
-      sub.footer("Exit status: 0 reproduced, 1 bad input, 2 not reproduced.");
-      run_fn = [o] { return run(*o); };
-    }};
+void declare(CLI::App& sub, Options& o) {
+  namespace hc = amb::host::cli;
+  hc::input_file(sub.add_option("EVENT", o.event, "board event file (AMBE v1..v3, e.g. event_00000001.ambe)")->required(), "ambe");
+  hc::input_file(sub.add_option("--board", o.board, "board name or file to replay with (default: the board named in the event)"),
+                 "board");
+  hc::whole(sub.add_option("--max-differences", o.max_differences, "differences listed at most"), 0, 100000);
+  sub.add_flag("--json", o.json, "print the result as JSON on stdout");
+  sub.add_flag("--progress", o.progress, "show a progress bar on stderr even when it is not a terminal");
+  sub.add_flag("--quiet", o.quiet, "no progress bar, not even on a terminal")->excludes("--progress");
+  sub.footer("Exit status: 0 reproduced, 1 bad input, 2 not reproduced.");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Options>(
+    "replay", "replay a recorded event through the firmware (replay HAL) and check it bit for bit", declare, run);
 
 }  // namespace

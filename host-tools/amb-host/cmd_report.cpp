@@ -142,23 +142,22 @@ int run(const Options& o) {
   return 0;
 }
 
-const amb::host::Registration reg{
-    "report", "write one self-contained HTML report (inline SVG plots) for a board or measured event",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto o = std::make_shared<Options>();
-      namespace hc = amb::host::cli;
-      hc::input_file(sub.add_option("EVENT", o->event, "board event file (AMBE v1..v3), or measured event (.json/.csv/stem of amb-measured-event/1)")->required(), "event");
-      hc::output_file(sub.add_option("--out", o->out, "HTML file to write (default: EVENT's name with .html, in the current directory)"));
-      hc::input_file(sub.add_option("--board", o->board, "board name or file (default: the board named in the event, or its rig's)"), "board");
-      hc::input_file(sub.add_option("--wear", o->wear, "wear record (AMBW) for the wear summary and the cumulative load"), "wear-record");
-      sub.add_flag("--no-replay", o->no_replay, "do not replay the event through the firmware (board events; a measured event has nothing to replay)");
-      sub.add_flag("--fit", o->fit, "fit the drop model to the event (Phase C, as amb-host fit) and show the fit, contact forces and load");
-      hc::positive(sub.add_option("--window", o->window_s, "with --fit: longest event window compared, s"), 60.0, "s");
-      sub.add_flag("--force", o->force, "use --board even when it is a board of another rig than the event's (measured events)");
-      sub.add_flag("--json", o->json, "print the report path and its sections as JSON on stdout");
-      sub.add_flag("--progress", o->progress, "show a progress bar on stderr even when it is not a terminal");
-      sub.add_flag("--quiet", o->quiet, "no progress bar, not even on a terminal")->excludes("--progress");
-      run_fn = [o] { return run(*o); };
-    }};
+void declare(CLI::App& sub, Options& o) {
+  namespace hc = amb::host::cli;
+  hc::input_file(sub.add_option("EVENT", o.event, "board event file (AMBE v1..v3), or measured event (.json/.csv/stem of amb-measured-event/1)")->required(), "event");
+  hc::output_file(sub.add_option("--out", o.out, "HTML file to write (default: EVENT's name with .html, in the current directory)"));
+  hc::input_file(sub.add_option("--board", o.board, "board name or file (default: the board named in the event, or its rig's)"), "board");
+  hc::input_file(sub.add_option("--wear", o.wear, "wear record (AMBW) for the wear summary and the cumulative load"), "wear-record");
+  sub.add_flag("--no-replay", o.no_replay, "do not replay the event through the firmware (board events; a measured event has nothing to replay)");
+  sub.add_flag("--fit", o.fit, "fit the drop model to the event (Phase C, as amb-host fit) and show the fit, contact forces and load");
+  hc::positive(sub.add_option("--window", o.window_s, "with --fit: longest event window compared, s"), 60.0, "s");
+  sub.add_flag("--force", o.force, "use --board even when it is a board of another rig than the event's (measured events)");
+  sub.add_flag("--json", o.json, "print the report path and its sections as JSON on stdout");
+  sub.add_flag("--progress", o.progress, "show a progress bar on stderr even when it is not a terminal");
+  sub.add_flag("--quiet", o.quiet, "no progress bar, not even on a terminal")->excludes("--progress");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Options>(
+    "report", "write one self-contained HTML report (inline SVG plots) for a board or measured event", declare, run);
 
 }  // namespace

@@ -235,53 +235,52 @@ int run(const Args& a) {
   return 0;
 }
 
-const amb::host::Registration reg{
-    "wear-id", "identify journal-bearing wear (d0, gamma, beta) from one steady speed (seed 002)",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto args = std::make_shared<Args>();
-      namespace hc = amb::host::cli;
-      hc::input_file(sub.add_option("event", args->event,
-                                    "steady record (measured event .json/.csv or stem) with journal probes and key phasor")
-                         ->required(),
-                     "measured-event");
-      sub.add_option("--model", args->model, "wear model: 2p (depth, position; span tied to depth) or 3p (elliptical)")
-          ->capture_default_str()
-          ->check(CLI::IsMember({"2p", "3p"}));
-      hc::input_file(sub.add_option("--board", args->board, "board to use instead of the one the event's rig names"), "board");
-      sub.add_flag("--force", args->force, "use --board even when it is a board of another rig than the event's");
-      hc::whole(sub.add_option("--doe", args->doe, "design-of-experiments grid points per parameter"), 2, 50);
-      hc::whole(sub.add_option("--starts", args->starts, "best DOE points polished by the local optimiser"), 1, 1000);
-      hc::whole(sub.add_option("--threads", args->threads, "threads"), 1, 64);
-      hc::positive(sub.add_option("--window", args->window_s, "analysed time at the end of the record, s"), 3600.0, "s");
-      hc::input_file(sub.add_option("--with", args->with,
-                                    "further records of the same bearing (e.g. the other static eccentricity) fitted together"),
-                     "measured-event");
-      sub.add_flag("--amb-planes", args->amb_planes,
-                   "also fit the +1x/-1x at the AMB sensor planes (default: journal probes only, as the seed)");
-      sub.add_flag("--full-film", args->full_film,
-                   "forward model with the full (nonlinear) Reynolds film by harmonic balance instead of its "
-                   "linearisation (default: linear, as the seed)");
-      sub.add_flag("--2x", args->second_harmonic,
-                   "also fit the +2x/-2x at the journal probes (the film's second-order response; implies --full-film)");
-      sub.add_flag("--amb-nonlinear", args->amb_nonlinear,
-                   "full film: the AMBs' force law in the harmonic balance too (its own 2x; the default)");
-      sub.add_flag("--amb-linear", args->amb_linear,
-                   "full film: the AMBs linearised at their operating point (no 2x of their own)");
-      hc::whole(sub.add_option("--film-samples", args->film_samples, "full film: Reynolds solves per revolution of the orbit"), 8, 512);
-      hc::whole(sub.add_option("--film-harmonics", args->film_harmonics,
-                               "full film: highest harmonic of the spin in the harmonic balance (3: the orbit's 3x feeds "
-                               "the film's 2x)"),
-                2, 6);
-      hc::real(sub.add_option("--model-error", args->model_error_1x,
-                              "relative model-error floor of the 1x residuals, e.g. 0.0025 (0: the seed's equal weights)"),
-               0.0, 0.49);
-      hc::real(sub.add_option("--grid-tolerance", args->grid_tolerance,
-                              "film grid refined at the optimum until the estimated K/C error is below this (relative; "
-                              "0: the board's grid only)"),
-               0.0, 0.49);
-      sub.add_flag("--json", args->json, "print the figures as JSON");
-      sub.add_flag("--quiet", args->quiet, "no progress lines on stderr");
-      run_fn = [args] { return run(*args); };
-    }};
+void declare(CLI::App& sub, Args& args) {
+  namespace hc = amb::host::cli;
+  hc::input_file(sub.add_option("event", args.event,
+                                "steady record (measured event .json/.csv or stem) with journal probes and key phasor")
+                     ->required(),
+                 "measured-event");
+  sub.add_option("--model", args.model, "wear model: 2p (depth, position; span tied to depth) or 3p (elliptical)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"2p", "3p"}));
+  hc::input_file(sub.add_option("--board", args.board, "board to use instead of the one the event's rig names"), "board");
+  sub.add_flag("--force", args.force, "use --board even when it is a board of another rig than the event's");
+  hc::whole(sub.add_option("--doe", args.doe, "design-of-experiments grid points per parameter"), 2, 50);
+  hc::whole(sub.add_option("--starts", args.starts, "best DOE points polished by the local optimiser"), 1, 1000);
+  hc::whole(sub.add_option("--threads", args.threads, "threads"), 1, 64);
+  hc::positive(sub.add_option("--window", args.window_s, "analysed time at the end of the record, s"), 3600.0, "s");
+  hc::input_file(sub.add_option("--with", args.with,
+                                "further records of the same bearing (e.g. the other static eccentricity) fitted together"),
+                 "measured-event");
+  sub.add_flag("--amb-planes", args.amb_planes,
+               "also fit the +1x/-1x at the AMB sensor planes (default: journal probes only, as the seed)");
+  sub.add_flag("--full-film", args.full_film,
+               "forward model with the full (nonlinear) Reynolds film by harmonic balance instead of its "
+               "linearisation (default: linear, as the seed)");
+  sub.add_flag("--2x", args.second_harmonic,
+               "also fit the +2x/-2x at the journal probes (the film's second-order response; implies --full-film)");
+  sub.add_flag("--amb-nonlinear", args.amb_nonlinear,
+               "full film: the AMBs' force law in the harmonic balance too (its own 2x; the default)");
+  sub.add_flag("--amb-linear", args.amb_linear,
+               "full film: the AMBs linearised at their operating point (no 2x of their own)");
+  hc::whole(sub.add_option("--film-samples", args.film_samples, "full film: Reynolds solves per revolution of the orbit"), 8, 512);
+  hc::whole(sub.add_option("--film-harmonics", args.film_harmonics,
+                           "full film: highest harmonic of the spin in the harmonic balance (3: the orbit's 3x feeds "
+                           "the film's 2x)"),
+            2, 6);
+  hc::real(sub.add_option("--model-error", args.model_error_1x,
+                          "relative model-error floor of the 1x residuals, e.g. 0.0025 (0: the seed's equal weights)"),
+           0.0, 0.49);
+  hc::real(sub.add_option("--grid-tolerance", args.grid_tolerance,
+                          "film grid refined at the optimum until the estimated K/C error is below this (relative; "
+                          "0: the board's grid only)"),
+           0.0, 0.49);
+  sub.add_flag("--json", args.json, "print the figures as JSON");
+  sub.add_flag("--quiet", args.quiet, "no progress lines on stderr");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "wear-id", "identify journal-bearing wear (d0, gamma, beta) from one steady speed (seed 002)", declare, run);
 
 }  // namespace

@@ -109,22 +109,21 @@ int run(const Args& a) {
   return ok ? 0 : 2;
 }
 
-const amb::host::Registration reg{
-    "writeback", "write a wear record back to a board over Modbus TCP (validated and persisted there)",
-    [](CLI::App& sub, std::function<int()>& run_fn) {
-      auto a = std::make_shared<Args>();
-      namespace hc = amb::host::cli;
-      hc::input_file(sub.add_option("record", a->record_path, "encoded wear record (AMBW v1)")->required(), "wear-record");
-      sub.add_option("--host", a->link.host, "board address")->capture_default_str();
-      hc::whole(sub.add_option("--port", a->link.port, "Modbus TCP port"), 1, 65535);
-      hc::whole(sub.add_option("--unit", a->link.unit_id, "Modbus unit id"), 0, 255);
-      hc::positive(sub.add_option("--timeout", a->link.response_timeout_s, "response timeout per request, s"), 600.0, "s");
-      hc::whole(sub.add_option("--retries", a->link.max_retries, "reconnect attempts before giving up"), 0, 1000);
-      sub.add_flag("--renumber", a->renumber, "set the record's sequence to the one the board expects");
-      hc::input_file(sub.add_option("--board", a->board, "board name or file whose [comms.modbus] arm_key arms the commit"), "board");
-      sub.add_option("--arm-key", a->arm_key, "the board's arm key (decimal or 0x hex; default: --board, then AMB_ARM_KEY)");
-      sub.add_flag("--json", a->json, "print figures as JSON");
-      run_fn = [a] { return run(*a); };
-    }};
+void declare(CLI::App& sub, Args& a) {
+  namespace hc = amb::host::cli;
+  hc::input_file(sub.add_option("record", a.record_path, "encoded wear record (AMBW v1)")->required(), "wear-record");
+  sub.add_option("--host", a.link.host, "board address")->capture_default_str();
+  hc::whole(sub.add_option("--port", a.link.port, "Modbus TCP port"), 1, 65535);
+  hc::whole(sub.add_option("--unit", a.link.unit_id, "Modbus unit id"), 0, 255);
+  hc::positive(sub.add_option("--timeout", a.link.response_timeout_s, "response timeout per request, s"), 600.0, "s");
+  hc::whole(sub.add_option("--retries", a.link.max_retries, "reconnect attempts before giving up"), 0, 1000);
+  sub.add_flag("--renumber", a.renumber, "set the record's sequence to the one the board expects");
+  hc::input_file(sub.add_option("--board", a.board, "board name or file whose [comms.modbus] arm_key arms the commit"), "board");
+  sub.add_option("--arm-key", a.arm_key, "the board's arm key (decimal or 0x hex; default: --board, then AMB_ARM_KEY)");
+  sub.add_flag("--json", a.json, "print figures as JSON");
+}
+
+const amb::host::Registration reg = amb::host::make_command<Args>(
+    "writeback", "write a wear record back to a board over Modbus TCP (validated and persisted there)", declare, run);
 
 }  // namespace

@@ -14,6 +14,16 @@
 namespace amb::model::analysis {
 namespace {
 
+// unit(i): the row vector of length `size` with a one at i (a state picked out of a row space).
+struct UnitRows {
+  int size = 0;
+  Eigen::RowVectorXd operator()(int i) const {
+    Eigen::RowVectorXd u = Eigen::RowVectorXd::Zero(size);
+    u(i) = 1.0;
+    return u;
+  }
+};
+
 constexpr double k_two_pi = 2.0 * M_PI;
 // Bandwidths given as 0 ("none") are modelled as this fast first-order lag so that every
 // block stays strictly proper and the state space has no algebraic loops.
@@ -56,11 +66,7 @@ RigBlock build_rig(const RigModel& rig_model, const PlantParams& rig, int modes_
   r.b = Eigen::MatrixXd::Zero(n, 4);
 
   using Row = Eigen::RowVectorXd;
-  auto unit = [n](int i) {
-    Row u = Row::Zero(n);
-    u(i) = 1.0;
-    return u;
-  };
+  const UnitRows unit{n};
   auto disp_rows = [&](double axial_m, Row& rx, Row& ry) {
     const Eigen::RowVectorXd b = rotor::modal_interpolation(fe, red, axial_m);
     rx = Row::Zero(n);
@@ -134,11 +140,7 @@ Channel continuous_channel(const PidParams& pid) {
   const int n = c.n, e = n;
   c.next = Eigen::MatrixXd::Zero(n, n + 1);
   using Row = Eigen::RowVectorXd;
-  auto unit = [n](int i) {
-    Row u = Row::Zero(n + 1);
-    u(i) = 1.0;
-    return u;
-  };
+  const UnitRows unit{n + 1};
   const int integ = 0, dfilt = 1;
   const double wf = rad_s(pid.derivative_filter_hz);
   c.next.row(integ) = unit(e);
@@ -174,11 +176,7 @@ Channel sampled_channel(const PidParams& pid, double t_s) {
   const int n = c.n, e = n;
   c.next = Eigen::MatrixXd::Zero(n, n + 1);
   using Row = Eigen::RowVectorXd;
-  auto unit = [n](int i) {
-    Row u = Row::Zero(n + 1);
-    u(i) = 1.0;
-    return u;
-  };
+  const UnitRows unit{n + 1};
   const int e_prev = 0, deriv = 1, integ = 2;
   const double alpha = std::exp(-k_two_pi * pid.derivative_filter_hz * t_s);
   const Row deriv_new = alpha * unit(deriv) + (1.0 - alpha) / t_s * (unit(e) - unit(e_prev));

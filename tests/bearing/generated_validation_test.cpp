@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "host-tools/core/bearing/bearing_check.hpp"
+#include "tests/bearing/model_records.hpp"
 #include "model/bearing/catalogue.hpp"
 #include "model/bearing/hertz_4dof.hpp"
 
@@ -19,14 +20,7 @@ namespace mb = amb::model::bearing;
 namespace hb = amb::host::bearing;
 
 namespace {
-mb::Hertz4DofParams with_defect(mb::DefectLocation loc) {
-  mb::Hertz4DofParams p;  // seed 003 defaults, 6206, 500 N
-  p.defect.location = loc;
-  p.defect.width_m = 0.5e-3;
-  p.defect.depth_m = 0.3e-3;
-  p.defect.angle_rad = M_PI / 2;
-  return p;
-}
+using amb::test::bearing::with_defect;
 double rms(const std::vector<double>& x) {
   double s = 0;
   for (double v : x) s += v * v;

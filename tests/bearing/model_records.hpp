@@ -23,6 +23,17 @@ namespace amb::test::bearing {
 
 namespace mb = amb::model::bearing;
 
+/// Seed 003's 4-DOF defaults (6206, 500 N) with a 0.5 mm wide, 0.3 mm deep groove (the seed's
+/// 0.2 and 0.5 mm grooves) at `loc`, in the load zone (load along +y).
+inline mb::Hertz4DofParams with_defect(mb::DefectLocation loc) {
+  mb::Hertz4DofParams p;
+  p.defect.location = loc;
+  p.defect.width_m = 0.5e-3;
+  p.defect.depth_m = 0.3e-3;
+  p.defect.angle_rad = M_PI / 2;
+  return p;
+}
+
 /// RBJ band-pass biquad (0 dB peak) at f0_hz with quality q, applied in place.
 inline void bandpass(std::vector<double>& x, double fs_hz, double f0_hz, double q) {
   const double w0 = 2.0 * M_PI * f0_hz / fs_hz, alpha = std::sin(w0) / (2.0 * q), a0 = 1.0 + alpha;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host-tools/core/bearing/bearing_check.hpp"
+#include "tests/bearing/model_records.hpp"
 #include "model/bearing/catalogue.hpp"
 #include "model/bearing/hertz_4dof.hpp"
 #include "model/bearing/rotor_8dof.hpp"
@@ -12,14 +13,7 @@ namespace mb = amb::model::bearing;
 namespace hb = amb::host::bearing;
 
 namespace {
-mb::Hertz4DofParams with_defect(mb::DefectLocation loc) {
-  mb::Hertz4DofParams p;  // seed 003 defaults, 6206, 500 N
-  p.defect.location = loc;
-  p.defect.width_m = 0.5e-3;  // seed 003: 0.2 and 0.5 mm grooves, 0.3 mm deep
-  p.defect.depth_m = 0.3e-3;
-  p.defect.angle_rad = M_PI / 2;  // load zone (load along +y)
-  return p;
-}
+using amb::test::bearing::with_defect;
 constexpr double k_fs_hz = 20000.0;
 constexpr double k_speed_hz = 5000.0 / 60.0;
 }  // namespace

@@ -22,6 +22,7 @@
 #include "firmware/app/sample_fanout.hpp"
 #include "firmware/app/supervisor.hpp"
 #include "firmware/board/board.hpp"
+#include "tests/bench/mono_clock.hpp"
 
 namespace {
 
@@ -35,23 +36,8 @@ int64_t thread_cpu_ns(pthread_t t) {
   return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-int64_t mono_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-/// CLOCK_MONOTONIC with absolute sleeps (what hal/linux's clock does).
-class MonoClock final : public hal::Clock {
- public:
-  int64_t now_ns() override { return mono_ns(); }
-  int64_t wait_until_ns(int64_t deadline_ns) override {
-    timespec ts{static_cast<time_t>(deadline_ns / 1'000'000'000), static_cast<long>(deadline_ns % 1'000'000'000)};
-    while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) != 0) {
-    }
-    return mono_ns();
-  }
-};
+using bench::MonoClock;
+using bench::mono_ns;
 
 /// A rotor line at 45 Hz (5 um) on sensor A1, from the sample's own time stamp.
 class LineFrontEnd final : public hal::AnalogFrontEnd {

@@ -66,15 +66,7 @@ void BM_DropFit(benchmark::State& state) {
   sc.window_s = 0.4;
   sc.pre_trigger_s = 0.02;
   const auto tr = md::simulate_drop(gen, sc, false);
-  amb::host::fit::DropMeasurement m;
-  m.rig = "bath-amb-rig";
-  m.sample_rate_hz = sc.sample_rate_hz;
-  m.trigger_index = tr.trigger_index;
-  m.speed_at_trigger_hz = sc.speed_hz;
-  for (const auto& s : tr.samples) {
-    m.sensor_m.push_back(s.sensor_m);
-    m.speed_rad_s.push_back(s.spin_rad_s);
-  }
+  const amb::host::fit::DropMeasurement m = amb::host::fit::drop_measurement_from_trace(tr, sc, "", "bath-amb-rig");
   double mu = 0.0, wall = 0.0;
   int evals = 0;
   for (auto _ : state) {

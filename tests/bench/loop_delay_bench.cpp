@@ -17,32 +17,16 @@
 #include "firmware/app/loop_runner.hpp"
 #include "firmware/app/supervisor.hpp"
 #include "firmware/board/board.hpp"
+#include "tests/bench/mono_clock.hpp"
 
 namespace {
 
 using namespace amb;
 
-int64_t mono_delay_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-class MonoDelayClock final : public hal::Clock {
- public:
-  int64_t now_ns() override { return mono_delay_ns(); }
-  int64_t wait_until_ns(int64_t deadline_ns) override {
-    timespec ts{static_cast<time_t>(deadline_ns / 1'000'000'000), static_cast<long>(deadline_ns % 1'000'000'000)};
-    while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) != 0) {
-    }
-    return mono_delay_ns();
-  }
-};
-
 class FixedFrontEnd final : public hal::AnalogFrontEnd {
  public:
   bool read(hal::AnalogInputs& in) override {
-    in.t_ns = mono_delay_ns();
+    in.t_ns = bench::mono_ns();
     in.displacement_m = {1e-6f, -1e-6f, 0.5e-6f, 0.0f};
     in.tach_speed_hz = -1.0;
     return true;
@@ -64,7 +48,7 @@ void BM_LoopDelay(benchmark::State& state, const char* board_name) {
   fw::Supervisor sup;
   sup.configure(b);
   sup.post(fw::Command::levitate);  // the controller runs (energised) once the lift-off starts
-  MonoDelayClock clock;
+  bench::MonoClock clock;
   FixedFrontEnd afe;
   QuietDio dio;
   fw::LoopRunner loop(clock, afe, dio, sup);

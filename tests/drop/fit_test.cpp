@@ -38,15 +38,7 @@ std::string generate(double mu, const std::string& name, md::RubbingDurations* t
   sc.window_s = 0.4;
   sc.pre_trigger_s = 0.02;
   const md::DropTrace tr = md::simulate_drop(m, sc, false);
-  hf::DropMeasurement meas;
-  meas.rig = "bath-amb-rig";
-  meas.sample_rate_hz = sc.sample_rate_hz;
-  meas.trigger_index = tr.trigger_index;
-  meas.speed_at_trigger_hz = sc.speed_hz;
-  for (const auto& s : tr.samples) {
-    meas.sensor_m.push_back(s.sensor_m);
-    meas.speed_rad_s.push_back(s.spin_rad_s);
-  }
+  const hf::DropMeasurement meas = hf::drop_measurement_from_trace(tr, sc, "", "bath-amb-rig");
   if (truth_bearing0 != nullptr) {
     // Truth durations: the true aux-plane orbit (not the sensor view).
     std::vector<double> x, y;

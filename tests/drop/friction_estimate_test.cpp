@@ -310,15 +310,7 @@ TEST(FrictionEstimate, DropModelHertzAndRigid) {
       sc.window_s = 0.4;
       sc.pre_trigger_s = 0.02;
       const auto tr = md::simulate_drop(gen, sc, false);
-      hf::DropMeasurement m;
-      m.source = "drop model";
-      m.sample_rate_hz = sc.sample_rate_hz;
-      m.trigger_index = tr.trigger_index;
-      m.speed_at_trigger_hz = sc.speed_hz;
-      for (const auto& smp : tr.samples) {
-        m.sensor_m.push_back(smp.sensor_m);
-        m.speed_rad_s.push_back(smp.spin_rad_s);
-      }
+      const hf::DropMeasurement m = hf::drop_measurement_from_trace(tr, sc, "drop model", "");
       const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
       print(rigid ? "drop model, rigid law" : "drop model, Hertz law", mu, e);
       ASSERT_TRUE(e.valid) << e.note;

@@ -19,11 +19,7 @@ namespace tf = amb::test::fleet;
 namespace fs = std::filesystem;
 namespace ch = amb::test::chromium;
 
-namespace {
-
 using amb::test::count_of;
-
-}  // namespace
 
 TEST(FleetChromium, FleetPageRendersWithoutPageErrors) {
   if (!fs::exists(ch::k_binary))

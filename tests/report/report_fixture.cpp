@@ -34,16 +34,8 @@ host::report::ReportData build() {
   sc.window_s = 0.2;
   sc.pre_trigger_s = 0.02;
   const model::drop::DropTrace truth = model::drop::simulate_drop(gen, sc, false);
-  host::fit::DropMeasurement meas;
-  meas.source = "drop model, mu 0.15 (report test)";
-  meas.rig = board.name;
-  meas.sample_rate_hz = sc.sample_rate_hz;
-  meas.trigger_index = truth.trigger_index;
-  meas.speed_at_trigger_hz = sc.speed_hz;
-  for (const auto& s : truth.samples) {
-    meas.sensor_m.push_back(s.sensor_m);
-    meas.speed_rad_s.push_back(s.spin_rad_s);
-  }
+  const host::fit::DropMeasurement meas =
+      host::fit::drop_measurement_from_trace(truth, sc, "drop model, mu 0.15 (report test)", board.name);
   host::fit::DropFitOptions fo;
   fo.max_window_s = 0.2;
   fo.optimiser.max_evaluations = 16;

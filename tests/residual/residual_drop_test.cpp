@@ -134,10 +134,7 @@ TEST(ResidualDrop, AuxBearingOffsetIsNamedAndKeptOnItsEvidence) {
   // 10 um, because on this plant (flexible SIL rotor, rigid drop model chosen by the fit) the
   // measured circles sit about 11 um low and the static sag correction takes 4-5 um of it.
   fx::EffectSet e;
-  fx::AuxBearingOffset a;
-  a.x_m = {60e-6, -50e-6};
-  a.y_m = {-40e-6, 30e-6};
-  e.aux_offset = a;
+  e.aux_offset = fx::AuxBearingOffset{{60e-6, -50e-6}, {-40e-6, 30e-6}};  // x_m, y_m per aux bearing
   const auto o = run_case("aux_bearing_offset", e, true);
   ASSERT_EQ(o.verdict, "aux_bearing_offset");
   ASSERT_EQ(o.effects_added.front().parameters.size(), 5u);
@@ -188,10 +185,7 @@ TEST(ResidualDrop, SensorGainIsNamed) {
 TEST(ResidualDrop, OffsetAndRunoutTogether) {
   // Two effects at once, with a spin record: both named and kept together.
   fx::EffectSet e;
-  fx::AuxBearingOffset a;
-  a.x_m = {50e-6, -40e-6};
-  a.y_m = {-60e-6, 30e-6};
-  e.aux_offset = a;
+  e.aux_offset = fx::AuxBearingOffset{{50e-6, -40e-6}, {-60e-6, 30e-6}};  // x_m, y_m per aux bearing
   fx::SensorRunout r;
   // 7 um: the drop part names a 1x runout from about 5 um (population, docs/residual.md); a
   // static runout is read about 3.3x at standstill with the Bath rig's slow integral action, so

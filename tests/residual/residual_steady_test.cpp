@@ -131,10 +131,7 @@ TEST(ResidualSteady, SensorRunoutIsNamed) {
 
 TEST(ResidualSteady, AuxBearingOffsetIsNamed) {
   fx::EffectSet e;
-  fx::AuxBearingOffset a;
-  a.x_m = {60e-6, -50e-6};
-  a.y_m = {-40e-6, 30e-6};
-  e.aux_offset = a;
+  e.aux_offset = fx::AuxBearingOffset{{60e-6, -50e-6}, {-40e-6, 30e-6}};  // x_m, y_m per aux bearing
   const auto o = run_case("aux_bearing_offset", e);
   expect_named(o, "aux_bearing_offset");
   EXPECT_LT(o.after.error.statics, 0.3 * o.before.error.statics);

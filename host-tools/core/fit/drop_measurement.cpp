@@ -2,10 +2,29 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "host-tools/core/events/measured_event.hpp"
+#include "model/drop/drop_simulation.hpp"
 
 namespace amb::host::fit {
+
+DropMeasurement drop_measurement_from_trace(const model::drop::DropTrace& trace, const model::drop::DropScenario& scenario,
+                                            std::string source, std::string rig) {
+  DropMeasurement m;
+  m.source = std::move(source);
+  m.rig = std::move(rig);
+  m.sample_rate_hz = scenario.sample_rate_hz;
+  m.trigger_index = trace.trigger_index;
+  m.speed_at_trigger_hz = scenario.speed_hz;
+  m.sensor_m.reserve(trace.samples.size());
+  m.speed_rad_s.reserve(trace.samples.size());
+  for (const model::drop::DropSample& s : trace.samples) {
+    m.sensor_m.push_back(s.sensor_m);
+    m.speed_rad_s.push_back(s.spin_rad_s);
+  }
+  return m;
+}
 
 std::string DropMeasurement::check() const {
   if (!(sample_rate_hz > 0.0)) return "sample_rate_hz must be > 0";

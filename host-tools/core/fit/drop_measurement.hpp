@@ -8,6 +8,8 @@
 #include "host-tools/core/events/loaded_event.hpp"
 #include "model/plant/plant_params.hpp"
 
+namespace amb::model::drop { struct DropTrace; struct DropScenario; }
+
 namespace amb::host::fit {
 
 struct DropMeasurement {
@@ -31,6 +33,12 @@ struct DropMeasurement {
 /// cut-off of seed 000; any other name is refused rather than ignored. Throws
 /// EventLoadError naming the file and what is missing.
 DropMeasurement drop_measurement_from_event(const LoadedEvent& e);
+
+/// A drop simulated by the drop model (generators, tests, benchmarks) as the fit sees it: the
+/// trace's sensor readings and spin speed and its trigger; the sample rate and the speed at the
+/// trigger are the scenario's; `source` and `rig` label it.
+DropMeasurement drop_measurement_from_trace(const model::drop::DropTrace& trace, const model::drop::DropScenario& scenario,
+                                            std::string source, std::string rig);
 
 /// Write a DropMeasurement as a measured event (STEM.json + STEM.csv, displacements in um,
 /// speed in rpm, sensor geometry from `rig`); generators and tests.

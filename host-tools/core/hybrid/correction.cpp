@@ -1,5 +1,7 @@
 #include "host-tools/core/hybrid/correction.hpp"
 
+#include "host-tools/core/hybrid/hat_basis.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -46,17 +48,6 @@ std::string CorrectionOptions::describe() const {
 
 namespace {
 
-struct Hat {
-  size_t knot = 0;
-  double w = 1.0;
-};
-// Partition-of-unity hats over the bin index with `count` knots.
-Hat hat(size_t k, size_t bins, size_t count) {
-  if (count <= 1 || bins <= 1) return {0, 1.0};
-  const double pos = static_cast<double>(k) * static_cast<double>(count - 1) / static_cast<double>(bins - 1);
-  const auto t = std::min(static_cast<size_t>(std::floor(pos)), count - 2);
-  return {t, 1.0 - (pos - static_cast<double>(t))};
-}
 
 double mean_abs(const std::vector<double>& y) {
   double s = 0.0;

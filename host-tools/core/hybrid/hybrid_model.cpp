@@ -78,72 +78,12 @@ std::vector<double> amplitude(const std::vector<double>& pw) {
 }
 
 
-nlohmann::json spectra_json(const SpectralOptions& s) {
-  return {{"psd_df_hz", s.psd_df_hz},         {"psd_min_hz", s.psd_min_hz},
-          {"psd_max_hz", s.psd_max_hz},       {"psd_bin_min_hz", s.psd_bin_min_hz},
-          {"env_band_low_hz", s.env_band_low_hz}, {"env_band_high_hz", s.env_band_high_hz},
-          {"env_df_hz", s.env_df_hz},         {"env_min_hz", s.env_min_hz},
-          {"env_max_hz", s.env_max_hz},       {"env_bin_min_hz", s.env_bin_min_hz},
-          {"rel_bin_width", s.rel_bin_width}, {"psd_floor_rel", s.psd_floor_rel}};
-}
-SpectralOptions spectra_from(const nlohmann::json& j) {
-  SpectralOptions s;
-  s.psd_df_hz = j.at("psd_df_hz");
-  s.psd_min_hz = j.at("psd_min_hz");
-  s.psd_max_hz = j.at("psd_max_hz");
-  s.psd_bin_min_hz = j.at("psd_bin_min_hz");
-  s.env_band_low_hz = j.at("env_band_low_hz");
-  s.env_band_high_hz = j.at("env_band_high_hz");
-  s.env_df_hz = j.at("env_df_hz");
-  s.env_min_hz = j.at("env_min_hz");
-  s.env_max_hz = j.at("env_max_hz");
-  s.env_bin_min_hz = j.at("env_bin_min_hz");
-  s.rel_bin_width = j.at("rel_bin_width");
-  s.psd_floor_rel = j.at("psd_floor_rel");
-  return s;
-}
-nlohmann::json rig_json(const RigParams& r) {
-  return {{"drive_end_bearing", r.drive_end_bearing},
-          {"fan_end_bearing", r.fan_end_bearing},
-          {"drive_end_contact_angle_rad", r.drive_end_contact_angle_rad},
-          {"bearing_mass_kg", r.bearing_mass_kg},
-          {"disc_mass_kg", r.disc_mass_kg},
-          {"shaft_stiffness_n_per_m", r.shaft_stiffness_n_per_m},
-          {"bearing_damping_n_s_per_m", r.bearing_damping_n_s_per_m},
-          {"disc_damping_n_s_per_m", r.disc_damping_n_s_per_m},
-          {"radial_clearance_m", r.radial_clearance_m},
-          {"defect_width_m", r.defect_width_m},
-          {"unbalance_eccentricity_m", r.unbalance_eccentricity_m},
-          {"housing_mass_kg", r.housing_mass_kg},
-          {"sensor_angle_rad", r.sensor_angle_rad},
-          {"outer_defect_angle_rad", r.outer_defect_angle_rad},
-          {"sensor_noise_rel", r.sensor_noise_rel},
-          {"settle_s", r.settle_s},
-          {"steps_per_sample", r.steps_per_sample}};
-}
-RigParams rig_from(const nlohmann::json& j) {
-  RigParams r;
-  r.drive_end_bearing = j.at("drive_end_bearing");
-  r.fan_end_bearing = j.at("fan_end_bearing");
-  r.drive_end_contact_angle_rad = j.at("drive_end_contact_angle_rad");
-  r.bearing_mass_kg = j.at("bearing_mass_kg");
-  r.disc_mass_kg = j.at("disc_mass_kg");
-  r.shaft_stiffness_n_per_m = j.at("shaft_stiffness_n_per_m");
-  r.bearing_damping_n_s_per_m = j.at("bearing_damping_n_s_per_m");
-  r.disc_damping_n_s_per_m = j.at("disc_damping_n_s_per_m");
-  r.radial_clearance_m = j.at("radial_clearance_m");
-  r.defect_width_m = j.at("defect_width_m");
-  r.unbalance_eccentricity_m = j.at("unbalance_eccentricity_m");
-  r.housing_mass_kg = j.at("housing_mass_kg");
-  r.sensor_angle_rad = j.at("sensor_angle_rad");
-  r.outer_defect_angle_rad = j.at("outer_defect_angle_rad");
-  r.sensor_noise_rel = j.at("sensor_noise_rel");
-  r.settle_s = j.at("settle_s");
-  r.steps_per_sample = j.at("steps_per_sample");
-  return r;
-}
-
 }  // namespace
+
+// The model file's option blocks, one field list each (nlohmann: to_json and from_json; a
+// missing key throws).
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SpectralOptions, psd_df_hz, psd_min_hz, psd_max_hz, psd_bin_min_hz, env_band_low_hz, env_band_high_hz, env_df_hz, env_min_hz, env_max_hz, env_bin_min_hz, rel_bin_width, psd_floor_rel)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RigParams, drive_end_bearing, fan_end_bearing, drive_end_contact_angle_rad, bearing_mass_kg, disc_mass_kg, shaft_stiffness_n_per_m, bearing_damping_n_s_per_m, disc_damping_n_s_per_m, radial_clearance_m, defect_width_m, unbalance_eccentricity_m, housing_mass_kg, sensor_angle_rad, outer_defect_angle_rad, sensor_noise_rel, settle_s, steps_per_sample)
 
 TrainOptions::TrainOptions() {
   // Log PSD: narrow transfer hats (6 grid bins = 6 % above 400 Hz: the width of a damped
@@ -597,8 +537,8 @@ void save_model(const HybridModel& m, const std::string& path) {
   nlohmann::json j;
   j["format"] = k_model_format;
   j["version"] = k_model_version;
-  j["options"] = {{"spectra", spectra_json(o.spectra)},
-                  {"rig", rig_json(o.rig)},
+  j["options"] = {{"spectra", o.spectra},
+                  {"rig", o.rig},
                   {"segment_s", o.segment_s},
                   {"sim_duration_s", o.sim_duration_s},
                   {"sim_fs_hz", o.sim_fs_hz},
@@ -658,8 +598,8 @@ HybridModel load_model(const std::string& path) {
   HybridModel m;
   try {
     const auto& o = j.at("options");
-    m.options.spectra = spectra_from(o.at("spectra"));
-    m.options.rig = rig_from(o.at("rig"));
+    m.options.spectra = o.at("spectra").get<SpectralOptions>();
+    m.options.rig = o.at("rig").get<RigParams>();
     m.options.segment_s = o.at("segment_s");
     m.options.sim_duration_s = o.at("sim_duration_s");
     m.options.sim_fs_hz = o.at("sim_fs_hz");

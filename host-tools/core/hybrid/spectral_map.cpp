@@ -1,5 +1,7 @@
 #include "host-tools/core/hybrid/spectral_map.hpp"
 
+#include "host-tools/core/hybrid/hat_basis.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -25,18 +27,6 @@ bool SpectralMapOptions::valid(std::string* why) const {
 
 namespace {
 
-// Hat functions over the bin index 0..bins-1 with `count` knots (partition of unity):
-// returns the first knot index and the weight of that knot (the next one gets 1 - w).
-struct Hat {
-  size_t knot = 0;
-  double w = 1.0;
-};
-Hat hat(size_t k, size_t bins, size_t count) {
-  if (count <= 1 || bins <= 1) return {0, 1.0};
-  const double pos = static_cast<double>(k) * static_cast<double>(count - 1) / static_cast<double>(bins - 1);
-  const auto t = std::min(static_cast<size_t>(std::floor(pos)), count - 2);
-  return {t, 1.0 - (pos - static_cast<double>(t))};
-}
 
 size_t hat_count(size_t bins, int spacing) {
   return std::max<size_t>(2, (bins - 1 + static_cast<size_t>(spacing) - 1) / static_cast<size_t>(spacing) + 1);

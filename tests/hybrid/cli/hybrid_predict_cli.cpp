@@ -19,11 +19,7 @@
 namespace fs = std::filesystem;
 namespace ch = amb::test::chromium;
 
-namespace {
-
 using amb::test::count_of;
-
-}  // namespace
 
 TEST(HybridCli, ThreePointsPredictJsonHasEveryModelAndTheBandAndThePageRenders) {
   const fs::path dir = fs::temp_directory_path() / ("amb_hybrid_predict_cli_" + std::to_string(::getpid()));
