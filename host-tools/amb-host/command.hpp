@@ -1,6 +1,8 @@
 #pragma once
 // Sub-command registry of amb-host. Each sub-command lives in its own cmd_<name>.cpp and
-// registers itself with a file-scope `const amb::host::Registration reg{...}`.
+// registers itself with a file-scope `const amb::host::Registration reg = make_command<Args>(...)`
+// (an options struct, a function that declares the options into it, a function that runs), or
+// with `Registration reg{name, summary, setup}` when it has sub-commands of its own.
 #include <functional>
 #include <memory>
 #include <string>
