@@ -259,7 +259,7 @@ std::string render_line_plot(const LinePlot& p) {
     const double x = f.px(v);
     s += "<line x1=\"" + io::printf_text("%.2f", x) + "\" y1=\"" + io::printf_text("%.2f", f.top) + "\" x2=\"" + io::printf_text("%.2f", x) + "\" y2=\"" + io::printf_text("%.2f", f.top + f.height) +
          "\" stroke=\"#e4e4e4\"/>\n";
-    s += text(x, f.top + f.height + 15, format_tick(v, xstep), "middle", 11);
+    s += text(x, f.top + f.height + 15, format_tick(v, xstep), "middle", 11, " class=\"xtick\"");
   }
   std::vector<double> yt;
   if (p.log_y) {
