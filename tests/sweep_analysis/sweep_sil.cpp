@@ -11,6 +11,7 @@
 #include "hal/sim/sim_rig.hpp"
 #include "host-tools/core/sweep/sweep_model.hpp"
 #include "model/effects/effect_plant.hpp"
+#include "model/rotor/rotor_model.hpp"
 
 namespace amb::test {
 
@@ -49,6 +50,16 @@ host::sweep::SweepRecord run_sil_sweep(const board::BoardConfig& b, const SilSwe
   for (size_t p = 0; p < 2; ++p) {
     xf[p].configure({bp.sensor[2 * p].angle_deg, bp.sensor[2 * p + 1].angle_deg}, bp.amb[p].actuator_angle_deg);
     for (size_t d = 0; d < 2; ++d) pid[2 * p + d].configure(b.controller, b.rate_hz, bp.amb[p].ki_n_per_a);
+  }
+  {
+    // The y integrators start at each plane's weight share (rigid-rotor lever rule), as the
+    // firmware's supervisor does at lift-off.
+    const model::rotor::RotorModel rotor = model::rotor::build_rotor_model(bp.rotor);
+    const double w = rotor.mass_kg * bp.gravity_m_s2;
+    const double a = bp.amb[0].axial_m, c = bp.amb[1].axial_m;
+    const double share_b = (c != a) ? w * (rotor.centre_of_mass_m - a) / (c - a) : 0.5 * w;
+    pid[1].preload_force(w - share_b);
+    pid[3].preload_force(share_b);
   }
   const int n = o.samples_per_period;
   std::vector<int> bins;
@@ -113,7 +124,7 @@ host::sweep::SweepRecord run_sil_sweep(const board::BoardConfig& b, const SilSwe
     rig.analog().write(out);
     rig.clock().wait_until_ns(++k_abs * period_ns);
   };
-  for (int k = 0; k < static_cast<int>(0.3 * b.rate_hz); ++k) step(-1, 0.0, nullptr);
+  for (int k = 0; k < static_cast<int>(0.5 * b.rate_hz); ++k) step(-1, 0.0, nullptr);
   for (int axis : o.axes) {
     host::sweep::SweepAxisRecord rec;
     rec.axis = axis;

@@ -21,10 +21,10 @@ struct SilSweepOptions {
   std::uint64_t seed = 1;             ///< sensor-noise seed
   double amplitude_fraction = 0.05;   ///< peak of e / the bias current (the default amplitude)
   std::vector<int> axes{0, 1, 2, 3};
-  int samples_per_period = 2000;      ///< N (10 kHz: 0.2 s, 5 Hz line spacing)
+  int samples_per_period = 5000;      ///< N (10 kHz: 0.5 s, 2 Hz line spacing)
   int settle_periods = 2;
   int recorded_periods = 8;
-  double f_lo_hz = 20.0, f_hi_hz = 1000.0;  ///< swept band
+  double f_lo_hz = 2.0, f_hi_hz = 1000.0;   ///< swept band
   int lines = 48;                     ///< log-spaced, rounded to distinct bins
   double noise_scale = 1.0;           ///< sensor noise relative to the board's
   bool stepped = false;               ///< stepped sine: one line per step (same lines)
