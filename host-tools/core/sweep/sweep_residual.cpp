@@ -294,6 +294,16 @@ SweepResidualOutcome run_sweep_residual(const SweepEstimate& e, const SweepLoopM
     std::sort(tried.begin(), tried.end(), [](const Tried& a, const Tried& b) { return a.dbic > b.dbic; });
     bool added = false;
     for (auto& tr : tried) {
+      if (added) {
+        // Decided against the model before this round's element: not comparable any more.
+        residual::CandidateScore cs;
+        cs.name = tr.name;
+        cs.delta_bic = tr.dbic;
+        cs.evidence = io::printf_text("round %d: screening BIC decrease %.1f; not decided (another element kept this round)", round,
+                                      tr.dbic);
+        out.ranking.push_back(cs);
+        continue;
+      }
       residual::engine::CandidateEvidence ce;
       ce.element = tr.name;
       ce.delta_ic = tr.dbic;
@@ -317,8 +327,8 @@ SweepResidualOutcome run_sweep_residual(const SweepEstimate& e, const SweepLoopM
       ce.information.push_back({"G error", "dB rms", f_cur.g_db_rms, f_after.g_db_rms});
       const auto dec = residual::engine::decide(ce, o.criterion);
       residual::CandidateScore cs = residual::scored(ce, dec);
-      if (added || !dec.kept) {
-        cs.evidence += added ? ": not decided (another element kept this round)" : ": not added (" + dec.reason + ")";
+      if (!dec.kept) {
+        cs.evidence += ": not added (" + dec.reason + ")";
         out.ranking.push_back(cs);
         continue;
       }
@@ -329,6 +339,17 @@ SweepResidualOutcome run_sweep_residual(const SweepEstimate& e, const SweepLoopM
       ea.delta_bic = tr.dbic;
       ea.evidence = cs.evidence;
       cur = tr.t;
+      // Polish the kept model before the next round (restarts until the misfit stops falling
+      // by 0.1 %), so that a later candidate is not credited with a refit the kept model
+      // still had in it.
+      for (int pass = 0; pass < 4; ++pass) {
+        Track t = cur;
+        t.v = refine(ev, t.ps, t.v, 2 * o.max_evaluations);
+        t.cost = ev.cost(effects_of(t.ps, t.v));
+        const bool better = t.cost < cur.cost * (1.0 - 1e-3);
+        if (t.cost < cur.cost) cur = std::move(t);
+        if (!better) break;
+      }
       bic = 2.0 * cur.cost + static_cast<double>(cur.ps.size()) * ln_n;
       kept.push_back(tr.name);
       out.effects_added.push_back(ea);
