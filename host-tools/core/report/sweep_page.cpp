@@ -184,6 +184,9 @@ std::string render_sweep_page(const SweepAnalysis& a) {
     const auto& f = a.residual.after;
     std::vector<std::vector<std::string>> er;
     er.push_back({"board model", num("%.2f", b.s_db_rms), num("%.2f", b.g_db_rms), num("%.4g", b.misfit)});
+    if (a.residual.update.kept)
+      er.push_back({io::printf_text("updated (force scale %.3f)", a.residual.update.force_scale), num("%.2f", a.residual.updated.s_db_rms),
+                    num("%.2f", a.residual.updated.g_db_rms), num("%.4g", a.residual.updated.misfit)});
     er.push_back({"with " + a.residual.verdict, num("%.2f", f.s_db_rms), num("%.2f", f.g_db_rms), num("%.4g", f.misfit)});
     s += "<p class=\"caption\">Residual loop verdict: <b>" + escape_xml(a.residual.verdict) + "</b></p>\n" +
          grid({"model", "S error (dB rms)", "G error (dB rms)", "weighted misfit"}, er, "error-table");

@@ -119,6 +119,10 @@ nlohmann::json sweep_analysis_json(const SweepAnalysis& a) {
     rj["verdict"] = a.residual.verdict;
     rj["before"] = fit_json(a.residual.before);
     rj["after"] = fit_json(a.residual.after);
+    rj["model_update"] = {{"force_scale", a.residual.update.force_scale},
+                          {"delta_bic", a.residual.update.delta_bic},
+                          {"at_bound", a.residual.update.at_bound},
+                          {"kept", a.residual.update.kept}};
     auto& c = rj["candidates"] = nlohmann::json::array();
     for (const auto& s : a.residual.ranking)
       c.push_back({{"name", s.name}, {"delta_bic", s.delta_bic}, {"kept", s.kept}, {"reason", s.reason}, {"evidence", s.evidence}});

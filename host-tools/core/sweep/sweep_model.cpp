@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "model/amb/amb_force.hpp"
 #include "model/effects/effect_loop_model.hpp"
 
 namespace amb::host::sweep {
@@ -36,6 +37,21 @@ SweepLoopModel::SweepLoopModel(const board::BoardConfig& b, double speed_hz, std
   for (double f : f_)
     if (!(f > 0.0) || !std::isfinite(f)) throw std::invalid_argument("sweep model: line frequencies must be > 0");
   rig_ = model::RigModel::make(b_.plant);
+  {
+    // Linearised at the operating point: the coils carry the static control currents that hold
+    // the rotor's weight, and the negative stiffness grows with them (amb_force.hpp:
+    // ks(ic) = 4 k (i0^2 + ic^2) / g0^3; ki does not change at z = 0). The board's ks is the one
+    // at ic = 0; the loop runs at the static currents.
+    const model::effects::EffectLoopModel stat(rig_, b_.plant, b_.controller, b_.rate_hz, speed_hz_, {});
+    const auto sp = stat.static_levitated();
+    for (size_t p = 0; p < b_.plant.amb.size() && p < 2; ++p) {
+      const auto law = model::magnet::make_axis_law(b_.plant.amb[p]);
+      double ks = 0.0;
+      for (size_t a = 0; a < 2; ++a) ks += 0.5 * model::magnet::linearise(law, 0.0, sp.current_a[2 * p + a]).ks_n_per_m;
+      operating_ks_ratio_[p] = ks / b_.plant.amb[p].ks_n_per_m;
+      b_.plant.amb[p].ks_n_per_m = ks;
+    }
+  }
   model::analysis::ClosedLoopOptions o;
   o.sample_rate_hz = b_.rate_hz;
   o.loop_delay_periods = b_.loop_delay_periods;

@@ -2,7 +2,8 @@
 // The model beside the measured sweep: the board's predicted S, T and G at the sweep's lines,
 // optionally with model elements (model/effects) the board file does not declare.
 //  * The board's prediction: model::analysis::ClosedLoopModel, sampled at the board's rate with
-//    its loop delay (the exact discretisation of the linearised rig and the firmware's PID),
+//    its loop delay, the AMBs linearised at the static operating point (the weight-carrying
+//    control currents raise the negative stiffness: amb_force.hpp) (the exact discretisation of the linearised rig and the firmware's PID),
 //    injection at one axis' demand as the record's (sweep_record.hpp): S = u / e, the sensor
 //    readings per e, G = y / u with y the axis' position in the controller frame, T = 1 - S.
 //  * With elements: the exact prediction times the element's relative change from
@@ -49,6 +50,8 @@ class SweepLoopModel {
   model::analysis::SensitivityPeak peak(size_t a, double f_lo_hz, double f_hi_hz, const model::effects::EffectSet& fx) const;
 
   const std::vector<int>& axes() const { return axes_; }
+  /// Per bearing plane: the negative stiffness at the static operating point / the board's, 1.
+  const std::array<double, 2>& operating_ks_ratio() const { return operating_ks_ratio_; }
   const std::vector<double>& f_hz() const { return f_; }
 
  private:
@@ -61,6 +64,7 @@ class SweepLoopModel {
   std::shared_ptr<const model::RigModel> rig_;
   std::unique_ptr<model::analysis::ClosedLoopModel> exact_;
   std::vector<std::vector<ModelResponse>> board_, eff0_;
+  std::array<double, 2> operating_ks_ratio_{1.0, 1.0};
 };
 
 }  // namespace amb::host::sweep

@@ -5,7 +5,8 @@
 // that a closed-loop sweep can test -- amplifier_lag, pedestal_resonance, sensor_gain --
 // each fitted within its physical bounds (NLopt, normalised bounded coordinates, several
 // starts), added one at a time (forward selection, the largest information-criterion decrease
-// first, everything refitted), and kept or rejected by the engine's one criterion
+// first, everything refitted) after the board's force constant is updated (model updating, not an
+// element), and kept or rejected by the engine's one criterion
 // (engine::decide). It shares the TUM sweep path's data container and error figures
 // (residual/frf_update.hpp: FrfFitData, frf_errors; the same weighted complex log misfit
 // sum w |ln(H_meas / H_model)|^2) and its candidate reporting (CandidateScore, EffectAdded).
@@ -52,8 +53,19 @@ struct SweepFit {
   std::vector<std::vector<ModelResponse>> lines;  ///< [axis][line]
 };
 
+/// Model updating of the board's own uncertain parameter before any element (not an element).
+struct SweepModelUpdate {
+  bool done = false;
+  double force_scale = 1.0;   ///< fitted actuator force constant / board's, 1
+  double delta_bic = 0.0;     ///< BIC(board) - BIC(updated)
+  bool at_bound = false;
+  bool kept = false;          ///< delta_bic > the criterion's min_delta_ic and not on a bound
+};
+
 struct SweepResidualOutcome {
   SweepFit before, after;
+  SweepFit updated;                                ///< the base model after model updating (= before when not kept)
+  SweepModelUpdate update;
   std::vector<residual::CandidateScore> ranking;   ///< every candidate decided on or screened out, in order
   std::vector<residual::EffectAdded> effects_added;
   model::effects::EffectSet found;                 ///< the elements kept, with their fitted values
