@@ -66,7 +66,7 @@ TEST(SweepPage, RendersInChromiumWithTicksLegendsAndZones) {
   test::SilSweepOptions o;
   o.axes = {0, 2};
   o.recorded_periods = 4;
-  o.effects.amplifier_lag = model::effects::AmplifierLag{2.5e-4};  // so the page shows a model with an element
+  o.effects.amplifier_lag = model::effects::AmplifierLag{1e-4};  // so the page shows a model with an element
   const auto a = host::sweep::analyse_sweep(test::run_sil_sweep(b, o), b);
   const fs::path dir = fs::absolute(test::artefact_dir()) / "sweep_page";
   fs::create_directories(dir);
