@@ -130,6 +130,22 @@ class Evaluator {
       }
     return c;
   }
+  // Largest predicted change between two models over the compared lines (S and G), in
+  // standard errors of the line (estimator scatter and the model's stated accuracy).
+  double largest_change_sigma(const fx::EffectSet& a, const fx::EffectSet& b) const {
+    const auto la = m_.with(a), lb = m_.with(b);
+    double best = 0.0;
+    for (size_t x = 0; x < la.size(); ++x)
+      for (size_t l = 0; l < la[x].size(); ++l)
+        for (int k = 0; k < 2; ++k) {
+          const double w = data_.w[2 * x + static_cast<size_t>(k)][l];
+          if (!(w > 0.0)) continue;
+          const cd d = std::log((k == 0 ? la[x][l].s : la[x][l].g) / (k == 0 ? lb[x][l].s : lb[x][l].g));
+          const double v = std::sqrt(w * (d.real() * d.real() + std::pow(wrap(d.imag()), 2)));
+          if (std::isfinite(v)) best = std::max(best, v);
+        }
+    return best;
+  }
   double cost(const fx::EffectSet& e) const {
     try {
       return misfit(m_.with(e));
@@ -344,7 +360,7 @@ SweepResidualOutcome run_sweep_residual(const SweepEstimate& e, const SweepLoopM
       ce.delta_ic = tr.dbic;
       ce.ic_basis = "BIC of the sweep lines: complex Gaussian per line and function (S, G) with the period scatter's variance "
                     "plus the model's stated accuracy";
-      ce.effect_sigma = std::sqrt(std::max(0.0, 2.0 * (cur.cost - tr.t.cost)));
+      ce.effect_sigma = ev.largest_change_sigma(effects_of(tr.t.ps, tr.t.v), effects_of(cur.ps, cur.v));
       std::string why, vals;
       for (size_t i = cur.ps.size(); i < tr.t.ps.size(); ++i) {
         const auto& p = tr.t.ps[i].p;
