@@ -197,7 +197,8 @@ std::string render_sweep_page(const SweepAnalysis& a) {
     s += grid({"axis", "measured zone", "board model zone (peak)", "model with the elements found"}, zr, "zone-change-table");
     std::vector<std::vector<std::string>> cr;
     for (const auto& c : a.residual.ranking)
-      cr.push_back({c.name, num("%.1f", c.delta_bic), c.kept ? "kept" : "rejected", c.reason.empty() ? c.evidence : c.reason});
+      cr.push_back({c.name, num("%.1f", c.delta_bic), c.kept ? "kept" : c.decided ? "rejected" : "not decided",
+                    c.reason.empty() ? c.evidence : c.reason});
     s += grid({"candidate", "BIC decrease", "decision", "reason"}, cr, "candidate-table");
     std::string params;
     for (const auto& e : a.residual.effects_added)

@@ -125,7 +125,8 @@ nlohmann::json sweep_analysis_json(const SweepAnalysis& a) {
                           {"kept", a.residual.update.kept}};
     auto& c = rj["candidates"] = nlohmann::json::array();
     for (const auto& s : a.residual.ranking)
-      c.push_back({{"name", s.name}, {"delta_bic", s.delta_bic}, {"kept", s.kept}, {"reason", s.reason}, {"evidence", s.evidence}});
+      c.push_back({{"name", s.name}, {"delta_bic", s.delta_bic}, {"decided", s.decided}, {"kept", s.kept}, {"reason", s.reason},
+                   {"evidence", s.evidence}});
     auto& e = rj["effects_added"] = nlohmann::json::array();
     for (const auto& x : a.residual.effects_added) {
       nlohmann::json p;

@@ -1,8 +1,11 @@
 #include "host-tools/core/sweep/sweep_estimate.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
+
+#include <fftw3.h>
 
 #include "host-tools/core/io/number_text.hpp"
 #include "model/analysis/closed_loop.hpp"
@@ -21,13 +24,32 @@ double normal_quantile(double p) {
   return 0.5 * (lo + hi);
 }
 
-// One DFT value of x[start .. start + n) at bin k (no window: whole periods).
-cd dft_bin(const std::vector<double>& x, size_t start, int n, int k) {
-  cd acc = 0.0;
-  const double w = -2.0 * M_PI * k / n;
-  for (int i = 0; i < n; ++i) acc += x[start + static_cast<size_t>(i)] * std::polar(1.0, w * i);
-  return acc;
-}
+// DFT of whole periods (no window) with one FFTW plan for the period length.
+class PeriodDft {
+ public:
+  explicit PeriodDft(int n) : n_(n), in_(static_cast<size_t>(n)), out_(static_cast<size_t>(n / 2 + 1)) {
+    plan_ = fftw_plan_dft_r2c_1d(n, in_.data(), out_.data(), FFTW_ESTIMATE);
+  }
+  ~PeriodDft() { fftw_destroy_plan(plan_); }
+  PeriodDft(const PeriodDft&) = delete;
+  PeriodDft& operator=(const PeriodDft&) = delete;
+  // DFT values of x[start .. start + n) at `bins`, into out[i].
+  void at(const std::vector<double>& x, size_t start, const std::vector<int>& bins, std::vector<cd>& out) {
+    std::copy(x.begin() + static_cast<std::ptrdiff_t>(start), x.begin() + static_cast<std::ptrdiff_t>(start) + n_, in_.begin());
+    fftw_execute(plan_);
+    out.resize(bins.size());
+    for (size_t i = 0; i < bins.size(); ++i) {
+      const auto& c = out_[static_cast<size_t>(bins[i])];
+      out[i] = cd(c[0], c[1]);
+    }
+  }
+
+ private:
+  int n_;
+  std::vector<double> in_;
+  std::vector<fftw_complex> out_;
+  fftw_plan plan_;
+};
 
 void set_band(TransferEstimate& t, double var, int periods, double level) {
   t.sigma = std::sqrt(std::max(0.0, var));
@@ -129,22 +151,33 @@ SweepEstimate estimate_sweep(const SweepRecord& r, const EstimateOptions& o) {
   out.periods = p;
   out.band_basis = io::printf_text("period-to-period scatter over %d periods, Student t (%d dof), %.0f %% two-sided", p, 2 * (p - 1),
                                    100.0 * o.band_level);
+  PeriodDft dft(n);
+  const size_t lines = bins.size(), blocks = stepped ? lines : 1;
   for (const auto& a : r.axes) {
     AxisEstimate ax;
     ax.axis = a.axis;
     ax.min_coherence_s = 1.0;
     std::vector<double> minus_uc(a.controller_output_a.size());
     for (size_t i = 0; i < minus_uc.size(); ++i) minus_uc[i] = -a.controller_output_a[i];
-    for (size_t l = 0; l < bins.size(); ++l) {
-      const size_t base = stepped ? l * static_cast<size_t>(p) * static_cast<size_t>(n) : 0;
-      std::vector<cd> e(static_cast<size_t>(p)), u(e.size()), t(e.size()), y(e.size());
+    // spec[signal][line][period]: e, u, -u_c, y.
+    std::array<std::vector<std::vector<cd>>, 4> spec;
+    for (auto& sg : spec) sg.assign(lines, std::vector<cd>(static_cast<size_t>(p)));
+    const std::array<const std::vector<double>*, 4> src{&a.excitation_a, &a.summing_point_a, &minus_uc, &a.sensor_m};
+    std::vector<cd> tmp;
+    for (size_t blk = 0; blk < blocks; ++blk)
       for (int q = 0; q < p; ++q) {
-        const size_t at = base + static_cast<size_t>(q) * static_cast<size_t>(n);
-        e[static_cast<size_t>(q)] = dft_bin(a.excitation_a, at, n, bins[l]);
-        u[static_cast<size_t>(q)] = dft_bin(a.summing_point_a, at, n, bins[l]);
-        t[static_cast<size_t>(q)] = dft_bin(minus_uc, at, n, bins[l]);
-        y[static_cast<size_t>(q)] = dft_bin(a.sensor_m, at, n, bins[l]);
+        const size_t at = (blk * static_cast<size_t>(p) + static_cast<size_t>(q)) * static_cast<size_t>(n);
+        for (size_t k = 0; k < 4; ++k) {
+          dft.at(*src[k], at, bins, tmp);
+          for (size_t l = 0; l < lines; ++l)
+            if (!stepped || l == blk) spec[k][l][static_cast<size_t>(q)] = tmp[l];
+        }
       }
+    for (size_t l = 0; l < lines; ++l) {
+      const std::vector<cd>& e = spec[0][l];
+      const std::vector<cd>& u = spec[1][l];
+      const std::vector<cd>& t = spec[2][l];
+      const std::vector<cd>& y = spec[3][l];
       LineEstimate le;
       le.f_hz = r.plan.frequencies_hz[l];
       le.s = h1_h2({e, u});
