@@ -68,6 +68,7 @@ std::string bode(const SweepAnalysis& a, size_t i, int k, bool phase) {
   p.y_label = phase ? "phase (deg)" : (k == 2 ? "|G| (dB re 1 m/A)" : "magnitude (dB)");
   p.width_px = 620;
   p.height_px = 300;
+  p.log_x = true;
   Series m{"measured", {}, {}, "#000000", 1.6};
   Series b{"board model", {}, {}, "#1f77b4", 1.3, true};
   Series f{"model with " + a.residual.verdict, {}, {}, "#d62728", 1.3};
@@ -107,6 +108,7 @@ std::string coherence_plot(const SweepAnalysis& a, size_t i) {
   p.title = key(ax.axis) + ": coherence";
   p.x_label = "frequency (Hz)";
   p.y_label = "coherence (1)";
+  p.log_x = true;
   p.width_px = 620;
   p.height_px = 300;
   Series s{"S (e vs u)", {}, {}, "#000000", 1.6};
