@@ -81,19 +81,23 @@ TEST(SweepResidual, ExtraAmplifierLagIsNamed) {
   expect_zone_follows(a);
 }
 
-TEST(SweepResidual, PedestalResonanceIsNamed) {
-  const board::BoardConfig b = board_of("bath-amb-rig");
+void pedestal_case(const char* rig) {
+  const board::BoardConfig b = board_of(rig);
   test::SilSweepOptions o;
   o.effects.pedestal = fx::PedestalResonance{0, 10.0, 60.0, 0.03};
   const auto a = run(b, o, "pedestal 10 kg, 60 Hz, 3 % under AMB A");
   ASSERT_FALSE(a.residual.effects_added.empty());
   EXPECT_EQ(a.residual.effects_added.front().name, "pedestal_resonance");
   EXPECT_NEAR(param(a, "pedestal_resonance", "frequency_hz"), 60.0, 0.1 * 60.0);
+  EXPECT_NEAR(param(a, "pedestal_resonance", "mass_kg"), 10.0, 0.2 * 10.0);
   ASSERT_TRUE(a.residual.found.pedestal.has_value());
   EXPECT_EQ(a.residual.found.pedestal->plane, 0);
   EXPECT_LT(a.residual.after.s_db_rms, 0.5 * a.residual.before.s_db_rms);
   expect_zone_follows(a);
 }
+
+TEST(SweepResidual, PedestalResonanceIsNamed) { pedestal_case("bath-amb-rig"); }
+TEST(SweepResidual, PedestalResonanceIsNamedOnUnicamp) { pedestal_case("unicamp-amb-rig"); }
 
 // False alarms: clean sweeps (no effect) with different noise seeds and amplitudes.
 int false_alarms(const char* rig, int seeds, const std::vector<double>& amplitudes, int& runs) {

@@ -252,16 +252,16 @@ Track fit_candidate(const Evaluator& ev, const Track& cur, const std::string& el
     for (double tau : {5e-5, 2e-4, 6e-4}) with(candidate_params(element, 0, tau, 0.0));
   } else if (element == "pedestal_resonance") {
     for (int plane : {0, 1})
-      for (int i = 0; i < 8; ++i)
+      for (int i = 0; i < 12; ++i)
         for (double mass : {2.0, 20.0})
-          with(candidate_params(element, plane, f_lo * std::pow(f_hi / f_lo, i / 7.0), mass));
+          with(candidate_params(element, plane, f_lo * std::pow(f_hi / f_lo, i / 11.0), mass));
   } else {
     with(candidate_params(element, 0, 0.0, 0.0));
   }
   std::sort(starts.begin(), starts.end(), [](const Track& a, const Track& b) { return a.cost < b.cost; });
   Track best;
   best.cost = std::numeric_limits<double>::infinity();
-  for (size_t k = 0; k < std::min<size_t>(2, starts.size()); ++k) {
+  for (size_t k = 0; k < std::min<size_t>(4, starts.size()); ++k) {
     Track t = starts[k];
     t.v = refine(ev, t.ps, t.v, max_eval);
     t.cost = ev.cost(effects_of(t.ps, t.v));
