@@ -292,6 +292,8 @@ ClosedLoopModel::ClosedLoopModel(const RigModel& rig_model, const PlantParams& r
   const int np = static_cast<int>(p.a.rows()), nc = static_cast<int>(k.ac.rows());
   Eigen::MatrixXd cy = Eigen::MatrixXd::Zero(4, np);  // sensor readings from the rig states
   for (int s = 0; s < 4; ++s) cy(s, p.sensor[static_cast<size_t>(s)]) = 1.0;
+  c_sensor_ = Eigen::MatrixXd::Zero(4, np + nc);  // widened below when the sampled loop adds demand memory
+  c_sensor_.leftCols(np) = cy;
 
   if (period_s_ == 0.0) {
     // x = [rig; controller]; i = cmd + d.
@@ -372,6 +374,8 @@ ClosedLoopModel::ClosedLoopModel(const RigModel& rig_model, const PlantParams& r
   for (int i = np; i < m0; ++i) group_[static_cast<size_t>(i)] = rotor_groups_ + 4 + (i - np) / (nc / 2);
   for (int i = m0; i < n; ++i) group_[static_cast<size_t>(i)] = rotor_groups_ + 6 + ((i - m0) % 4) / 2;
   groups_ = rotor_groups_ + 8;
+  c_sensor_.conservativeResize(4, n);
+  c_sensor_.rightCols(n - np - nc).setZero();
   b_inj_.assign(4, Eigen::VectorXd::Zero(n));
   c_cmd_.assign(4, Eigen::RowVectorXd::Zero(n));
   for (int j = 0; j < 4; ++j) {
@@ -451,6 +455,19 @@ std::complex<double> ClosedLoopModel::sensitivity(int axis, double f_hz) const {
   // Injection d at the demand: u = cmd + d, x' = A x + b d  =>  S = u / d = 1 + c (sI - A)^-1 b
   // (sampled: x[k+1] = A x[k] + b d[k]  =>  S = 1 + c (zI - A)^-1 b).
   return 1.0 + (c_cmd_[j].cast<std::complex<double>>() * x)(0);
+}
+
+InjectionResponse ClosedLoopModel::injection_response(int axis, double f_hz) const {
+  const auto j = static_cast<size_t>(axis);
+  Eigen::MatrixXcd m = -a_.cast<std::complex<double>>();
+  const std::complex<double> s(0.0, k_two_pi * f_hz);
+  m.diagonal().array() += sampled() ? std::exp(s * period_s_) : s;
+  const Eigen::VectorXcd x = m.partialPivLu().solve(b_inj_[j].cast<std::complex<double>>());
+  InjectionResponse r;
+  r.demand = 1.0 + (c_cmd_[j].cast<std::complex<double>>() * x)(0);
+  const Eigen::VectorXcd y = c_sensor_.cast<std::complex<double>>() * x;
+  for (int k = 0; k < 4; ++k) r.sensor_m_per_a[static_cast<size_t>(k)] = y(k);
+  return r;
 }
 
 SensitivityPeak ClosedLoopModel::sensitivity_peak(int axis, double f_min, double f_max, int points) const {

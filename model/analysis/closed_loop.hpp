@@ -18,6 +18,7 @@
 //     a fractional delay split into its two held pieces. No Pade or other approximation: the
 //     discrete closed loop is exact for the linearised rig and the linear (unsaturated) PID.
 // This is the same structure as the firmware's discrete loop (PidAxis + AxisTransform).
+#include <array>
 #include <complex>
 #include <vector>
 
@@ -59,6 +60,12 @@ struct SensitivityPeak {
   IsoZone zone = IsoZone::D;
 };
 
+/// Responses of the closed loop to a current injected at one axis' demand (as sensitivity()).
+struct InjectionResponse {
+  std::complex<double> demand;                       ///< demand sent to the amplifier per injected A: S, 1
+  std::array<std::complex<double>, 4> sensor_m_per_a{};  ///< sensor readings [A1, A2, B1, B2] per injected A, m/A
+};
+
 class ClosedLoopModel {
  public:
   /// Throws std::invalid_argument if the rig cannot be built (see rotor_model.hpp) or an
@@ -87,13 +94,16 @@ class ClosedLoopModel {
   /// broken at that axis' current demand, all other loops closed (ISO 14839-3). Sampled: the
   /// injection is added to the digital demand, S evaluated at z = exp(j 2 pi f T).
   std::complex<double> sensitivity(int axis, double frequency_hz) const;
+  /// The demand and the four sensor readings per unit injection at axis `axis` (0..3), f_hz.
+  InjectionResponse injection_response(int axis, double f_hz) const;
   /// Peak of |S| over [f_min, f_max] Hz: log grid then golden-section refinement.
   SensitivityPeak sensitivity_peak(int axis, double f_min_hz, double f_max_hz, int grid_points = 800) const;
 
  private:
   Eigen::MatrixXd a_;
   std::vector<Eigen::VectorXd> b_inj_;     // per axis: state derivative (or next state) per unit injected current
-  std::vector<Eigen::RowVectorXd> c_cmd_;  // per axis: current demand before injection
+  std::vector<Eigen::RowVectorXd> c_cmd_;
+  Eigen::MatrixXd c_sensor_;               // 4 x states: sensor readings  // per axis: current demand before injection
   std::vector<int> group_;                 // per state: participation group (see modes())
   int groups_ = 0, rotor_groups_ = 0;      // groups in all; the first rotor_groups_ are the rotor's
   int modes_ = 0;

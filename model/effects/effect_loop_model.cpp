@@ -181,6 +181,8 @@ Eigen::Matrix4cd EffectLoopModel::controller(double w) const {
   return kc;
 }
 
+cd EffectLoopModel::amplifier_response(int axis, double f_hz) const { return amplifier(axis, k_two_pi * f_hz); }
+
 cd EffectLoopModel::amplifier(int axis, double w) const {
   const double t = 1.0 / rate_hz_;
   // Zero-order hold of the demand over the next period (the sim HAL applies it at once).
@@ -203,6 +205,8 @@ LoopResponse EffectLoopModel::at(double f_hz, const std::vector<AccelPoint>& poi
   for (int k = 0; k < 4; ++k)
     t.row(k) = first_order(rig_.sensor[static_cast<size_t>(k)].bandwidth_hz, w) *
                (s_row_[static_cast<size_t>(k)].transpose().cast<cd>() * x);
+  if (fx_.sensor_gain)
+    for (int k = 0; k < 4; ++k) t.row(k) *= fx_.sensor_gain->gain[static_cast<size_t>(k)];
   Eigen::Matrix4cd a = Eigen::Matrix4cd::Zero();
   for (int j = 0; j < 4; ++j) a(j, j) = amplifier(j, w);
   const Eigen::Matrix4cd l = a * controller(w);

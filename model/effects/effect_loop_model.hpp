@@ -8,7 +8,8 @@
 //              q = [rotor modal x (m); rotor modal y (m); pedestal x, y (if any)]
 //              n_j: generalised direction of actuator axis j (rotor at the AMB minus stator)
 //              Bi = [ki_eff n_j]
-//   sensors    y = Fs(w) S q + e                  (e: noise, runout, m; Fs first-order roll-off)
+//   sensors    y = Fs(w) S q + e                  (e: noise, runout, m; Fs first-order roll-off;
+//                                                  sensor_gain: each reading's S row scaled by its gain)
 //   controller d = Kc(w) y                        (the firmware's discrete PID + notches at
 //                                                  z = e^{j w T}, sensor->xy->actuator axes, / ki)
 //   amplifier  i = A(w) d + i_inj                 (zero-order hold, board bandwidth, extra lag)
@@ -80,6 +81,10 @@ class EffectLoopModel {
   /// Sensor readings (m) with the rotor at rest on both auxiliary bearings (amplifiers off),
   /// aux-bearing centres offset as the model's aux_bearing_offset says (none: board values).
   std::array<double, 4> rest_sensors_m() const;
+
+  /// Actual coil current per current demand of actuator axis `axis` at f_hz (zero-order hold,
+  /// the board's amplifier bandwidth, the extra lag and loop delay when present), 1.
+  cd amplifier_response(int axis, double f_hz) const;
 
   /// Force per measured current of actuator axis j (board ki x force_scale x saturation slope), N/A.
   double ki_eff(int axis) const { return ki_eff_[static_cast<size_t>(axis)]; }

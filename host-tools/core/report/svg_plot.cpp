@@ -17,7 +17,9 @@ struct Frame {
   double x0, x1, y0, y1;           // data ranges
   double left, top, width, height; // plot area, px
   bool log_y;
-  double px(double x) const { return left + (x - x0) / (x1 - x0) * width; }
+  bool log_x = false;
+  double xv(double x) const { return log_x ? std::log10(x) : x; }  // x in axis units
+  double px(double x) const { return left + (xv(x) - x0) / (x1 - x0) * width; }
   double py(double y) const {
     const double v = log_y ? std::log10(y) : y;
     return top + height - (v - y0) / (y1 - y0) * height;
@@ -62,7 +64,8 @@ std::vector<size_t> decimate(const Series& s, const Frame& f) {
   };
   for (size_t i = 0; i < n; ++i) {
     if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
-    const int c = std::clamp(static_cast<int>((s.x[i] - f.x0) / (f.x1 - f.x0) * columns), -1, columns);
+    if (f.log_x && !(s.x[i] > 0.0)) continue;
+    const int c = std::clamp(static_cast<int>((f.xv(s.x[i]) - f.x0) / (f.x1 - f.x0) * columns), -1, columns);
     if (c != col) {
       flush();
       col = c;
@@ -87,7 +90,7 @@ std::string polyline(const Series& s, const Frame& f, const std::string& color) 
   };
   for (size_t i : decimate(s, f)) {
     const double x = s.x[i], y = s.y[i];
-    if (!std::isfinite(x) || !std::isfinite(y) || (f.log_y && y <= 0.0)) {
+    if (!std::isfinite(x) || !std::isfinite(y) || (f.log_y && y <= 0.0) || (f.log_x && x <= 0.0)) {
       close();
       continue;
     }
@@ -157,9 +160,9 @@ std::string render_line_plot(const LinePlot& p) {
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
   for (const Series& s : p.series)
     for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (p.log_y && s.y[i] <= 0.0)) continue;
-      x0 = std::min(x0, s.x[i]);
-      x1 = std::max(x1, s.x[i]);
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (p.log_y && s.y[i] <= 0.0) || (p.log_x && s.x[i] <= 0.0)) continue;
+      x0 = std::min(x0, p.log_x ? std::log10(s.x[i]) : s.x[i]);
+      x1 = std::max(x1, p.log_x ? std::log10(s.x[i]) : s.x[i]);
       const double y = p.log_y ? std::log10(s.y[i]) : s.y[i];
       y0 = std::min(y0, y);
       y1 = std::max(y1, y);
@@ -167,9 +170,9 @@ std::string render_line_plot(const LinePlot& p) {
   for (const Band& b : p.bands)
     for (size_t i = 0; i < std::min({b.x.size(), b.lo.size(), b.hi.size()}); ++i) {
       if (!std::isfinite(b.x[i]) || !std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) continue;
-      if (p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) continue;
-      x0 = std::min(x0, b.x[i]);
-      x1 = std::max(x1, b.x[i]);
+      if ((p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) || (p.log_x && b.x[i] <= 0.0)) continue;
+      x0 = std::min(x0, p.log_x ? std::log10(b.x[i]) : b.x[i]);
+      x1 = std::max(x1, p.log_x ? std::log10(b.x[i]) : b.x[i]);
       y0 = std::min(y0, p.log_y ? std::log10(b.lo[i]) : b.lo[i]);
       y1 = std::max(y1, p.log_y ? std::log10(b.hi[i]) : b.hi[i]);
     }
@@ -183,7 +186,10 @@ std::string render_line_plot(const LinePlot& p) {
     if (!std::isfinite(x0)) x0 = iv.x0;
     if (!std::isfinite(x1)) x1 = iv.x1;
   }
-  if (p.x_range) { x0 = (*p.x_range)[0]; x1 = (*p.x_range)[1]; }
+  if (p.x_range) {
+    x0 = p.log_x ? std::log10((*p.x_range)[0]) : (*p.x_range)[0];
+    x1 = p.log_x ? std::log10((*p.x_range)[1]) : (*p.x_range)[1];
+  }
   if (p.y_range) {
     y0 = p.log_y ? std::log10((*p.y_range)[0]) : (*p.y_range)[0];
     y1 = p.log_y ? std::log10((*p.y_range)[1]) : (*p.y_range)[1];
@@ -216,7 +222,7 @@ std::string render_line_plot(const LinePlot& p) {
     if (!b.label.empty()) band_legend.emplace(b.label, b.color);
 
   Frame f{x0, x1, y0, y1, 70.0, 30.0, static_cast<double>(p.width_px) - 70.0 - 16.0,
-          static_cast<double>(p.height_px) - 30.0 - 48.0, p.log_y};
+          static_cast<double>(p.height_px) - 30.0 - 48.0, p.log_y, p.log_x};
   const bool has_legend = !legend.empty() || !band_legend.empty();
   // The legend's margin fits its longest label (about 6.3 px a character at 11 px sans-serif;
   // a fixed 150 px clipped longer labels such as "model + sensor_runout").
@@ -253,13 +259,29 @@ std::string render_line_plot(const LinePlot& p) {
        io::printf_text("%.2f", f.width) + "\" height=\"" + io::printf_text("%.2f", f.height) + "\"/></clipPath>\n";
 
   // Ticks and grid.
-  const auto xt = nice_ticks(f.x0, f.x1, std::max(3, static_cast<int>(f.width / 90)));
-  const double xstep = xt.size() > 1 ? xt[1] - xt[0] : 1.0;
+  std::vector<double> xt;  // tick values in data units
+  if (p.log_x) {
+    // 1, 2, 5 x 10^k inside the range (decades only when that gives enough).
+    for (double e = std::floor(f.x0); e <= std::ceil(f.x1); ++e)
+      for (double m : {1.0, 2.0, 5.0}) {
+        const double v = m * std::pow(10.0, e);
+        if (std::log10(v) >= f.x0 - 1e-9 && std::log10(v) <= f.x1 + 1e-9) xt.push_back(v);
+      }
+    if (xt.size() > 9) {
+      std::vector<double> decades;
+      for (double v : xt)
+        if (std::abs(std::log10(v) - std::round(std::log10(v))) < 1e-9) decades.push_back(v);
+      if (decades.size() >= 2) xt = decades;
+    }
+  } else {
+    xt = nice_ticks(f.x0, f.x1, std::max(3, static_cast<int>(f.width / 90)));
+  }
+  const double xstep = p.log_x ? 0.0 : (xt.size() > 1 ? xt[1] - xt[0] : 1.0);
   for (double v : xt) {
     const double x = f.px(v);
     s += "<line x1=\"" + io::printf_text("%.2f", x) + "\" y1=\"" + io::printf_text("%.2f", f.top) + "\" x2=\"" + io::printf_text("%.2f", x) + "\" y2=\"" + io::printf_text("%.2f", f.top + f.height) +
          "\" stroke=\"#e4e4e4\"/>\n";
-    s += text(x, f.top + f.height + 15, format_tick(v, xstep), "middle", 11);
+    s += text(x, f.top + f.height + 15, p.log_x ? io::printf_text("%g", v) : format_tick(v, xstep), "middle", 11, " class=\"xtick\"");
   }
   std::vector<double> yt;
   if (p.log_y) {
@@ -319,12 +341,12 @@ std::string render_line_plot(const LinePlot& p) {
     const size_t n = std::min({b.x.size(), b.lo.size(), b.hi.size()});
     for (size_t i = 0; i < n; ++i) {
       if (!std::isfinite(b.x[i]) || !std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) continue;
-      if (p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) continue;
+      if ((p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) || (p.log_x && b.x[i] <= 0.0)) continue;
       upper += io::printf_text("%.2f", f.px(b.x[i])) + "," + io::printf_text("%.2f", f.py(b.hi[i])) + " ";
     }
     for (size_t i = n; i-- > 0;) {
       if (!std::isfinite(b.x[i]) || !std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) continue;
-      if (p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) continue;
+      if ((p.log_y && (b.lo[i] <= 0.0 || b.hi[i] <= 0.0)) || (p.log_x && b.x[i] <= 0.0)) continue;
       lower += io::printf_text("%.2f", f.px(b.x[i])) + "," + io::printf_text("%.2f", f.py(b.lo[i])) + " ";
     }
     if (!upper.empty())

@@ -57,6 +57,7 @@ struct LinePlot {
   std::vector<Band> bands;
   bool equal_aspect = false;   ///< same scale on x and y (orbits)
   bool log_y = false;          ///< logarithmic y axis (values <= 0 are dropped)
+  bool log_x = false;          ///< logarithmic x axis (values <= 0 are dropped; ticks at 1, 2, 5 x 10^k; not with intervals or circles)
   std::optional<std::array<double, 2>> x_range, y_range;  ///< fixed ranges (else from the data)
   int width_px = 640, height_px = 340;
 };
