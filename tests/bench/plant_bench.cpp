@@ -11,6 +11,7 @@
 #include "firmware/control/axis_transform.hpp"
 #include "firmware/control/pid_axis.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
+#include "tests/support/firmware_control_law.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace {
@@ -37,25 +38,9 @@ void BM_PlantStepLevitated(benchmark::State& state, const char* name) {
   amb::model::PlantInputs in;
   in.amplifiers_enabled = true;
   in.spin_speed_command_hz = 45.0;
-  std::array<amb::fw::AxisTransform, 2> xf;
-  std::array<amb::fw::PidAxis, 4> pid;
-  for (size_t b = 0; b < 2; ++b) {
-    xf[b].configure({board.plant.sensor[2 * b].angle_deg, board.plant.sensor[2 * b + 1].angle_deg},
-                    board.plant.amb[b].actuator_angle_deg);
-    for (size_t d = 0; d < 2; ++d) {
-      pid[2 * b + d].configure(board.controller, board.rate_hz, board.plant.amb[b].ki_n_per_a);
-      pid[2 * b + d].reset();
-    }
-  }
+  amb::test::FirmwareControlLaw law(board, board.plant);
   for (auto _ : state) {
-    const amb::model::PlantOutputs o = plant.outputs();
-    for (size_t b = 0; b < 2; ++b) {
-      const auto xy = xf[b].sensors_to_xy({o.displacement_m[2 * b], o.displacement_m[2 * b + 1]});
-      bool sat = false;
-      const auto f = xf[b].xy_to_actuators({pid[2 * b].step(xy[0], 0.0, sat), pid[2 * b + 1].step(xy[1], 0.0, sat)});
-      in.current_demand_a[2 * b] = f[0] / board.plant.amb[b].ki_n_per_a;
-      in.current_demand_a[2 * b + 1] = f[1] / board.plant.amb[b].ki_n_per_a;
-    }
+    in.current_demand_a = law.demands_a(plant.outputs().displacement_m);
     plant.step(k_period_s, in);
     benchmark::DoNotOptimize(plant.outputs());
   }

@@ -14,6 +14,7 @@
 #include "firmware/control/pid_axis.hpp"
 #include "model/analysis/closed_loop.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
+#include "tests/support/firmware_control_law.hpp"
 #include "tests/plant/rig_fixture.hpp"
 
 namespace amb::model::analysis {
@@ -242,31 +243,14 @@ TEST(ClosedLoop, SampledFirmwareControllerLevitatesBothRigs) {
     const auto board = test::board_from_repo(name);
     RotorAmbPlant plant(board.plant);
     plant.reset(true, 0.0);
-    std::array<fw::AxisTransform, 2> xf;
-    std::array<fw::PidAxis, 4> pid;
-    for (size_t b = 0; b < 2; ++b) {
-      xf[b].configure({board.plant.sensor[2 * b].angle_deg, board.plant.sensor[2 * b + 1].angle_deg},
-                      board.plant.amb[b].actuator_angle_deg);
-      for (size_t d = 0; d < 2; ++d) {
-        pid[2 * b + d].configure(board.controller, board.rate_hz, board.plant.amb[b].ki_n_per_a);
-        pid[2 * b + d].reset();
-      }
-    }
+    test::FirmwareControlLaw law(board, board.plant);
     PlantInputs in;
     in.amplifiers_enabled = true;
     const double dt = 1.0 / board.rate_hz;
     double worst = 0.0;
     const int n = static_cast<int>(0.5 / dt);
     for (int k = 0; k < n; ++k) {
-      const PlantOutputs o = plant.outputs();
-      for (size_t b = 0; b < 2; ++b) {
-        const auto xy = xf[b].sensors_to_xy({o.displacement_m[2 * b], o.displacement_m[2 * b + 1]});
-        bool sat = false;
-        const double fx = pid[2 * b].step(xy[0], 0.0, sat), fy = pid[2 * b + 1].step(xy[1], 0.0, sat);
-        const auto f = xf[b].xy_to_actuators({fx, fy});
-        in.current_demand_a[2 * b] = f[0] / board.plant.amb[b].ki_n_per_a;
-        in.current_demand_a[2 * b + 1] = f[1] / board.plant.amb[b].ki_n_per_a;
-      }
+      in.current_demand_a = law.demands_a(plant.outputs().displacement_m);
       plant.step(dt, in);
       if (k > n / 2) {
         const PlantTruth t = plant.truth();

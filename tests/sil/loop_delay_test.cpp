@@ -23,6 +23,7 @@
 #include "hal/sim/sim_rig.hpp"
 #include "model/analysis/closed_loop.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
+#include "tests/support/firmware_control_law.hpp"
 #include "tests/support/test_paths.hpp"
 
 using namespace amb;
@@ -139,12 +140,7 @@ std::complex<double> measured_sensitivity(const board::BoardConfig& b, double de
   hal::sim::SimRig rig(std::move(plant));
   const int64_t period_ns = std::llround(1e9 / b.rate_hz);
   rig.set_demand_delay_ns(std::llround(delay_periods * period_ns));
-  std::array<fw::AxisTransform, 2> xf;
-  std::array<fw::PidAxis, 4> pid;
-  for (size_t p = 0; p < 2; ++p) {
-    xf[p].configure({pp.sensor[2 * p].angle_deg, pp.sensor[2 * p + 1].angle_deg}, pp.amb[p].actuator_angle_deg);
-    for (size_t d = 0; d < 2; ++d) pid[2 * p + d].configure(b.controller, b.rate_hz, pp.amb[p].ki_n_per_a);
-  }
+  test::FirmwareControlLaw law(b, pp);
   const double t_s = 1.0 / b.rate_hz;
   const int settle = static_cast<int>(0.3 * b.rate_hz);
   const int n = static_cast<int>(std::lround(std::round(40.0 * 1.0) / (f_hz * t_s)));  // ~40 cycles
@@ -156,14 +152,7 @@ std::complex<double> measured_sensitivity(const board::BoardConfig& b, double de
     rig.analog().read(in);
     hal::AnalogOutputs out{};
     out.amplifiers_enabled = true;
-    for (size_t p = 0; p < 2; ++p) {
-      const auto xy = xf[p].sensors_to_xy({in.displacement_m[2 * p], in.displacement_m[2 * p + 1]});
-      bool sat = false;
-      const double fx = pid[2 * p].step(xy[0], 0.0, sat), fy = pid[2 * p + 1].step(xy[1], 0.0, sat);
-      const auto f = xf[p].xy_to_actuators({fx, fy});
-      out.current_demand_a[2 * p] = f[0] / pp.amb[p].ki_n_per_a;
-      out.current_demand_a[2 * p + 1] = f[1] / pp.amb[p].ki_n_per_a;
-    }
+    out.current_demand_a = law.demands_a(in.displacement_m);
     const double dk = amp_a * std::sin(2.0 * M_PI * f_hz * k * t_s);
     out.current_demand_a[static_cast<size_t>(axis)] += dk;
     if (k >= settle) {

@@ -1,3 +1,4 @@
+#include "tests/support/firmware_control_law.hpp"
 #include "tests/sweep_analysis/sweep_sil.hpp"
 
 #include <algorithm>
@@ -45,12 +46,7 @@ host::sweep::SweepRecord run_sil_sweep(const board::BoardConfig& b, const SilSwe
   rig.set_demand_delay_ns(std::llround(b.loop_delay_periods * period_ns));
   // The firmware's controller, configured from the board (not from the simulated truth).
   const auto& bp = b.plant;
-  std::array<fw::AxisTransform, 2> xf;
-  std::array<fw::PidAxis, 4> pid;
-  for (size_t p = 0; p < 2; ++p) {
-    xf[p].configure({bp.sensor[2 * p].angle_deg, bp.sensor[2 * p + 1].angle_deg}, bp.amb[p].actuator_angle_deg);
-    for (size_t d = 0; d < 2; ++d) pid[2 * p + d].configure(b.controller, b.rate_hz, bp.amb[p].ki_n_per_a);
-  }
+  test::FirmwareControlLaw law(b, bp);
   {
     // The y integrators start at each plane's weight share (rigid-rotor lever rule), as the
     // firmware's supervisor does at lift-off.
@@ -58,8 +54,8 @@ host::sweep::SweepRecord run_sil_sweep(const board::BoardConfig& b, const SilSwe
     const double w = rotor.mass_kg * bp.gravity_m_s2;
     const double a = bp.amb[0].axial_m, c = bp.amb[1].axial_m;
     const double share_b = (c != a) ? w * (rotor.centre_of_mass_m - a) / (c - a) : 0.5 * w;
-    pid[1].preload_force(w - share_b);
-    pid[3].preload_force(share_b);
+    law.pid(1).preload_force(w - share_b);
+    law.pid(3).preload_force(share_b);
   }
   const int n = o.samples_per_period;
   std::vector<int> bins;
@@ -100,14 +96,7 @@ host::sweep::SweepRecord run_sil_sweep(const board::BoardConfig& b, const SilSwe
     rig.analog().read(in);
     hal::AnalogOutputs out{};
     out.amplifiers_enabled = true;
-    for (size_t p = 0; p < 2; ++p) {
-      const auto xy = xf[p].sensors_to_xy({in.displacement_m[2 * p], in.displacement_m[2 * p + 1]});
-      bool sat = false;
-      const double fx = pid[2 * p].step(xy[0], 0.0, sat), fy = pid[2 * p + 1].step(xy[1], 0.0, sat);
-      const auto f = xf[p].xy_to_actuators({fx, fy});
-      out.current_demand_a[2 * p] = f[0] / bp.amb[p].ki_n_per_a;
-      out.current_demand_a[2 * p + 1] = f[1] / bp.amb[p].ki_n_per_a;
-    }
+    out.current_demand_a = law.demands_a(in.displacement_m);
     for (double v : in.displacement_m)
       if (std::abs(v) > 0.5 * clearance) throw std::runtime_error("sil sweep: the rotor left the levitated range");
     if (axis >= 0) {
