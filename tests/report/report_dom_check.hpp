@@ -63,34 +63,10 @@ window.addEventListener('load', () => {
 /// Renders `page` (an HTML report) with the checking script in headless Chromium; returns the
 /// script's JSON (a discarded value when Chromium or the script failed; the test then fails).
 inline nlohmann::json check_report_dom(const std::filesystem::path& page, const std::filesystem::path& work) {
-  namespace fs = std::filesystem;
-  fs::create_directories(work);
-  std::string html = read_text(page);
-  const size_t end = html.rfind("</body>");
-  EXPECT_NE(end, std::string::npos) << page;
-  if (end == std::string::npos) return nlohmann::json::value_t::discarded;
-  html.insert(end, k_dom_check_script);
-  const fs::path copy = fs::absolute(work / "checked.html");
-  {
-    std::ofstream f(copy, std::ios::binary | std::ios::trunc);
-    f << html;
-  }
-  const fs::path profile = fs::temp_directory_path() / ("amb-report-dom-" + std::to_string(::getpid()));
-  fs::remove_all(profile);
-  fs::create_directories(profile);
-  const fs::path dom = work / "checked.dom.html", log = work / "chromium.log";
-  const int rc = chromium::run(profile, "--dump-dom --window-size=1320,4000", "file://" + copy.string(), dom, log);
-  fs::remove_all(profile);
-  EXPECT_EQ(rc, 0) << chromium::slurp(log);
-  const std::string out = chromium::slurp(dom);
-  const size_t a = out.find("<pre id=\"dom-check\">"), b = out.find("</pre>", a);
-  EXPECT_NE(a, std::string::npos) << "the checking script did not run:\n" << chromium::slurp(log);
-  if (a == std::string::npos || b == std::string::npos) return nlohmann::json::value_t::discarded;
-  std::string text = out.substr(a + 20, b - a - 20);
-  // --dump-dom escapes &, < and > in text.
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"&lt;", "<"}, {"&gt;", ">"}, {"&quot;", "\""}, {"&amp;", "&"}})
-    for (size_t p = text.find(from); p != std::string::npos; p = text.find(from, p + to.size())) text.replace(p, from.size(), to);
-  return nlohmann::json::parse(text, nullptr, false);
+  std::string log, why;
+  const nlohmann::json c = chromium::dom_check(read_text(page), k_dom_check_script, work, log, why);
+  EXPECT_FALSE(c.is_discarded()) << page << ": " << why << "\n" << log;
+  return c;
 }
 
 /// The consistency assertions on a check_report_dom result. `expect_definitions`: peak-force

@@ -3,13 +3,17 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <utility>
+
+#include <nlohmann/json.hpp>
 
 #include "tests/support/read_text.hpp"
 
@@ -44,6 +48,48 @@ inline std::string page_errors(const std::string& log) {
         (line.find(":CONSOLE(") != std::string::npos && line.find("rror") != std::string::npos))
       bad += line + "\n";
   return bad;
+}
+
+/// What a checking script found on a page as Chromium lays it out: `script` (a <script> block
+/// that writes its findings as JSON into <pre id="dom-check">) is inserted before </body> of
+/// `html`, the copy `work`/checked.html is rendered headless (--dump-dom), and the JSON is read
+/// back. `log` gets Chromium's log. A discarded value when the page has no </body>, Chromium
+/// failed or the script did not run; `why` then says which.
+inline nlohmann::json dom_check(std::string html, const char* script, const std::filesystem::path& work, std::string& log,
+                                std::string& why) {
+  namespace fs = std::filesystem;
+  const size_t end = html.rfind("</body>");
+  if (end == std::string::npos) {
+    why = "the page has no </body>";
+    return nlohmann::json::value_t::discarded;
+  }
+  html.insert(end, script);
+  fs::create_directories(work);
+  const fs::path copy = fs::absolute(work / "checked.html");
+  {
+    std::ofstream f(copy, std::ios::binary | std::ios::trunc);
+    f << html;
+  }
+  const fs::path profile = fs::temp_directory_path() / ("amb-dom-check-" + std::to_string(::getpid()));
+  fs::remove_all(profile);
+  fs::create_directories(profile);
+  const fs::path dom = work / "checked.dom.html", log_path = work / "chromium.log";
+  const int rc = run(profile, "--dump-dom --window-size=1320,4000", "file://" + copy.string(), dom, log_path);
+  fs::remove_all(profile);
+  log = slurp(log_path);
+  const std::string out = slurp(dom);
+  const size_t a = out.find("<pre id=\"dom-check\">"), b = out.find("</pre>", a);
+  if (rc != 0 || a == std::string::npos || b == std::string::npos) {
+    why = rc != 0 ? "Chromium exited with " + std::to_string(rc) : "the checking script did not run";
+    return nlohmann::json::value_t::discarded;
+  }
+  std::string text = out.substr(a + 20, b - a - 20);
+  // --dump-dom escapes &, < and > in text.
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"&lt;", "<"}, {"&gt;", ">"}, {"&quot;", "\""}, {"&amp;", "&"}})
+    for (size_t p = text.find(from); p != std::string::npos; p = text.find(from, p + to.size())) text.replace(p, from.size(), to);
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded()) why = "the script's output is not JSON: " + text;
+  return j;
 }
 
 /// Width and height in pixels from a PNG's IHDR chunk ({0, 0} if it is not a PNG).
