@@ -1,7 +1,7 @@
 #pragma once
 // The report's self-consistency as Chromium lays it out (issue 36): a copy of the page with a
 // checking script appended is rendered headless (--dump-dom); the script writes what it found
-// into <pre id="dom-check"> as JSON:
+// (domCheck(), read back by chromium::dom_check) as JSON:
 //   "figures":  name -> the distinct values it is quoted with anywhere in a table (figure
 //               table and sections); one value each when the page agrees with itself;
 //   "clipped":  <text> elements of an <svg> whose box is not inside the <svg> (clipped captions,
@@ -25,7 +25,7 @@ namespace amb::test {
 
 inline const char* k_dom_check_script = R"JS(
 <script>
-window.addEventListener('load', () => {
+function domCheck() {
   const out = {figures: {}, clipped: [], notes_numbers: [], log_plots_without_ticks: [], cause_chain: ''};
   for (const tr of document.querySelectorAll('table.facts tr')) {
     const th = tr.querySelector('th'), td = tr.querySelector('td');
@@ -52,11 +52,8 @@ window.addEventListener('load', () => {
     if (/\d\s*N\b/.test(li.textContent)) out.notes_numbers.push(li.textContent);
   const chain = document.getElementById('cause-chain');
   if (chain) out.cause_chain = chain.textContent;
-  const pre = document.createElement('pre');
-  pre.id = 'dom-check';
-  pre.textContent = JSON.stringify(out);
-  document.body.appendChild(pre);
-});
+  return out;
+}
 </script>
 )JS";
 

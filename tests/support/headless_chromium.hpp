@@ -51,7 +51,8 @@ inline std::string page_errors(const std::string& log) {
 }
 
 /// What a checking script found on a page as Chromium lays it out: `script` (a <script> block
-/// that writes its findings as JSON into <pre id="dom-check">) is inserted before </body> of
+/// that defines `function domCheck()` returning its findings as an object) is inserted before
+/// </body> of
 /// `html`, the copy `work`/checked.html is rendered headless (--dump-dom), and the JSON is read
 /// back. `log` gets Chromium's log. A discarded value when the page has no </body>, Chromium
 /// failed or the script did not run; `why` then says which.
@@ -63,7 +64,13 @@ inline nlohmann::json dom_check(std::string html, const char* script, const std:
     why = "the page has no </body>";
     return nlohmann::json::value_t::discarded;
   }
-  html.insert(end, script);
+  html.insert(end, std::string(script) +
+                       "<script>window.addEventListener('load', () => {\n"
+                       "  const pre = document.createElement('pre');\n"
+                       "  pre.id = 'dom-check';\n"
+                       "  pre.textContent = JSON.stringify(domCheck());\n"
+                       "  document.body.appendChild(pre);\n"
+                       "});</script>\n");
   fs::create_directories(work);
   const fs::path copy = fs::absolute(work / "checked.html");
   {

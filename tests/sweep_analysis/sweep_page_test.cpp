@@ -28,7 +28,7 @@ using namespace amb;
 
 const char* k_script = R"JS(
 <script>
-window.addEventListener('load', () => {
+function domCheck() {
   const out = {plots: [], clipped: [], legend_mismatch: [], few_ticks: [], no_units: [], zone_rows: []};
   for (const svg of document.querySelectorAll('svg.plot')) {
     out.plots.push(svg.id);
@@ -52,11 +52,8 @@ window.addEventListener('load', () => {
     const td = [...tr.querySelectorAll('td')].map(x => x.textContent);
     if (td.length) out.zone_rows.push(td);
   }
-  const pre = document.createElement('pre');
-  pre.id = 'dom-check';
-  pre.textContent = JSON.stringify(out);
-  document.body.appendChild(pre);
-});
+  return out;
+}
 </script>
 )JS";
 
