@@ -9,6 +9,7 @@ namespace amb::board {
 
 fw::SweepParams sweep_defaults(double rate_hz, double aux_clearance_m, double max_orbit_fault_m) {
   fw::SweepParams s;
+  s.samples_per_period = static_cast<uint32_t>(std::clamp(std::lround(rate_hz), 16L, 65536L));
   s.f_max_hz = std::min(s.f_max_hz, 0.4 * rate_hz);
   s.f_min_hz = std::min(s.f_min_hz, 0.1 * s.f_max_hz);
   if (aux_clearance_m > 0.0) s.abort_clearance_fraction = std::min(s.abort_clearance_fraction, 0.8 * max_orbit_fault_m / aux_clearance_m);

@@ -6,8 +6,9 @@
 
 namespace amb::board {
 
-/// The defaults of a board without [sweep] (or under it): SweepParams' values with the band
-/// kept below 0.4 x rate_hz and the abort radius inside the lifecycle's fault radius.
+/// The defaults of a board without [sweep] (or under it): SweepParams' values with a 1 s period
+/// (N = rate_hz), the band kept below 0.4 x rate_hz and the abort radius inside the lifecycle's
+/// fault radius.
 fw::SweepParams sweep_defaults(double rate_hz, double aux_clearance_m, double max_orbit_fault_m);
 
 /// Read [sweep] into `s` (keys absent: defaults). `rate_hz`: the loop rate (the band must lie

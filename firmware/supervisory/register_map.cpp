@@ -245,11 +245,12 @@ bool RegisterMap::render(uint16_t start, uint16_t end, Block& b) {
       put16(b, 5, static_cast<uint16_t>(std::min<uint32_t>(w.period, 0xFFFF)));
       put16(b, 6, static_cast<uint16_t>(std::min<uint32_t>(w.periods_per_axis, 0xFFFF)));
       put16(b, 7, static_cast<uint16_t>(w.last_abort));
-      put16(b, 8, static_cast<uint16_t>(w.last_refusal));
+      // Refusals: counted by the loop and by this link (atomics), read now, not at the last step.
+      put16(b, 8, static_cast<uint16_t>(src_.supervisor ? src_.supervisor->sweep().last_refusal() : w.last_refusal));
       put32(b, 9, w.started);
       put32(b, 11, w.completed);
       put32(b, 13, w.aborts);
-      put32(b, 15, w.refusals);
+      put32(b, 15, src_.supervisor ? src_.supervisor->sweep().refusals() : w.refusals);
       const SweepStoreInfo si = src_.sweep_store ? src_.sweep_store() : SweepStoreInfo{};
       put32(b, 17, si.stored);
       put32(b, 19, si.last_number);

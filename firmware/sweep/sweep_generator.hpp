@@ -106,6 +106,9 @@ class SweepGenerator {
   void request_abort() { abort_req_.store(true, std::memory_order_release); }
   /// Any thread: count a refusal decided outside the loop (e.g. not armed).
   void count_refusal(SweepRefusal r);
+  /// Any thread: the refusal counter and the last reason, now (status() is the loop's view).
+  uint32_t refusals() const { return refusals_.load(std::memory_order_relaxed); }
+  SweepRefusal last_refusal() const { return static_cast<SweepRefusal>(last_refusal_.load(std::memory_order_relaxed)); }
   /// Why a start would be refused now by the configuration alone (none: it could run).
   SweepRefusal config_refusal() const { return config_refusal_; }
 

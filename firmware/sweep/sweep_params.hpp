@@ -1,8 +1,9 @@
 #pragma once
 // Settings of the loop-sensitivity sweep (ISO 14839-3), the board file's optional [sweep] table
 // (parser: firmware/board/parse_sweep.cpp; docs/sweep.md "Board side"). Pure data with
-// defaults: a board file without the table gets exactly these values, which suit the 10 kHz
-// reference rigs (Bath, Unicamp); the slow emulated board sets its own.
+// defaults: a board file without the table gets these values with the period, band and abort
+// radius fitted to its rate and rig (board::sweep_defaults); they suit the 10 kHz reference
+// rigs (Bath; Unicamp raises the amplitude) and the slow emulated board sets its own.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,14 +14,15 @@ namespace amb::fw {
 struct SweepParams {
   bool enabled = true;                 ///< false: every start is refused (reason not_configured)
   /// N: loop samples per excitation period; the lines sit at exact bins k * rate_hz / N.
-  uint32_t samples_per_period = 2000;
-  double f_min_hz = 20.0;              ///< lowest excited line, Hz (rounded up to a bin, >= bin 1)
-  double f_max_hz = 1500.0;            ///< highest excited line, Hz (rounded down to a bin, < rate / 2)
-  uint32_t lines = 40;                 ///< excited lines, log-spaced bins between f_min and f_max (fewer if bins run out)
-  uint32_t settle_periods = 2;         ///< periods played per axis before recording (transient, not stored)
-  uint32_t recorded_periods = 8;       ///< P: periods recorded per axis
+  /// Default (board without the key): rate_hz, a 1 s period with 1 Hz bins.
+  uint32_t samples_per_period = 10000;
+  double f_min_hz = 2.0;               ///< lowest excited line, Hz (rounded up to a bin, >= bin 1)
+  double f_max_hz = 1000.0;            ///< highest excited line, Hz (rounded down to a bin, < rate / 2; default at most 0.4 x rate)
+  uint32_t lines = 60;                 ///< excited lines, log-spaced bins between f_min and f_max (fewer if bins run out)
+  uint32_t settle_periods = 1;         ///< periods played per axis before recording (transient, not stored)
+  uint32_t recorded_periods = 6;       ///< P: periods recorded per axis
   /// Peak of the excitation as a fraction of the AMB bias current (plane A's, rig.amb[0]).
-  double amplitude_fraction = 0.1;
+  double amplitude_fraction = 0.05;
   /// Board limit of amplitude_fraction: a larger amplitude is refused (at load and at start).
   double amplitude_limit_fraction = 0.25;
   /// The sweep aborts (plain control, no fault) when the orbit radius at a sensor plane passes

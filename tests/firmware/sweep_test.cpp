@@ -91,6 +91,7 @@ TEST(SweepBoardKeys, ValidatedWithKeyAndRange) {
   const std::string text = board_text("bath-amb-rig");
   const amb::board::BoardConfig b = amb::board::parse_board(text, "bath");
   EXPECT_TRUE(b.sweep.enabled);
+  EXPECT_EQ(b.sweep.samples_per_period, 10000u);  // default: a 1 s period at the board's rate
   auto refused = [&](const std::string& table, const std::string& key) {
     try {
       amb::board::parse_board(text + "\n[sweep]\n" + table, "test.toml");
@@ -104,7 +105,7 @@ TEST(SweepBoardKeys, ValidatedWithKeyAndRange) {
   refused("amplitude_limit_fraction = 0.05\namplitude_fraction = 0.1\n", "sweep.amplitude_fraction");
   refused("samples_per_period = 8\n", "sweep.samples_per_period");
   refused("f_max_hz = 6000.0\n", "sweep.f_max_hz");
-  refused("f_min_hz = 0.5\nf_max_hz = 2.0\n", "sweep.f_max_hz");  // no 5 Hz bin in the band
+  refused("samples_per_period = 100\nf_min_hz = 10.0\nf_max_hz = 50.0\n", "sweep.f_max_hz");  // no 100 Hz bin in the band
   refused("abort_clearance_fraction = 0.9\n", "sweep.abort_clearance_fraction");  // beyond the fault radius
   refused("axes = [0, 0]\n", "sweep.axes");
   refused("axes = [4]\n", "sweep.axes");
