@@ -149,6 +149,7 @@ TEST(SweepGenerator, ScheduleRecordAbortAndHandOver) {
   p.settle_periods = 2;
   p.recorded_periods = 3;
   p.axes = {true, false, true, false};
+  p.amplitude_fraction = 0.1;
   SweepGenerator g;
   ASSERT_EQ(g.configure(p, 10000.0, 2.0, 1e-4), "");
   EXPECT_DOUBLE_EQ(g.amplitude_a(), 0.2);
@@ -172,7 +173,7 @@ TEST(SweepGenerator, ScheduleRecordAbortAndHandOver) {
     const double e = g.begin_step(in, axis);
     axis_of_step.push_back(axis);
     ASSERT_GE(axis, 0) << "step " << k;
-    g.end_step(1.0 + k, 1.0 + k + e, 1e-6 * k);
+    g.end_step(1e-3 * k, 1e-3 * k + e, 1e-6 * k);
     periods_seen = k;
   }
   (void)periods_seen;
@@ -188,8 +189,8 @@ TEST(SweepGenerator, ScheduleRecordAbortAndHandOver) {
   // Axis 2's record starts after its two settle periods: step 500 + 200.
   const auto uc = v.channel(1, 1), u = v.channel(1, 2), e = v.channel(1, 0), y = v.channel(1, 3);
   ASSERT_EQ(uc.size(), 300u);
-  EXPECT_FLOAT_EQ(uc[0], 701.0f);
-  EXPECT_NEAR(u[5] - uc[5], e[5], 1e-5);
+  EXPECT_FLOAT_EQ(uc[0], 0.7f);
+  EXPECT_NEAR(u[5] - uc[5], e[5], 1e-6);
   EXPECT_FLOAT_EQ(y[0], 700e-6f);
   EXPECT_FLOAT_EQ(e[7], static_cast<float>(0.2 * g.design().table[7]));
   // A start while the record is held is refused (busy); release hands the buffer back.
