@@ -17,6 +17,7 @@
 #include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/sweep/sweep_acquire.hpp"
+#include "host-tools/core/ui/progress_lines.hpp"
 
 namespace {
 
@@ -32,6 +33,7 @@ struct Args {
   double timeout_s = 900.0;
   bool spin = false;
   bool json = false;
+  bool quiet = false;
 };
 
 uint32_t arm_key_of(const Args& a) {
@@ -85,7 +87,7 @@ int run(const Args& a) {
   o.out_dir = a.out_dir;
   o.timeout_s = a.timeout_s;
   o.spin = a.spin;
-  o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  if (!a.quiet) o.progress = amb::host::ui::periodic_lines("sweep");
   sw::AcquireResult res;
   try {
     if (!a.board.empty()) {
@@ -163,6 +165,7 @@ const amb::host::Registration reg{
       hc::positive(sub.add_option("--timeout", a->timeout_s, "time allowed for the sweep, s (simulated with --board)"), 1e5, "s");
       sub.add_flag("--spin", a->spin, "SIL: sweep at the operating speed instead of levitated at rest");
       sub.add_flag("--json", a->json, "print the record's summary as JSON");
+      sub.add_flag("--quiet", a->quiet, "no progress lines on stderr");
       run_fn = [a] { return run(*a); };
     }};
 

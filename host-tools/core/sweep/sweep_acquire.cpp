@@ -40,7 +40,7 @@ std::string progress_line(const char* where, unsigned state, int axis, unsigned 
                           unsigned period, unsigned periods, double t_s) {
   char b[200];
   static const char* names[] = {"idle", "settling", "recording", "storing"};
-  std::snprintf(b, sizeof b, "sweep (%s) t=%.2f s: %s, axis %d (%u of %u), period %u of %u", where, t_s,
+  std::snprintf(b, sizeof b, "%s t=%.2f s: %s, axis %d (%u of %u), period %u of %u", where, t_s,
                 state < 4 ? names[state] : "?", axis, axis_index + 1, axes_total, period + 1, periods);
   return b;
 }
