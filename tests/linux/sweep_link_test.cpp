@@ -69,6 +69,17 @@ TEST(SweepLink, ArmStartPollAndDownloadOverModbus) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
   });
+  // Stop the loop (and the server) however the test leaves this scope.
+  struct Joiner {
+    std::atomic<bool>& stop;
+    std::thread& t;
+    amb::hal::linux_hw::ModbusTcpServer& s;
+    ~Joiner() {
+      stop.store(true);
+      if (t.joinable()) t.join();
+      s.stop();
+    }
+  } joiner{stop, loop, server};
   amb::host::link::LinkOptions lo;
   lo.port = server.bound_port();
   lo.retry_delay_s = 0.01;
@@ -81,10 +92,8 @@ TEST(SweepLink, ArmStartPollAndDownloadOverModbus) {
   o.progress = [&](const std::string&) { ++progress_lines; };
   // The wrong key: refused (arm exception 3), nothing starts.
   EXPECT_THROW(amb::host::sweep::acquire_sweep_modbus(lo, k_key + 1, o), amb::host::sweep::AcquireError);
-  const amb::host::sweep::AcquireResult r = amb::host::sweep::acquire_sweep_modbus(lo, k_key, o);
-  stop.store(true);
-  loop.join();
-  server.stop();
+  amb::host::sweep::AcquireResult r;
+  ASSERT_NO_THROW(r = amb::host::sweep::acquire_sweep_modbus(lo, k_key, o));
   std::printf("[ RESULT ] sweep over Modbus: %s, %llu bytes, %zu axes, %zu lines, u/e recorded %zu samples; %d progress "
               "lines; refusals %u\n", r.event_name.c_str(), static_cast<unsigned long long>(r.event_bytes), r.record.axes.size(),
               r.record.plan.frequencies_hz.size(), r.record.axes.empty() ? 0 : r.record.axes[0].summing_point_a.size(),
