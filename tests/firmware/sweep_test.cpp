@@ -18,6 +18,7 @@
 #include "firmware/app/supervisor.hpp"
 #include "firmware/common/crc32.hpp"
 #include "firmware/board/board.hpp"
+#include "firmware/budget/board_budget.hpp"
 #include "firmware/events/event_codec.hpp"
 #include "firmware/events/sweep_event.hpp"
 #include "firmware/fieldbus/protocol.hpp"
@@ -366,4 +367,22 @@ TEST(SweepStatusFrame, RoundTripsAndRefusesForeignFrames) {
   EXPECT_EQ(b.axis, -1);
 }
 
+}  // namespace
+
+namespace {
+// The board budget lists the sweep's record buffer as the generator allocates it.
+TEST(SweepBudget, RecordBufferEntryIsWhatTheGeneratorHolds) {
+  for (const char* name : {"bath-amb-rig", "unicamp-amb-rig"}) {
+    const amb::board::BoardConfig b = amb::board::load_board(name);
+    Supervisor sup;
+    sup.configure(b);
+    uint64_t listed = 0;
+    for (const BufferBudget& e : buffer_budget(b))
+      if (e.name == "sweep record buffer") listed = e.bytes;
+    std::printf("[ RESULT ] %s: sweep record buffer %llu B listed, %zu B held\n", name,
+                static_cast<unsigned long long>(listed), sup.sweep().buffer_bytes());
+    EXPECT_EQ(listed, sup.sweep().buffer_bytes()) << name;
+    EXPECT_GT(listed, 0u);
+  }
+}
 }  // namespace
