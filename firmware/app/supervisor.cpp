@@ -294,16 +294,19 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
 
   // Loop-sensitivity sweep: the excitation e of this period and the axis it goes to (none
   // unless levitated or at speed, not in fault, orbit inside the abort radius).
-  SweepInputs sweep_in;
-  sweep_in.levitated = (phase_ == Phase::levitated || phase_ == Phase::at_speed) &&
-                       (state_ == State::levitating || state_ == State::running);
-  sweep_in.fault = state_ == State::fault;
-  sweep_in.orbit_max_m = std::max(status_.orbit_radius_m[0], status_.orbit_radius_m[1]);
-  sweep_in.t_ns = in.t_ns;
-  sweep_in.seq = seq_;
-  sweep_in.speed_hz = speed_cmd_hz_;
   int sweep_axis = -1;
-  const double excitation_a = sweep_.begin_step(sweep_in, sweep_axis);
+  double excitation_a = 0.0;
+  if (!sweep_.quiet()) {
+    SweepInputs sweep_in;
+    sweep_in.levitated = (phase_ == Phase::levitated || phase_ == Phase::at_speed) &&
+                         (state_ == State::levitating || state_ == State::running);
+    sweep_in.fault = state_ == State::fault;
+    sweep_in.orbit_max_m = std::max(status_.orbit_radius_m[0], status_.orbit_radius_m[1]);
+    sweep_in.t_ns = in.t_ns;
+    sweep_in.seq = seq_;
+    sweep_in.speed_hz = speed_cmd_hz_;
+    excitation_a = sweep_.begin_step(sweep_in, sweep_axis);
+  }
   double sweep_uc = 0.0, sweep_u = 0.0, sweep_y = 0.0;
 
   // Control: PID per axis in the bearing frame, then to actuator axes and currents.

@@ -112,6 +112,12 @@ class SweepGenerator {
   /// Why a start would be refused now by the configuration alone (none: it could run).
   SweepRefusal config_refusal() const { return config_refusal_; }
 
+  /// [RT] Nothing to do this period (idle, no request, no record handed back): the loop may
+  /// skip begin_step()/end_step(). Plain loads only.
+  bool quiet() const {
+    return state_ == SweepState::idle && !start_req_.load(std::memory_order_relaxed) &&
+           !abort_req_.load(std::memory_order_relaxed);
+  }
   /// [RT] Start of the period: take requests, check limits. Returns the excitation (A) to add
   /// to control axis `axis` (set to -1 and 0.0 returned when none is excited).
   double begin_step(const SweepInputs& in, int& axis);
