@@ -83,6 +83,13 @@ void Supervisor::configure(const board::BoardConfig& board) {
     weight_share_n_ = {w - share_b, share_b};
   }
   if (board.controller.current_limit_a <= 0.0) throw std::invalid_argument("current limit must be > 0");
+  {
+    // The sweep: amplitude against plane A's bias current, abort radius a fraction of the
+    // smaller aux-bearing clearance. A plan that cannot run is refused at start, not here.
+    const double clearance = std::min(board.plant.aux[0].clearance_m, board.plant.aux[1].clearance_m);
+    sweep_error_ = sweep_.configure(board.sweep, board.rate_hz, board.plant.amb[0].bias_current_a,
+                                    board.sweep.abort_clearance_fraction * clearance);
+  }
   reset();
 }
 
@@ -108,6 +115,7 @@ void Supervisor::reset() {
   driven_ = false;
   tracked_predates_stop_ = false;
   stale_steps_ = static_cast<uint64_t>(std::ceil(board_.tracker.stale_after_s * board_.rate_hz));
+  sweep_.reset();
   status_ = {};
   status_.state = state_;
   published_.store(status_);
@@ -124,6 +132,15 @@ void Supervisor::publish_tracked_speed(double speed_hz, double confidence, bool 
                           (static_cast<uint64_t>(ok ? 0u : 1u) << 40) |
                           (static_cast<uint64_t>(tracked_publish_count_) << 48);
   tracked_packed_.store(packed, std::memory_order_release);
+}
+
+SweepRefusal Supervisor::sweep_start_refusal() const {
+  if (sweep_.config_refusal() != SweepRefusal::none) return sweep_.config_refusal();
+  const Status st = status();
+  if (st.sweep.state != SweepState::idle) return SweepRefusal::busy;
+  if (st.state == State::fault) return SweepRefusal::fault;
+  if (st.phase != Phase::levitated && st.phase != Phase::at_speed) return SweepRefusal::not_levitated;
+  return SweepRefusal::none;
 }
 
 bool Supervisor::post(Command c) {
@@ -275,6 +292,23 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
       enter_safe_state(FaultReason::orbit_limit);
   }
 
+  // Loop-sensitivity sweep: the excitation e of this period and the axis it goes to (none
+  // unless levitated or at speed, not in fault, orbit inside the abort radius).
+  int sweep_axis = -1;
+  double excitation_a = 0.0;
+  if (!sweep_.quiet()) {
+    SweepInputs sweep_in;
+    sweep_in.levitated = (phase_ == Phase::levitated || phase_ == Phase::at_speed) &&
+                         (state_ == State::levitating || state_ == State::running);
+    sweep_in.fault = state_ == State::fault;
+    sweep_in.orbit_max_m = std::max(status_.orbit_radius_m[0], status_.orbit_radius_m[1]);
+    sweep_in.t_ns = in.t_ns;
+    sweep_in.seq = seq_;
+    sweep_in.speed_hz = speed_cmd_hz_;
+    excitation_a = sweep_.begin_step(sweep_in, sweep_axis);
+  }
+  double sweep_uc = 0.0, sweep_u = 0.0, sweep_y = 0.0;
+
   // Control: PID per axis in the bearing frame, then to actuator axes and currents.
   const bool energised = state_ == State::levitating || state_ == State::running;
   bool saturated = false;
@@ -297,12 +331,21 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
           ic[a] = std::copysign(lim, ic[a]);
           sx = true;
         }
+        if (sweep_axis == static_cast<int>(2 * b + a)) {
+          // The summing point: u = u_c + e (limited like any demand); y is the position
+          // reading along this actuator axis in the controller's frame.
+          sweep_uc = ic[a];
+          ic[a] = std::clamp(ic[a] + excitation_a, -lim, lim);
+          sweep_u = ic[a];
+          sweep_y = act_dir_[b][a][0] * status_.xy_m[2 * b] + act_dir_[b][a][1] * status_.xy_m[2 * b + 1];
+        }
       }
       saturated = saturated || sx || sy;
     }
     out.current_demand_a[2 * b] = ic[0];
     out.current_demand_a[2 * b + 1] = ic[1];
   }
+  if (sweep_axis >= 0) sweep_.end_step(sweep_uc, sweep_u, sweep_y);
   if (saturated) ++counters_.saturated_steps;
   if (!energised) speed_cmd_hz_ = 0.0;
   out.amplifiers_enabled = energised;
@@ -414,6 +457,7 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
   status_.speed_lost = speed_lost;
   status_.tach_speed_hz = tach;
   status_.counters = counters_;
+  status_.sweep = sweep_.status();
   published_.store(status_);
 }
 

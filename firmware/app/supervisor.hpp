@@ -5,12 +5,14 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <string>
 
 #include "firmware/app/loop_sample.hpp"
 #include "firmware/board/board.hpp"
 #include "firmware/common/spsc_ring.hpp"
 #include "firmware/control/axis_transform.hpp"
 #include "firmware/control/pid_axis.hpp"
+#include "firmware/sweep/sweep_generator.hpp"
 #include "model/amb/amb_force.hpp"
 #include "hal/types.hpp"
 
@@ -78,6 +80,7 @@ struct Status {
   double tach_speed_hz = -1.0;            ///< tachometer reading, Hz (<0: none)
   TrackedSpeedView tracked;               ///< the tracker's speed as the loop sees it
   FaultCounters counters;
+  SweepStatus sweep;                      ///< loop-sensitivity sweep: progress, aborts, refusals
 };
 
 class Supervisor {
@@ -110,6 +113,19 @@ class Supervisor {
   Status status() const { return published_.load(); }
   State state() const { return state_; }
   double period_s() const { return dt_s_; }
+
+  /// The loop-sensitivity sweep (docs/sweep.md "Board side"). Any thread: request a start or
+  /// an abort (taken at the next step; a start the loop refuses is counted with its reason).
+  void request_sweep_start() { sweep_.request_start(); }
+  void request_sweep_abort() { sweep_.request_abort(); }
+  /// Any thread: why a start would be refused now, from the latest status and the
+  /// configuration (none: the loop will start it unless the state changes meanwhile).
+  SweepRefusal sweep_start_refusal() const;
+  /// The generator: its design, configuration and, for the event thread, the finished record.
+  SweepGenerator& sweep() { return sweep_; }
+  const SweepGenerator& sweep() const { return sweep_; }
+  /// The sweep's configuration error ("" when it can run), from configure().
+  const std::string& sweep_config_error() const { return sweep_error_; }
 
  private:
   void handle_command(Command c);
@@ -149,6 +165,8 @@ class Supervisor {
   bool driven_ = false;                   ///< the drive set-point was > 0 last period
   bool tracked_predates_stop_ = false;    ///< the newest tracked update was made before the drive stopped
   uint64_t stale_steps_ = 0;
+  SweepGenerator sweep_;
+  std::string sweep_error_;
 };
 
 }  // namespace amb::fw

@@ -9,6 +9,7 @@
 #include "boards/embedded_boards.hpp"
 #include "firmware/board/parse_bearing.hpp"
 #include "firmware/board/parse_comms.hpp"
+#include "firmware/board/parse_sweep.hpp"
 #include "firmware/board/parse_journal.hpp"
 #include "firmware/board/parse_capture.hpp"
 #include "firmware/board/parse_tracker.hpp"
@@ -244,6 +245,12 @@ BoardConfig parse_board(std::string_view toml_text, const std::string& source) {
   if (top.has("comms")) parse_comms(top.table("comms"), b.comms);
   if (top.has("journal_bearing"))
     parse_journal_bearing(top.table("journal_bearing"), b.journal, rotor_length_m(b.plant.rotor));
+  {
+    const double clearance = std::min(b.plant.aux[0].clearance_m, b.plant.aux[1].clearance_m);
+    b.sweep = sweep_defaults(b.rate_hz, clearance, b.lifecycle.max_orbit_fault_m);
+    if (top.has("sweep")) parse_sweep(top.table("sweep"), b.sweep, b.rate_hz);
+    check_sweep(b.sweep, b.rate_hz, clearance, b.lifecycle.max_orbit_fault_m, source);
+  }
   if (top.has("assumed")) parse_assumed(top.table("assumed"), root, b);
   top.finish();
   return b;

@@ -10,6 +10,7 @@
 #include "firmware/bearing/bearing_params.hpp"
 #include "firmware/comms/comms_params.hpp"
 #include "firmware/capture/capture_params.hpp"
+#include "firmware/sweep/sweep_params.hpp"
 #include "firmware/tracking/tracker_params.hpp"
 #include "model/control/pid_params.hpp"
 #include "model/journal/journal_rig.hpp"
@@ -48,6 +49,7 @@ struct BoardConfig {
   fw::CaptureParams capture;          ///< [capture] and [triggers]; defaults when absent
   fw::TrackerParams tracker;          ///< on-board speed tracker ([tracker], optional)
   fw::BearingParams bearing;          ///< on-board bearing task ([bearing], optional)
+  fw::SweepParams sweep;              ///< loop-sensitivity sweep ([sweep], optional; defaults per rate)
   comms::CommsParams comms;           ///< I/O wiring of the linux backend ([comms], optional)
   model::journal::JournalBearingParams journal;  ///< [journal_bearing] (optional; present = false without it)
   std::map<std::string, std::string> assumed;  ///< key path -> why the value is assumed

@@ -76,6 +76,17 @@ std::vector<BufferBudget> buffer_budget(const board::BoardConfig& b, const Budge
   t.push_back({"event retry queue (storage faults only)", static_cast<uint64_t>(std::max(1, o.writer_max_pending)) * file,
                fmt("max_pending %.0f x one event file", std::max(1, o.writer_max_pending)), false});
   t.push_back({"event download window (Modbus)", file, "one event file, while the host downloads it", false});
+  // The loop-sensitivity sweep (issue 35): its record buffer is allocated at configure (held
+  // whether or not a sweep runs); the event thread copies it out and encodes it once per sweep.
+  const SweepParams& sw = b.sweep;
+  const uint64_t per_axis = static_cast<uint64_t>(sw.recorded_periods) * sw.samples_per_period;
+  const uint64_t sweep_buffer = sw.enabled ? 16 * sw.axis_count() * per_axis : 0;
+  t.push_back({"sweep record buffer", sweep_buffer,
+               fmt("16 B (e, u_c, u, y as f32) x %.0f axes x %.0f recorded periods x N", sw.axis_count(),
+                   sw.recorded_periods) + fmt(" %.0f ([sweep]; 0 when disabled)", sw.samples_per_period),
+               true});
+  t.push_back({"sweep record copy and event image", sw.enabled ? 2 * sweep_buffer + 4096 : 0,
+               "the writer's copy of the record and the AMBE v4 image (the record + headers and lines), per sweep", false});
   return t;
 }
 

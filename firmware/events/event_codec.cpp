@@ -6,47 +6,13 @@
 
 #include "firmware/common/byte_codec.hpp"
 #include "firmware/common/crc32.hpp"
+#include "firmware/events/event_meta_fields.hpp"
 
 namespace amb::fw {
 namespace {
 
 // The field lists of AMBE, each written once (byte_codec.hpp): Coder is ByteWriter (Rec const)
 // or ByteReader. Layout and sizes: docs/event-format.md.
-
-template <class Coder, class Meta>
-void meta_fields(Coder& c, Meta& m) {
-  c.text(m.board_name, 64, 64);
-  c.text(m.rig_name, 64, 64);
-  c.text(m.firmware_version, 32, 32);
-  c.text(m.board_source, 128, 128);
-  c.u64(m.event_number);
-  c.u64(m.capture_number);
-  c.f64(m.rate_hz);
-  c.f64(m.pre_trigger_s);
-  c.f64(m.post_trigger_s);
-  c.u8_of(m.cause);
-  c.u8(m.cutoff_channels);
-  c.zeros(2);
-  c.u32(m.cause_mask);
-  c.u32(m.trigger_index);
-  c.u32(m.seq_gaps);
-  c.u64(m.trigger_seq);
-  c.i64(m.trigger_t_ns);
-  c.f64(m.speed_at_trigger_hz);
-  c.i64(m.first_t_ns);
-  c.i64(m.last_t_ns);
-  c.u64(m.events_lost_before);
-  c.f64(m.kp_n_per_m);
-  c.f64(m.ki_n_per_m_s);
-  c.f64(m.kd_n_s_per_m);
-  c.f64(m.derivative_filter_hz);
-  c.f64(m.integrator_limit_n);
-  c.f64(m.current_limit_a);
-  for (auto& s : m.sensors) { c.f64(s.axial_m); c.f64(s.angle_deg); }
-  for (auto& a : m.actuators) { c.f64(a.axial_m); c.f64(a.angle_deg); c.f64(a.ki_n_per_a); }
-  c.f64(m.orbit_trigger_limit_m);
-  c.f64(m.current_trigger_limit_a);
-}
 
 template <class Coder, class Sample>
 void sample_fields(Coder& c, Sample& s, uint16_t version) {
@@ -148,6 +114,43 @@ std::vector<uint8_t> encode_event(const EventRecord& r) { return encode(r, k_eve
 std::vector<uint8_t> encode_event_v1(const EventRecord& r) { return encode(r, 1); }
 std::vector<uint8_t> encode_event_v2(const EventRecord& r) { return encode(r, 2); }
 
+const char* to_string(EventKind k) {
+  switch (k) {
+    case EventKind::drop: return "drop";
+    case EventKind::sweep: return "sweep";
+  }
+  return "?";
+}
+
+bool peek_event_kind(std::span<const uint8_t> bytes, EventKind& kind, uint16_t& version, std::string& error) {
+  if (bytes.size() < 8) {
+    error = "truncated: " + std::to_string(bytes.size()) + " bytes, the preamble alone needs " +
+            std::to_string(k_event_preamble_bytes);
+    return false;
+  }
+  if (bytes[0] != 'A' || bytes[1] != 'M' || bytes[2] != 'B' || bytes[3] != 'E') {
+    error = "not an AMBE event file: magic is not \"AMBE\"";
+    return false;
+  }
+  version = static_cast<uint16_t>(bytes[4] | bytes[5] << 8);
+  const auto k = static_cast<uint16_t>(bytes[6] | bytes[7] << 8);
+  if (version < k_event_format_oldest_read || version > k_event_format_newest_read) {
+    error = "unsupported version " + std::to_string(version) + " (this reader reads AMBE versions " +
+            std::to_string(k_event_format_oldest_read) + " to " + std::to_string(k_event_format_newest_read) + ")";
+    return false;
+  }
+  if (version < 4) {
+    kind = EventKind::drop;
+    return true;
+  }
+  if (k != static_cast<uint16_t>(EventKind::drop) && k != static_cast<uint16_t>(EventKind::sweep)) {
+    error = "unknown record kind " + std::to_string(k) + " (this reader knows 0 drop, 1 sweep)";
+    return false;
+  }
+  kind = static_cast<EventKind>(k);
+  return true;
+}
+
 bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string& error) {
   const size_t size = bytes.size();
   if (size < 16) {
@@ -186,10 +189,20 @@ bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string&
     error = "bad checksum: stored CRC-32 " + hex32(stored) + ", computed " + hex32(computed) + " (file corrupted)";
     return false;
   }
-  if (version < k_event_format_oldest_read || version > k_event_format_version) {
+  if (version < k_event_format_oldest_read || version > k_event_format_newest_read) {
     error = "unsupported version " + std::to_string(version) + " (this reader reads AMBE versions " +
-            std::to_string(k_event_format_oldest_read) + " to " + std::to_string(k_event_format_version) + ")";
+            std::to_string(k_event_format_oldest_read) + " to " + std::to_string(k_event_format_newest_read) + ")";
     return false;
+  }
+  if (version >= 4) {
+    EventKind kind = EventKind::drop;
+    uint16_t v = 0;
+    if (!peek_event_kind(bytes, kind, v, error)) return false;
+    if (kind != EventKind::drop) {
+      error = std::string("not a drop event: record kind ") + std::to_string(static_cast<int>(kind)) + " (" +
+              to_string(kind) + "); read it with decode_sweep_event";
+      return false;
+    }
   }
   const size_t analysis_bytes = version >= 2 ? k_event_analysis_bytes_v2 : 0;
   const uint32_t meta_bytes = pre.u32();

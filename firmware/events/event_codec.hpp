@@ -14,8 +14,14 @@
 
 namespace amb::fw {
 
-inline constexpr uint16_t k_event_format_version = 3;      ///< written
+inline constexpr uint16_t k_event_format_version = 3;      ///< written (drop events)
 inline constexpr uint16_t k_event_format_oldest_read = 1;  ///< oldest version read
+/// Version 4 (issue 35) gives the u16 at offset 6 (reserved, 0, in versions 1..3) a meaning:
+/// the record kind. A drop event is still written as version 3 (byte-identical); a version-4
+/// file of kind `drop` has the version-3 layout. Sweep events: firmware/events/sweep_event.hpp.
+inline constexpr uint16_t k_event_format_newest_read = 4;
+enum class EventKind : uint16_t { drop = 0, sweep = 1 };
+const char* to_string(EventKind k);
 inline constexpr size_t k_event_preamble_bytes = 32;
 inline constexpr size_t k_event_meta_bytes_v1 = 616;
 inline constexpr size_t k_event_sample_bytes_v1 = 80;      ///< versions 1 and 2
@@ -39,7 +45,12 @@ std::vector<uint8_t> encode_event_v1(const EventRecord& r);
 /// Encode as version 2 (no tachometer channel): for tests of the old-file reader.
 std::vector<uint8_t> encode_event_v2(const EventRecord& r);
 
-/// Decode a file image. Returns false with `error` saying what is wrong: "truncated: ...",
+/// The record kind of a file image: versions 1..3 are drop events; version 4 says. Returns
+/// false (and `error`) when the bytes are not an AMBE preamble of a known version. Reads the
+/// preamble only (no checksum check: decode_event / decode_sweep_event do that).
+bool peek_event_kind(std::span<const uint8_t> bytes, EventKind& kind, uint16_t& version, std::string& error);
+
+/// Decode a file image of a drop event. A sweep event is refused ("not a drop event: ..."). Returns false with `error` saying what is wrong: "truncated: ...",
 /// "bad checksum: ...", "unsupported version ...", "not an AMBE event file: ...",
 /// "inconsistent sizes: ...". `out` is only written on success.
 bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string& error);

@@ -84,23 +84,40 @@ size_t EventWriter::poll() {
     }
     r.analysis = event_analysis(r, board_, bearing_);
     r.has_analysis = true;
-    std::vector<uint8_t> bytes = encode_event(r);
-    std::string error;
-    StoreResult result = StoreResult::failed;
-    if (pending_.empty()) {  // in order: behind the events already waiting
-      std::lock_guard<std::mutex> lock(m_);
-      result = store_.put(number, bytes, error);
-      if (result != StoreResult::stored) last_error_ = error;
-      if (result == StoreResult::failed) {
-        backoff_ms_ = o_.retry_initial_ms;
-        next_retry_ = std::chrono::steady_clock::now() + std::chrono::milliseconds(backoff_ms_);
-      }
-    }
-    if (result == StoreResult::failed) enqueue(number, std::move(bytes));
+    const StoreResult result = store_or_queue(number, encode_event(r));
     if (on_event) on_event(r, EventStore::name_of(number), result == StoreResult::stored);
     ++done;
   }
+  if (sweep_ && sweep_->ready()) {
+    // A finished sweep: copy it out, hand the buffer back, then encode and store.
+    const uint64_t number = store_.reserve_number();
+    const SweepEvent ev = make_sweep_event(sweep_->view(), board_, number);
+    sweep_->release();
+    const StoreResult result = store_or_queue(number, encode_sweep_event(ev));
+    if (result == StoreResult::stored) {
+      sweeps_stored_.fetch_add(1);
+      last_sweep_number_.store(number);
+    }
+    if (on_sweep) on_sweep(ev, EventStore::name_of(number), result == StoreResult::stored);
+    ++done;
+  }
   return done;
+}
+
+StoreResult EventWriter::store_or_queue(uint64_t number, std::vector<uint8_t> bytes) {
+  std::string error;
+  StoreResult result = StoreResult::failed;
+  if (pending_.empty()) {  // in order: behind the events already waiting
+    std::lock_guard<std::mutex> lock(m_);
+    result = store_.put(number, bytes, error);
+    if (result != StoreResult::stored) last_error_ = error;
+    if (result == StoreResult::failed) {
+      backoff_ms_ = o_.retry_initial_ms;
+      next_retry_ = std::chrono::steady_clock::now() + std::chrono::milliseconds(backoff_ms_);
+    }
+  }
+  if (result == StoreResult::failed) enqueue(number, std::move(bytes));
+  return result;
 }
 
 StoreCounters EventWriter::store_counters() const {

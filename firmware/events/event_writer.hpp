@@ -24,6 +24,7 @@
 #include "firmware/diagnosis/phase_b.hpp"
 #include "firmware/events/event_record.hpp"
 #include "firmware/events/event_store.hpp"
+#include "firmware/events/sweep_event.hpp"
 #include "hal/interfaces.hpp"
 
 namespace amb::fw {
@@ -56,6 +57,16 @@ class EventWriter {
   /// or waiting for a retry: store_counters().pending).
   std::function<void(const EventRecord&, const std::string& name, bool stored)> on_event;
 
+  /// The loop's sweep generator (configure time; nullptr: none): a finished sweep is taken,
+  /// encoded as a `sweep` event (AMBE v4) and stored like a drop event (same numbering, limits,
+  /// policy and retries), then its buffer is handed back to the loop.
+  void set_sweep_source(SweepGenerator* sweep) { sweep_ = sweep; }
+  /// Called in the writer's thread after each sweep event was processed (like on_event).
+  std::function<void(const SweepEvent&, const std::string& name, bool stored)> on_sweep;
+  /// Sweep events written (stored now) and the number of the newest (0: none yet).
+  uint64_t sweeps_stored() const { return sweeps_stored_.load(); }
+  uint64_t last_sweep_number() const { return last_sweep_number_.load(); }
+
   /// The store's counters with the writer's retry counters (retries, pending, lost).
   StoreCounters store_counters() const;
   /// Last error message (refusal or write failure), empty if none.
@@ -75,6 +86,10 @@ class EventWriter {
   /// Try the waiting events in order (at most until one fails); returns how many left the queue.
   size_t flush_pending(std::chrono::steady_clock::time_point now);
   void enqueue(uint64_t number, std::vector<uint8_t> bytes);
+  /// Store now (or queue behind the waiting events); what happened.
+  StoreResult store_or_queue(uint64_t number, std::vector<uint8_t> bytes);
+  SweepGenerator* sweep_ = nullptr;
+  std::atomic<uint64_t> sweeps_stored_{0}, last_sweep_number_{0};
   mutable std::mutex m_;  ///< guards store_ counters, the retry counters and last_error_ for readers in other threads
   std::string last_error_;
   std::deque<Pending> pending_;   ///< writer thread only (counted under m_)

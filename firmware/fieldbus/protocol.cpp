@@ -176,6 +176,35 @@ bool decode_board_status(const hal::CanFrame& f, uint8_t board_node, BoardStatus
   return true;
 }
 
+hal::CanFrame encode_sweep_status(uint8_t board_node, const SweepStatusFrame& s) {
+  hal::CanFrame f = frame(k_sweep_status + board_node, 8, false);
+  const unsigned axis = s.axis < 0 || s.axis > 3 ? 0u : static_cast<unsigned>(s.axis) + 1u;
+  f.data[0] = static_cast<uint8_t>((s.state & 0x0Fu) | axis << 4);
+  f.data[1] = s.axes_done;
+  f.data[2] = s.axes_total;
+  put16(f, 3, s.period);
+  f.data[5] = s.aborts;
+  f.data[6] = s.refusals;
+  f.data[7] = static_cast<uint8_t>((s.last_abort & 0x0Fu) | (s.last_refusal & 0x0Fu) << 4);
+  return f;
+}
+
+bool decode_sweep_status(const hal::CanFrame& f, uint8_t board_node, SweepStatusFrame& out) {
+  if (f.error || f.extended || f.fd || f.id != static_cast<uint32_t>(k_sweep_status + board_node) || f.len != 8) return false;
+  const unsigned state = f.data[0] & 0x0Fu, axis = f.data[0] >> 4;
+  if (state > 3 || axis > 4 || f.data[1] > 4 || f.data[2] > 4 || f.data[1] > f.data[2]) return false;
+  out.state = static_cast<uint8_t>(state);
+  out.axis = static_cast<int8_t>(static_cast<int>(axis) - 1);
+  out.axes_done = f.data[1];
+  out.axes_total = f.data[2];
+  out.period = get16(f, 3);
+  out.aborts = f.data[5];
+  out.refusals = f.data[6];
+  out.last_abort = f.data[7] & 0x0Fu;
+  out.last_refusal = static_cast<uint8_t>(f.data[7] >> 4);
+  return true;
+}
+
 DecodeResult decode(const hal::CanFrame& f, const NodeIds& ids, Side side, Message& m) {
   if (f.error || f.extended) return DecodeResult::foreign;
   const uint8_t node = static_cast<uint8_t>(f.id & k_node_mask);

@@ -20,6 +20,7 @@ enum Function : uint16_t {
   k_demand_fd = 0x400,   ///< board -> amplifier, CAN FD: sequence, flags, speed, 4 x int32 demand uA (24 bytes)
   k_sample_fd = 0x480,   ///< sensor -> board, CAN FD: sequence, faults, 4 x int32 nm, 4 x int32 uA, tach (48 bytes)
   k_board_status = 0x500,  ///< board -> anyone, classic: speed estimate, confidence, flags (8 bytes), periodic
+  k_sweep_status = 0x580,  ///< board -> anyone, classic: loop-sensitivity sweep progress (8 bytes), while a sweep runs
   k_heartbeat = 0x700,   ///< every node: NMT state, node-specific state (2 bytes)
 };
 
@@ -40,6 +41,19 @@ struct BoardStatus {
   uint8_t flags = 0;           ///< BoardStatusFlags | speed source << 3
   uint8_t sequence = 0;        ///< increments with every frame
   uint8_t tracker_mode = 0;    ///< model::signal::TrackMode
+};
+
+/// The sweep-status frame's content (fw::SweepStatus, narrowed to 8 bytes).
+struct SweepStatusFrame {
+  uint8_t state = 0;          ///< fw::SweepState (0 idle, 1 settling, 2 recording, 3 storing)
+  int8_t axis = -1;           ///< control axis excited (0..3), -1 none
+  uint8_t axes_done = 0;      ///< axes recorded so far
+  uint8_t axes_total = 0;     ///< axes the sweep covers
+  uint16_t period = 0;        ///< period of the present axis (settle first), saturates
+  uint8_t aborts = 0;         ///< sweeps aborted since configure (saturates at 255)
+  uint8_t refusals = 0;       ///< starts refused (saturates at 255)
+  uint8_t last_abort = 0;     ///< fw::SweepAbort (0..15)
+  uint8_t last_refusal = 0;   ///< fw::SweepRefusal (0..15)
 };
 
 inline constexpr uint32_t k_node_mask = 0x7F;
@@ -116,5 +130,11 @@ hal::CanFrame encode_heartbeat(uint8_t node, uint8_t nmt_state, uint8_t node_sta
 hal::CanFrame encode_board_status(uint8_t board_node, const BoardStatus& s);
 /// Decode a board-status frame of `board_node`; false if it is not one (wrong id, length, type, bits).
 bool decode_board_status(const hal::CanFrame& f, uint8_t board_node, BoardStatus& out);
+/// Sweep status (id k_sweep_status + board node): u8 state (bits 0..3) | axis + 1 (bits 4..7,
+/// 0 none), u8 axes done, u8 axes total, u16 period, u8 aborts, u8 refusals, u8 last abort
+/// (bits 0..3) | last refusal (bits 4..7).
+hal::CanFrame encode_sweep_status(uint8_t board_node, const SweepStatusFrame& s);
+/// Decode a sweep-status frame of `board_node`; false if it is not one (id, length, type, values).
+bool decode_sweep_status(const hal::CanFrame& f, uint8_t board_node, SweepStatusFrame& out);
 
 }  // namespace amb::fieldbus

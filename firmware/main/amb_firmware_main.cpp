@@ -19,7 +19,7 @@ namespace {
 void usage() {
   std::printf(
       "usage: amb-firmware [--board NAME|PATH] [--backend sim|linux] [--duration-s S] [--paced]\n"
-      "                    [--no-spin] [--no-analysis] [--list-boards] [--version]\n"
+      "                    [--no-spin] [--no-analysis] [--sweep] [--list-boards] [--version]\n"
       "  --board       board file or embedded board name (default: %s)\n"
       "  --backend     override the board's backend\n"
       "  --duration-s  sim: seconds to hold at speed before landing, [0, 3600] (default 1.0);\n"
@@ -27,6 +27,8 @@ void usage() {
       "  --paced       sim: pace the loop to wall time instead of as fast as possible\n"
       "  --no-spin     sim: levitate and land without spinning up\n"
       "  --no-analysis do not start the analysis thread (speed tracker, bearing task)\n"
+      "  --sweep       sim: run the board's loop-sensitivity sweep ([sweep]) before landing and\n"
+      "                store its event in memory (summary printed; amb-host sweep writes it)\n"
       "  --list-boards print the embedded board names\n"
       "  --version     print the version\n"
       "example:\n"
@@ -64,6 +66,7 @@ int main(int argc, char** argv) {
     else if (a == "--paced") opt.paced = true;
     else if (a == "--no-spin") opt.spin = false;
     else if (a == "--no-analysis") opt.analysis = false;
+    else if (a == "--sweep") opt.sweep = true;
     else if (a == "--list-boards") {
       for (const auto& n : amb::board::embedded_board_names()) std::printf("%s\n", n.c_str());
       return 0;

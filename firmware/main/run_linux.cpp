@@ -180,6 +180,16 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     std::printf("amb-firmware: drop event %s %s\n", name.c_str(), stored ? "stored" : "NOT stored");
     std::fflush(stdout);
   };
+  // The loop-sensitivity sweep: its finished record is stored by the same writer (AMBE v4, kind sweep).
+  writer.set_sweep_source(&sup.sweep());
+  writer.on_sweep = [](const fw::SweepEvent& e, const std::string& name, bool stored) {
+    std::printf("amb-firmware: sweep event %s %s (%zu axes, %zu lines, amplitude %.4g A, crest %.2f%s%s)\n", name.c_str(),
+                stored ? "stored" : "NOT stored", e.axes.size(), e.bins.size(), e.amplitude_a, e.crest_factor,
+                e.aborted ? ", aborted: " : "", e.aborted ? fw::to_string(e.abort_reason) : "");
+    std::fflush(stdout);
+  };
+  if (!sup.sweep_config_error().empty())
+    std::printf("amb-firmware: sweep: starts will be refused: %s\n", sup.sweep_config_error().c_str());
   // Analysis task (tracker on the [tracker] channel, bearing task): fed from the loop through
   // its SPSC ring, polled by the analysis thread.
   auto analysis = std::make_unique<fw::AnalysisTask>();
@@ -210,6 +220,16 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
       return 1;
     }
   }
+  // The sweep-status frame goes out from the supervision thread below, on its own socket.
+  lx::SocketCanBus sweep_can;
+  {
+    lx::SocketCanOptions so = co;
+    so.filters = {{static_cast<uint32_t>(fieldbus::k_sweep_status + cm.can.board_node_id), 0x7FF, false}};
+    if (!sweep_can.open(so, err)) {
+      std::fprintf(stderr, "amb-firmware: sweep-status socket: %s\n", err.c_str());
+      return 1;
+    }
+  }
   fw::LoopRunner loop(clock, fe, dio, sup, &sinks);
   fw::SeqLock<fw::LoopStats> loop_stats;
   loop_stats.store(fw::LoopStats{});
@@ -230,6 +250,7 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     return fw::LinkCounters{s.requests, s.exceptions, s.bad_frames, s.wrong_unit, s.connections, s.refused_connections};
   };
   src.storage = [&] { return writer.store_counters(); };
+  src.sweep_store = [&] { return fw::SweepStoreInfo{writer.sweeps_stored(), writer.last_sweep_number()}; };
   src.runtime_budget = [&] { return runtime_budget.load(); };
   for (const fw::BufferBudget& e : buffer_table) src.buffer_bytes.push_back(e.bytes);
   src.storage_budget = storage_budget;
@@ -341,9 +362,31 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
     rb.window_s = loop_cpu.window_s();
     runtime_budget.store(rb);
   };
+  int64_t next_sweep_frame = 0;
+  bool sweep_was_running = false;
+  uint64_t sweep_frames = 0;
   while (!loop_done.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const uint64_t periods = loop_stats.load().periods;
+    // Sweep status on CAN every 100 ms while a sweep runs, and once when it has ended.
+    if (const fw::SweepStatus sw = sup.status().sweep; sw.state != fw::SweepState::idle || sweep_was_running) {
+      const int64_t now = lx::monotonic_ns();
+      if (now >= next_sweep_frame || sw.state == fw::SweepState::idle) {
+        fieldbus::SweepStatusFrame f;
+        f.state = static_cast<uint8_t>(sw.state);
+        f.axis = sw.axis;
+        f.axes_done = sw.axes_done;
+        f.axes_total = sw.axes_total;
+        f.period = static_cast<uint16_t>(std::min<uint32_t>(sw.period, 0xFFFF));
+        f.aborts = static_cast<uint8_t>(std::min<uint32_t>(sw.aborts, 255));
+        f.refusals = static_cast<uint8_t>(std::min<uint32_t>(sw.refusals, 255));
+        f.last_abort = static_cast<uint8_t>(sw.last_abort);
+        f.last_refusal = static_cast<uint8_t>(sw.last_refusal);
+        if (sweep_can.send(fieldbus::encode_sweep_status(cm.can.board_node_id, f))) ++sweep_frames;
+        next_sweep_frame = now + 100'000'000;
+      }
+      sweep_was_running = sw.state != fw::SweepState::idle;
+    }
     if (!ready_sent && periods > 0) {
       rb.start_to_ready_ns = lx::ns_since_process_start();
       notify_service_manager("READY=1\nSTATUS=loop running");
@@ -403,6 +446,11 @@ int run_linux(const board::BoardConfig& board, const RunOptions& opt) {
               static_cast<unsigned long long>(cs.error_frames), static_cast<unsigned long long>(cs.bus_off_events),
               static_cast<unsigned long long>(fc.samples), static_cast<unsigned long long>(fc.malformed),
               static_cast<unsigned long long>(fc.node_timeouts), fw::to_string(st.state), fw::to_string(st.fault));
+  std::printf("amb-firmware: sweep: %u started, %u completed, %u aborted (last: %s), %u refused (last: %s); "
+              "%llu sweep events stored, %llu sweep-status frames\n",
+              st.sweep.started, st.sweep.completed, st.sweep.aborts, fw::to_string(st.sweep.last_abort), st.sweep.refusals,
+              fw::to_string(st.sweep.last_refusal), static_cast<unsigned long long>(writer.sweeps_stored()),
+              static_cast<unsigned long long>(sweep_frames));
   const fw::StoreCounters sc = writer.store_counters();
   std::printf("amb-firmware: storage: events written %llu, refused %llu, dropped oldest %llu, write errors %llu, "
               "retries %llu, lost %llu; wear-record commits failed in storage %llu\n",

@@ -12,6 +12,7 @@ struct RunOptions {
   bool paced = false;       ///< sim: pace to wall time
   bool spin = true;         ///< sim: spin up to the operating speed
   bool analysis = true;     ///< run the analysis thread (tracker, bearing task) when the board enables the tracker
+  bool sweep = false;       ///< sim: run the loop-sensitivity sweep ([sweep]) once levitated / at speed
 };
 
 /// Software in the loop: levitate, spin up, hold, land; prints a summary. Exit code.

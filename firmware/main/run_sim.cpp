@@ -5,10 +5,60 @@
 #include "firmware/budget/print_budget.hpp"
 #include "firmware/main/run_modes.hpp"
 #include "firmware/sil/sil_rig.hpp"
+#include "firmware/sil/sil_sweep.hpp"
+#include "firmware/events/sweep_event.hpp"
 
 namespace amb::fwmain {
 
+namespace {
+
+// --sweep: the board's sweep on its simulated rig (SilSweepBench: the firmware with its capture
+// and event writer), levitated or at speed; prints the stored event's summary.
+int run_sim_sweep(const board::BoardConfig& board, const RunOptions& opt) {
+  std::printf("amb-firmware: board %s (%s), backend sim, loop %.0f Hz, loop-sensitivity sweep\n", board.name.c_str(),
+              board.source.c_str(), board.rate_hz);
+  sil::SilSweepBench bench(board);
+  if (!bench.supervisor().sweep_config_error().empty()) {
+    std::fprintf(stderr, "amb-firmware: sweep: %s\n", bench.supervisor().sweep_config_error().c_str());
+    return 1;
+  }
+  std::string err;
+  if (!bench.levitate(opt.spin, err)) {
+    std::fprintf(stderr, "amb-firmware: %s\n", err.c_str());
+    return 2;
+  }
+  std::printf("  t=%6.3f s  %s\n", bench.rig().time_s(), opt.spin ? "at speed" : "levitated");
+  bench.supervisor().request_sweep_start();
+  sil::SilSweepOptions so;
+  so.progress = [](const fw::SweepStatus& s, double t) {
+    std::printf("  t=%6.3f s  sweep %s, axis %d (%u of %u), period %u of %u\n", t, fw::to_string(s.state), s.axis,
+                s.axis_index + 1u, static_cast<unsigned>(s.axes_total), s.period + 1, s.periods_per_axis);
+  };
+  const sil::SilSweepOutcome o = bench.run_sweep(3600.0, so);
+  const fw::Status st = bench.supervisor().status();
+  if (!o.stored) {
+    std::fprintf(stderr, "amb-firmware: sweep: %s\n", o.error.c_str());
+    return 2;
+  }
+  fw::SweepEvent e;
+  if (!fw::decode_sweep_event(o.event_bytes, e, err)) {
+    std::fprintf(stderr, "amb-firmware: sweep event: %s\n", err.c_str());
+    return 2;
+  }
+  const double df = board.rate_hz / e.samples_per_period;
+  std::printf("  t=%6.3f s  sweep event %s stored: %zu bytes, %zu axes, %zu lines %.4g .. %.4g Hz, amplitude %.4g A, "
+              "crest factor %.3f%s%s\n", bench.rig().time_s(), o.event_name.c_str(), o.event_bytes.size(), e.axes.size(),
+              e.bins.size(), e.bins.front() * df, e.bins.back() * df, e.amplitude_a, e.crest_factor,
+              e.aborted ? ", ABORTED: " : "", e.aborted ? fw::to_string(e.abort_reason) : "");
+  std::printf("  state %s, fault %s; sweeps started %u, completed %u, aborted %u, refused %u\n", fw::to_string(st.state),
+              fw::to_string(st.fault), st.sweep.started, st.sweep.completed, st.sweep.aborts, st.sweep.refusals);
+  return e.aborted ? 2 : 0;
+}
+
+}  // namespace
+
 int run_sim(const board::BoardConfig& board, const RunOptions& opt) {
+  if (opt.sweep) return run_sim_sweep(board, opt);
   sil::SilOptions so;
   so.paced = opt.paced;
   so.analysis = opt.analysis ? sil::SilAnalysis::thread : sil::SilAnalysis::off;

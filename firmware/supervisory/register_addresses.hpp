@@ -124,6 +124,37 @@ inline constexpr uint16_t buffers = 0x0720;
 inline constexpr uint16_t k_max_buffer_entries = 16;
 inline constexpr uint16_t buffers_end = buffers + 1 + 2 * k_max_buffer_entries;
 
+// ---- loop-sensitivity sweep (RO): progress, counters, configuration (docs/sweep.md) ---------
+inline constexpr uint16_t sweep = 0x0800;
+inline constexpr uint16_t sweep_state = 0x0800;        ///< u16 fw::SweepState: 0 idle, 1 settling, 2 recording, 3 storing
+inline constexpr uint16_t sweep_axis = 0x0801;         ///< u16 control axis being excited (0..3), 0xFFFF none
+inline constexpr uint16_t sweep_axis_index = 0x0802;   ///< u16 its position in the sweep's order, 0-based
+inline constexpr uint16_t sweep_axes_total = 0x0803;   ///< u16 axes the sweep covers
+inline constexpr uint16_t sweep_axes_done = 0x0804;    ///< u16 axes completely recorded in the present (or last) sweep
+inline constexpr uint16_t sweep_period = 0x0805;       ///< u16 period of the present axis, 0-based (settle periods first; saturates)
+inline constexpr uint16_t sweep_periods_per_axis = 0x0806; ///< u16 settle + recorded periods
+inline constexpr uint16_t sweep_last_abort = 0x0807;   ///< u16 fw::SweepAbort of the last abort (0 none)
+inline constexpr uint16_t sweep_last_refusal = 0x0808; ///< u16 fw::SweepRefusal of the last refusal (0 none)
+inline constexpr uint16_t sweep_started = 0x0809;      ///< u32 sweeps started
+inline constexpr uint16_t sweep_completed = 0x080B;    ///< u32 sweeps that recorded every axis
+inline constexpr uint16_t sweep_aborts = 0x080D;       ///< u32 sweeps aborted
+inline constexpr uint16_t sweep_refusals = 0x080F;     ///< u32 starts refused (every reason)
+inline constexpr uint16_t sweep_events_stored = 0x0811;///< u32 sweep events stored
+inline constexpr uint16_t sweep_last_event = 0x0813;   ///< u32 event number of the newest stored sweep event (0 none)
+inline constexpr uint16_t sweep_config_refusal = 0x0815; ///< u16 fw::SweepRefusal the configuration alone causes (0: can run)
+inline constexpr uint16_t sweep_samples_per_period = 0x0816; ///< u32 N
+inline constexpr uint16_t sweep_settle_periods = 0x0818;   ///< u16
+inline constexpr uint16_t sweep_recorded_periods = 0x0819; ///< u16 P
+inline constexpr uint16_t sweep_lines = 0x081A;        ///< u16 excited lines
+inline constexpr uint16_t sweep_axes_mask = 0x081B;    ///< u16 bit i: axis i swept
+inline constexpr uint16_t sweep_f_first_mhz = 0x081C;  ///< u32 lowest line, mHz
+inline constexpr uint16_t sweep_f_last_mhz = 0x081E;   ///< u32 highest line, mHz
+inline constexpr uint16_t sweep_amplitude_ua = 0x0820; ///< u32 peak of the excitation, uA
+inline constexpr uint16_t sweep_amplitude_limit_ua = 0x0822; ///< u32 board limit of the peak, uA
+inline constexpr uint16_t sweep_crest_milli = 0x0824;  ///< u16 crest factor x 1000
+inline constexpr uint16_t sweep_abort_orbit_nm = 0x0825; ///< u32 orbit radius that aborts, nm
+inline constexpr uint16_t sweep_end = 0x0827;
+
 // ---- arm (write access) --------------------------------------------------------------------
 /// Write [key hi, key lo, operation] (3 registers, key = [comms.modbus] arm_key): arms that one
 /// operation for arm_window_ms; the next write to a command register consumes it (accepted or
@@ -131,16 +162,18 @@ inline constexpr uint16_t buffers_end = buffers + 1 + 2 * k_max_buffer_entries;
 /// key never reads back.
 inline constexpr uint16_t arm = 0x0F00;
 inline constexpr uint16_t arm_end = 0x0F03;
-/// Operations an arm names: 1..6 are the values of the command register, 16 event delete,
+/// Operations an arm names: 1..8 are the values of the command register, 16 event delete,
 /// 17 wear-record commit.
 enum ArmOperation : uint16_t {
   op_none = 0, op_levitate = 1, op_run = 2, op_land = 3, op_reset_fault = 4, op_emergency_stop = 5,
-  op_capture = 6, op_event_delete = 16, op_wear_commit = 17,
+  op_capture = 6, op_sweep_start = 7, op_sweep_abort = 8, op_event_delete = 16, op_wear_commit = 17,
 };
 
 // ---- command (ARMED) ---------------------------------------------------------------------
-inline constexpr uint16_t command = 0x1000;            ///< write 1 levitate, 2 run, 3 land, 4 reset fault, 5 emergency stop (fw::Command), 6 manual capture; read: last result (0 none, 1 posted, 2 busy)
+inline constexpr uint16_t command = 0x1000;            ///< write 1 levitate, 2 run, 3 land, 4 reset fault, 5 emergency stop (fw::Command), 6 manual capture, 7 sweep start, 8 sweep abort; read: last result (0 none, 1 posted, 2 busy)
 inline constexpr uint16_t k_command_capture = 6;       ///< command value: manual capture trigger
+inline constexpr uint16_t k_command_sweep_start = 7;   ///< command value: start the loop-sensitivity sweep (refused, exception 6, unless levitated or at speed and not in fault)
+inline constexpr uint16_t k_command_sweep_abort = 8;   ///< command value: abort a running sweep (plain control, no fault)
 
 // ---- event list -----------------------------------------------------------------------------
 inline constexpr uint16_t event_count = 0x2000;        ///< RO, stored events

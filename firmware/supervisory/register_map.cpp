@@ -26,7 +26,7 @@ constexpr Range k_readable[] = {
     {regs::wb_control, regs::wb_status_end},    {regs::analysis, regs::analysis_end},
     {regs::access_stats, regs::access_end},     {regs::storage_stats, regs::storage_end},
     {regs::arm, regs::arm_end},                 {regs::budget, regs::budget_end},
-    {regs::buffers, regs::buffers_end},
+    {regs::buffers, regs::buffers_end},         {regs::sweep, regs::sweep_end},
 };
 
 void put16(std::vector<uint16_t>& b, size_t at, uint16_t v) { b[at] = v; }
@@ -235,6 +235,51 @@ bool RegisterMap::render(uint16_t start, uint16_t end, Block& b) {
       for (size_t i = 0; i < n; ++i) put32(b, 1 + 2 * i, src_.buffer_bytes[i]);
       return true;
     }
+    case regs::sweep: {
+      const SweepStatus& w = st.sweep;
+      put16(b, 0, static_cast<uint16_t>(w.state));
+      put16(b, 1, w.axis < 0 ? uint16_t{0xFFFF} : static_cast<uint16_t>(w.axis));
+      put16(b, 2, w.axis_index);
+      put16(b, 3, w.axes_total);
+      put16(b, 4, w.axes_done);
+      put16(b, 5, static_cast<uint16_t>(std::min<uint32_t>(w.period, 0xFFFF)));
+      put16(b, 6, static_cast<uint16_t>(std::min<uint32_t>(w.periods_per_axis, 0xFFFF)));
+      put16(b, 7, static_cast<uint16_t>(w.last_abort));
+      // Refusals: counted by the loop and by this link (atomics), read now, not at the last step.
+      put16(b, 8, static_cast<uint16_t>(src_.supervisor ? src_.supervisor->sweep().last_refusal() : w.last_refusal));
+      put32(b, 9, w.started);
+      put32(b, 11, w.completed);
+      put32(b, 13, w.aborts);
+      put32(b, 15, src_.supervisor ? src_.supervisor->sweep().refusals() : w.refusals);
+      const SweepStoreInfo si = src_.sweep_store ? src_.sweep_store() : SweepStoreInfo{};
+      put32(b, 17, si.stored);
+      put32(b, 19, si.last_number);
+      if (src_.supervisor) {
+        // Fixed after configure: read without the loop.
+        const SweepGenerator& g = src_.supervisor->sweep();
+        const SweepParams& p = g.params();
+        put16(b, 21, static_cast<uint16_t>(g.config_refusal()));
+        put32(b, 22, p.samples_per_period);
+        put16(b, 24, static_cast<uint16_t>(std::min<uint32_t>(p.settle_periods, 0xFFFF)));
+        put16(b, 25, static_cast<uint16_t>(std::min<uint32_t>(p.recorded_periods, 0xFFFF)));
+        const auto& bins = g.design().bins;
+        put16(b, 26, static_cast<uint16_t>(bins.size()));
+        uint16_t mask = 0;
+        for (size_t i = 0; i < 4; ++i) mask = static_cast<uint16_t>(mask | (p.axes[i] ? 1u << i : 0u));
+        put16(b, 27, mask);
+        const double df = src_.rate_hz / std::max<uint32_t>(1, p.samples_per_period);
+        put32(b, 28, bins.empty() ? 0 : static_cast<uint64_t>(std::llround(bins.front() * df * 1e3)));
+        put32(b, 30, bins.empty() ? 0 : static_cast<uint64_t>(std::llround(bins.back() * df * 1e3)));
+        put32(b, 32, static_cast<uint64_t>(std::llround(std::max(0.0, g.amplitude_a()) * 1e6)));
+        const double bias = p.amplitude_fraction > 0.0 ? g.amplitude_a() / p.amplitude_fraction : 0.0;
+        put32(b, 34, static_cast<uint64_t>(std::llround(std::max(0.0, bias * p.amplitude_limit_fraction) * 1e6)));
+        put16(b, 36, static_cast<uint16_t>(std::min(65535.0, std::round(g.design().crest_factor * 1e3))));
+        put32(b, 37, static_cast<uint64_t>(std::llround(std::max(0.0, g.abort_orbit_m()) * 1e9)));
+      } else {
+        put16(b, 21, static_cast<uint16_t>(SweepRefusal::not_configured));
+      }
+      return true;
+    }
     case regs::orbit_radius_nm:
       for (size_t i = 0; i < 2; ++i) put32(b, 2 * i, static_cast<uint64_t>(std::max(0.0, st.orbit_radius_m[i] * 1e9)));
       for (size_t i = 0; i < 4; ++i) put_i32(b, 4 + 2 * i, st.xy_m[i] * 1e9);
@@ -408,7 +453,7 @@ hal::RegisterHandler::Status RegisterMap::write_arm(std::span<const uint16_t> v)
     return illegal_function;
   }
   const uint16_t op = v[2];
-  const bool known = (op >= regs::op_levitate && op <= regs::op_capture) || op == regs::op_event_delete ||
+  const bool known = (op >= regs::op_levitate && op <= regs::op_sweep_abort) || op == regs::op_event_delete ||
                      op == regs::op_wear_commit;
   if (!known) return illegal_value;
   if (get32(v, 0) != src_.arm_key) {
@@ -422,7 +467,8 @@ hal::RegisterHandler::Status RegisterMap::write_arm(std::span<const uint16_t> v)
 }
 
 hal::RegisterHandler::Status RegisterMap::write_command(std::span<const uint16_t> v) {
-  if (v.size() != 1 || v[0] < regs::op_levitate || v[0] > regs::op_capture) return illegal_value;
+  if (v.size() != 1 || v[0] < regs::op_levitate || v[0] > regs::op_sweep_abort) return illegal_value;
+  if (v[0] == regs::k_command_sweep_start || v[0] == regs::k_command_sweep_abort) return write_sweep_command(v[0]);
   if (!take_arm(v[0])) return illegal_function;
   if (!state_allows(v[0])) {
     ++access_.refused_state;
@@ -439,6 +485,35 @@ hal::RegisterHandler::Status RegisterMap::write_command(std::span<const uint16_t
   command_result_ = posted ? 1 : 2;
   if (posted) ++access_.commands;
   return posted ? ok : busy;
+}
+
+// Sweep start / abort: armed like every command; a start is checked against the loop's state
+// here (exception 6 with the reason counted by the sweep) and again by the loop when it takes it.
+hal::RegisterHandler::Status RegisterMap::write_sweep_command(uint16_t op) {
+  const bool armed = take_arm(op);
+  if (!src_.supervisor) return armed ? device_failure : illegal_function;
+  SweepGenerator& g = src_.supervisor->sweep();
+  if (!armed) {
+    if (op == regs::k_command_sweep_start) g.count_refusal(SweepRefusal::not_armed);
+    return illegal_function;
+  }
+  if (op == regs::k_command_sweep_abort) {
+    src_.supervisor->request_sweep_abort();
+    ++access_.commands;
+    command_result_ = 1;
+    return ok;
+  }
+  const SweepRefusal r = src_.supervisor->sweep_start_refusal();
+  if (r != SweepRefusal::none) {
+    g.count_refusal(r);
+    ++access_.refused_state;
+    command_result_ = 2;
+    return busy;
+  }
+  src_.supervisor->request_sweep_start();
+  ++access_.commands;
+  command_result_ = 1;
+  return ok;
 }
 
 hal::RegisterHandler::Status RegisterMap::write_delete(std::span<const uint16_t> v) {

@@ -47,6 +47,12 @@ struct AccessCounters {
 
 /// Where the register map gets its data. Every member is optional (absent: reads as 0).
 /// The functions are called from the server thread and must be thread-safe.
+/// Sweep events in the store (the event writer's count).
+struct SweepStoreInfo {
+  uint64_t stored = 0;        ///< sweep events stored
+  uint64_t last_number = 0;   ///< number of the newest (0: none)
+};
+
 struct RegisterSources {
   Supervisor* supervisor = nullptr;                       ///< status snapshots, command posting
   std::function<LoopStats()> loop_stats;                  ///< published loop statistics
@@ -59,6 +65,7 @@ struct RegisterSources {
   std::function<RuntimeBudget()> runtime_budget;          ///< measured memory, CPU shares, start-up time (absent: not measured)
   std::vector<uint64_t> buffer_bytes;                     ///< fw::buffer_budget sizes, bytes, in its order (at most regs::k_max_buffer_entries)
   StorageBudget storage_budget;                           ///< fw::storage_budget of the board
+  std::function<SweepStoreInfo()> sweep_store;            ///< sweep events stored (absent: 0)
   std::function<bool()> manual_capture;                   ///< request a manual capture trigger (absent: command 6 refused, exception 4)
   /// Time for the arm window, ns, any monotonic clock that may be read from the server thread
   /// (the linux backend passes CLOCK_MONOTONIC). Absent: std::chrono::steady_clock.
@@ -107,6 +114,7 @@ class RegisterMap final : public hal::RegisterHandler {
   void refresh_events();
   bool render(uint16_t start, uint16_t end, Block& b);
   Status write_command(std::span<const uint16_t> v);
+  Status write_sweep_command(uint16_t op);
   Status write_delete(std::span<const uint16_t> v);
   Status write_select(std::span<const uint16_t> v);
   Status write_wb_control(std::span<const uint16_t> v);

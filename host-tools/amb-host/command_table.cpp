@@ -32,6 +32,7 @@ const std::map<std::string, std::string>& examples() {
       {"report", "amb-host report amb-out/event_00000001.ambe --wear amb-out/wear_record.ambw --out report.html"},
       {"residual", "amb-host residual amb-out/steady_undeclared.json --json"},
       {"scenario", "amb-host scenario --board bath-amb-rig --json"},
+      {"sweep", "amb-host sweep --board bath-amb-rig --out amb-out --json"},
       {"track-speed", "amb-host track-speed --mat data-20130311T030024Z.mat --var vibration --fs 97656 --profile profiles/windturbine-hss.toml"},
       {"wear-id", "amb-host wear-id ev/w1.json --model 3p --window 2 --json"},
       {"writeback", "amb-host writeback amb-out/wear_record.ambw --host 192.168.1.20 --board bath-amb-rig"},

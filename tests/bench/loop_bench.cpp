@@ -52,6 +52,45 @@ void BM_ControlStep(benchmark::State& state) {
 }
 BENCHMARK(BM_ControlStep);
 
+// The control step levitated (phase levitated, rotor centred), without and with the
+// loop-sensitivity sweep generator running (issue 35): the multisine table lookup at the
+// controller output of axis 0 and the four stores of its record, every step. One axis and 200
+// recorded 1 s periods (32 MB record buffer, allocated at configure) so that the sweep is
+// still recording when the 1.5 M timed steps end (counter sweep_recording = 1).
+void control_step_levitated(benchmark::State& state, bool sweep) {
+  board::BoardConfig b = board::load_board("bath-amb-rig");
+  b.sweep.axes = {true, false, false, false};
+  b.sweep.recorded_periods = 200;
+  fw::Supervisor sup;
+  sup.configure(b);
+  hal::AnalogInputs in{};
+  hal::DiscreteInputs din{};
+  hal::AnalogOutputs out{};
+  hal::DiscreteOutputs dout{};
+  sup.post(fw::Command::levitate);
+  for (int i = 0; i < static_cast<int>((b.lifecycle.liftoff_ramp_s + b.lifecycle.settle_s) * b.rate_hz) + 20; ++i) {
+    in.t_ns += 100000;
+    sup.step(in, true, din, out, dout);
+  }
+  if (sweep) sup.request_sweep_start();
+  long k = 0;
+  const long a0 = g_allocs.load();
+  for (auto _ : state) {
+    in.t_ns += 100000;
+    in.displacement_m[0] = 1e-6 * std::sin(0.01 * static_cast<double>(++k));
+    sup.step(in, true, din, out, dout);
+    benchmark::DoNotOptimize(out);
+  }
+  state.counters["allocs_per_step"] = static_cast<double>(g_allocs.load() - a0) / static_cast<double>(state.iterations());
+  const fw::SweepState ss = sup.status().sweep.state;
+  state.counters["sweep_recording"] = (ss == fw::SweepState::recording || ss == fw::SweepState::settling) ? 1.0 : 0.0;
+  state.counters["levitated"] = sup.status().phase == fw::Phase::levitated ? 1.0 : 0.0;
+}
+void BM_ControlStepLevitated(benchmark::State& state) { control_step_levitated(state, false); }
+void BM_ControlStepSweep(benchmark::State& state) { control_step_levitated(state, true); }
+BENCHMARK(BM_ControlStepLevitated)->Iterations(1500000);
+BENCHMARK(BM_ControlStepSweep)->Iterations(1500000);
+
 void BM_SilPeriod(benchmark::State& state, const char* board_name) {
   const board::BoardConfig b = board::load_board(board_name);
   sil::SilRig rig(b);

@@ -255,7 +255,7 @@ TEST(WriteAccess, BadValuesAndLengthsAreRefusedAndCountedAndLeaveTheArm) {
   EXPECT_EQ(fx.command(regs::op_levitate), St::ok);
   EXPECT_EQ(fx.command(regs::op_levitate), St::illegal_function) << "used once";
   EXPECT_EQ(fx.write(regs::arm, {0, 1}), St::illegal_value) << "arm needs 3 registers";
-  EXPECT_EQ(fx.arm(7), St::illegal_value) << "no operation 7";
+  EXPECT_EQ(fx.arm(9), St::illegal_value) << "no operation 9 (7, 8: sweep start, abort)";
   EXPECT_EQ(fx.arm(0), St::illegal_value);
   EXPECT_EQ(fx.write(regs::command, {1, 1}), St::illegal_value);
   EXPECT_EQ(fx.write(regs::event_delete, {0}), St::illegal_value);

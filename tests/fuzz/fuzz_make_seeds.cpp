@@ -12,6 +12,7 @@
 
 #include "firmware/board/board.hpp"
 #include "firmware/events/event_codec.hpp"
+#include "firmware/events/sweep_event.hpp"
 #include "firmware/fieldbus/protocol.hpp"
 #include "firmware/persistence/generation_store.hpp"
 #include "firmware/supervisory/register_addresses.hpp"
@@ -93,6 +94,26 @@ int main(int argc, char** argv) {
   ev.meta.trigger_index = 4;
   write(root / "fuzz_event_ambe", "short_v_current", amb::fw::encode_event(ev));
   write(root / "fuzz_event_ambe", "short_v1", amb::fw::encode_event_v1(ev));
+  {
+    // A sweep event (AMBE v4, record kind sweep): two lines, one axis of one 8-sample period.
+    amb::fw::SweepEvent sw;
+    sw.meta = ev.meta;
+    sw.samples_per_period = 8;
+    sw.settle_periods = 1;
+    sw.recorded_periods = 1;
+    sw.amplitude_a = 0.25;
+    sw.bins = {1, 3};
+    amb::fw::SweepAxisData a;
+    a.axis = 2;
+    for (int k = 0; k < 8; ++k) {
+      a.excitation_a.push_back(0.1f * static_cast<float>(k));
+      a.controller_output_a.push_back(0.2f);
+      a.summing_point_a.push_back(0.2f + 0.1f * static_cast<float>(k));
+      a.sensor_m.push_back(1e-6f);
+    }
+    sw.axes.push_back(a);
+    write(root / "fuzz_event_ambe", "short_sweep_v4", amb::fw::encode_sweep_event(sw));
+  }
 
   // AMBW: an empty and a filled record.
   amb::fw::WearRecord w;

@@ -347,6 +347,7 @@ budget_figures() {  # budget_figures LABEL LIMIT_KB: print, and check memory aga
   else fail "$1: memory over the budget or not locked: VmLck $lck kB, VmRSS $rss kB (limit $2 kB)"; fi
 }
 BUDGET_KB=32768
+SWEEP_EVENTS=0  # sweep events stored by this run (the drop-event count below leaves them out)
 grep 'GUEST-RT: memory\|GUEST: service start to READY' "$LOG" | sed 's/^/  /'
 if [ "$S" = 2 ] && [ "$BOARD" = arm-virt-tracker ]; then
   spin_and_settle
@@ -370,6 +371,15 @@ if [ "$S" = 2 ] && [ "$BOARD" = arm-virt-tracker ]; then
   else fail "tracked speed register ($TS mHz, flags $FL) not within 1 % of the plant's ${PS:-?} Hz"; fi
   grep -q '^STATUSFRAME:.* vcan0 501#' "$LOG" && pass "candump sees the board-status frame 0x501 (speed, confidence, flags)" \
     || fail "no board-status frame 0x501 on vcan0"
+  # A short loop-sensitivity sweep over Modbus (docs/sweep.md "Board side"; the board's [sweep]:
+  # one axis, 1 s periods, 1 + 2 periods): the host-built amb-host arms and starts it with the
+  # board's key, polls its progress registers and downloads the new `sweep` event.
+  SJ=$("$HOST" sweep --connect 127.0.0.1 --port "$PORT" --arm-key "$ARM_KEY" --out "$WORK/sweep" --timeout 120 --json 2>"$WORK/sweep.err")
+  if [ $? -eq 0 ]; then
+    SWEEP_EVENTS=1
+    echo "$SJ" | python3 -c 'import json,sys; j=json.load(sys.stdin); print("  sweep event %s: %d bytes, %d lines %.1f .. %.1f Hz, amplitude %.3g A, crest factor %.2f" % (j["event"], j["event_bytes"], j["lines"], j["f_first_hz"], j["f_last_hz"], j["amplitude_a"], j["crest_factor"])); [print("  sweep axis %d: u/e peak %.3f at %.1f Hz" % (a["axis"], a["u_over_e_peak"], a["u_over_e_peak_hz"])) for a in j["axes"]]'
+    pass "amb-host sweep: a loop-sensitivity sweep armed, started, run and downloaded over Modbus (CRC-32C checked)"
+  else fail "amb-host sweep: $(tail -3 "$WORK/sweep.err" | tr '\n' ' ') $SJ"; fi
   loop_figures "with the analysis thread ON"
   LOOP_ON=$(loop_figures on)
   budget_figures "analysis thread on, at speed" $BUDGET_KB
@@ -385,9 +395,10 @@ grep 'GUEST-PLANT' "$LOG" | tail -1
 i=0; n=0
 while [ $i -lt 90 ]; do
   n=$("$HOST" fetch --host 127.0.0.1 --port "$PORT" --list --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["events_on_board"])' 2>/dev/null || echo 0)
-  [ "${n:-0}" -ge 1 ] && break
+  [ "${n:-0}" -ge $((1 + SWEEP_EVENTS)) ] && break  # the sweep's event is stored there too
   sleep 2; i=$((i + 2))
 done
+n=$(( ${n:-0} - SWEEP_EVENTS ))
 S=$(reg 256); F=$(reg 258)
 [ "$S" = 4 ] && pass "board in the safe state after the drop (fault reason $F: 3 sensor_invalid = samples from the lagging emulated plant too late, 5 comm_timeout = nodes silent)" || fail "not in the safe state (state $S)"
 [ "${n:-0}" -ge 1 ] && pass "drop event captured and stored on the board's disk ($n event(s))" || fail "no drop event on the board"
