@@ -2,14 +2,16 @@
 // the independent finite-difference solver (fd_film.hpp, 288 x 48 nodes, K/C within ~0.1 %
 // of converged), not by the production film the identification uses (inverse crime avoided).
 // The identification runs as `amb-host wear-id` does by default: search on the board's
-// grid, then the grid refined to 0.2 % estimated K/C error. Label long (minutes).
+// grid, then the grid refined to 0.2 % estimated K/C error. One case per wear: e = 0.1 alone and
+// the joint fit within targets; e = 0.7 alone within targets when reported identified, else the
+// truth inside the reported intervals (valleys + profile likelihood, wear_identification.hpp).
+// Label long (minutes).
 // Run: build/tests/journal/journal_wear_id_independent_tests
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -191,17 +193,3 @@ TEST(JournalWearIdIndependent, UnwornRecordsHaveNoMeasurableWear) {
   }
 }
 
-TEST(JournalWearIdIndependent, TmpExisting) {
-  const char* env = std::getenv("AMB_TMP_RECORD");
-  if (!env) GTEST_SKIP();
-  const board::BoardConfig b = board::load_board("unicamp-journal-rig");
-  const int index = std::atoi(std::getenv("AMB_TMP_WEAR"));
-  const Wear& w = k_wears[index];
-  const std::string dir = std::string(test::artefact_dir()) + "/journal_wear_fd/";
-  const wi::JournalMeasurement m = wi::measure_journal(host::load_event(dir + env), b);
-  const wi::WearIdResult r = wi::identify_wear(b, m, options());
-  print("tmp", w, r);
-  print_valleys(r);
-  print_truth_chi2(b, {m}, w, r);
-  std::printf("  truth in a valley: %d\n", truth_in_an_acceptable_valley(w, r));
-}
