@@ -50,6 +50,27 @@ nlohmann::json component(std::complex<double> z) {
   return {{"amplitude_um", std::abs(z) * 1e6}, {"phase_deg", std::arg(z) * 180.0 / M_PI}};
 }
 
+// [lo, hi], null where not finite (a rejected valley has no interval).
+nlohmann::json interval(const std::array<double, 2>& v) {
+  if (!std::isfinite(v[0]) || !std::isfinite(v[1])) return nullptr;
+  return nlohmann::json::array({v[0], v[1]});
+}
+
+nlohmann::json valleys_json(const std::vector<wi::WearValley>& vs) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const wi::WearValley& v : vs)
+    out.push_back({{"d0_um", v.d0_um},
+                   {"gamma_deg", v.gamma_deg},
+                   {"beta_deg", v.beta_deg},
+                   {"cost", v.cost},
+                   {"chi2", std::isfinite(v.chi2) ? nlohmann::json(v.chi2) : nlohmann::json(nullptr)},
+                   {"acceptable", v.acceptable},
+                   {"d0_um_interval", interval(v.d0_interval_um)},
+                   {"gamma_deg_interval", interval(v.gamma_interval_deg)},
+                   {"beta_deg_interval", interval(v.beta_interval_deg)}});
+  return out;
+}
+
 int run(const Args& a) {
   wi::WearIdOptions o;
   if (a.model == "2p") {
@@ -122,14 +143,21 @@ int run(const Args& a) {
                  r.wear_measurable ? "wear measured" : "no measurable wear", r.delta_bic, r.effect_sigma,
                  r.decision_reason.c_str());
     if (!r.identified) {
+      std::string amb;
+      for (const std::string& p : r.ambiguous) amb += (amb.empty() ? "" : ", ") + p;
       std::fprintf(stderr,
-                   "wear-id: not identifiable from %s: intervals (2 sigma) d0 %.1f..%.1f um, gamma %.1f..%.1f deg, beta "
-                   "%.1f..%.1f deg; flat direction (d0 um, gamma deg, beta deg) = (%.2f, %.2f, %.2f), 1-sigma %.3g along it\n",
-                   r.records > 1 ? "these records" : "this record alone", r.d0_um - 2 * r.d0_uncertainty_um,
-                   r.d0_um + 2 * r.d0_uncertainty_um, r.gamma_deg - 2 * r.gamma_uncertainty_deg,
-                   r.gamma_deg + 2 * r.gamma_uncertainty_deg, r.beta_deg - 2 * r.beta_uncertainty_deg,
-                   r.beta_deg + 2 * r.beta_uncertainty_deg, r.flat_direction[0], r.flat_direction[1], r.flat_direction[2],
-                   r.flat_direction_sigma);
+                   "wear-id: not identifiable from %s: %d valley%s the records cannot reject (chi2 within %.2f of the best, "
+                   "%.0f %% level x scale %.2f); where the wear can be (%.0f %%): d0 %.1f..%.1f um, gamma %.1f..%.1f deg, "
+                   "beta %.1f..%.1f deg; ambiguous: %s; flat direction at the best (d0 um, gamma deg, beta deg) = "
+                   "(%.2f, %.2f, %.2f), 1-sigma %.3g along it\n",
+                   r.records > 1 ? "these records" : "this record alone", r.acceptable_valleys,
+                   r.acceptable_valleys == 1 ? "" : "s", r.chi2_scale * r.chi2_level, 100.0 * o.confidence, r.chi2_scale,
+                   100.0 * o.confidence, r.d0_interval_um[0], r.d0_interval_um[1], r.gamma_interval_deg[0],
+                   r.gamma_interval_deg[1], r.beta_interval_deg[0], r.beta_interval_deg[1], amb.empty() ? "none" : amb.c_str(),
+                   r.flat_direction[0], r.flat_direction[1], r.flat_direction[2], r.flat_direction_sigma);
+      for (const wi::WearValley& v : r.valleys)
+        std::fprintf(stderr, "wear-id:   valley d0 %.2f um, gamma %.2f deg, beta %.2f deg: chi2 %.3g%s\n", v.d0_um, v.gamma_deg,
+                     v.beta_deg, v.chi2, v.acceptable ? " (acceptable)" : " (rejected)");
       if (r.records == 1)
         std::fprintf(stderr, "wear-id: fit it together with a record of the same bearing at another static eccentricity: --with EVENT2\n");
     }
@@ -172,6 +200,15 @@ int run(const Args& a) {
         {"identified", r.identified},
         {"flat_direction", {{"d0_um", r.flat_direction[0]}, {"gamma_deg", r.flat_direction[1]}, {"beta_deg", r.flat_direction[2]}}},
         {"flat_direction_sigma", r.flat_direction_sigma},
+        {"acceptable_valleys", r.acceptable_valleys},
+        {"valleys", valleys_json(r.valleys)},
+        {"intervals",
+         {{"d0_um", interval(r.d0_interval_um)},
+          {"gamma_deg", interval(r.gamma_interval_deg)},
+          {"beta_deg", interval(r.beta_interval_deg)},
+          {"confidence", o.confidence}}},
+        {"ambiguous", r.ambiguous},
+        {"chi2", {{"min", r.chi2_min}, {"dof", r.chi2_dof}, {"level", r.chi2_level}, {"scale", r.chi2_scale}}},
         {"wear_measurable", r.wear_measurable},
         {"verdict", r.wear_measurable ? "wear" : "no measurable wear"},
         {"model_comparison",
@@ -207,6 +244,8 @@ int run(const Args& a) {
     for (const char* k : {"unworn_cost", "delta_bic", "effect_sigma"})
       if (!std::isfinite(j["model_comparison"][k].get<double>())) j["model_comparison"][k] = nullptr;
     if (!std::isfinite(j["flat_direction_sigma"].get<double>())) j["flat_direction_sigma"] = nullptr;
+    for (const char* k : {"min", "level"})
+      if (!std::isfinite(j["chi2"][k].get<double>())) j["chi2"][k] = nullptr;
     for (const char* k : {"error_estimate", "board_grid_error"})
       if (!std::isfinite(j["film_grid"][k].get<double>())) j["film_grid"][k] = nullptr;
     std::printf("%s\n", j.dump(2).c_str());

@@ -30,10 +30,13 @@ std::array<double, 2> FdFilm::force_n(const mj::JournalState& s, double spin_rad
   }
   const int stride = nz_ + 1;
   const double omega = 2.0 / (1.0 + std::sin(M_PI / std::max(0.5 * nt_, static_cast<double>(nz_))));
+  if (zero_node_ >= 0 && zero_node_ < nt_)
+    for (int j = 0; j <= nz_; ++j) p_[static_cast<size_t>(zero_node_ * stride + j)] = 0.0;
   sweeps_ = 0;
   for (;;) {
     double change = 0.0, pmax = 0.0;
     for (int i = 0; i < nt_; ++i) {
+      if (i == zero_node_) continue;  // p stays 0 on the inlet line
       const int ip = (i + 1) % nt_, im = (i + nt_ - 1) % nt_;
       const size_t ii = static_cast<size_t>(i);
       const double diag = ae[ii] + aw[ii] + 2.0 * az[ii];

@@ -32,6 +32,9 @@ class FdFilm {
   model::journal::DynamicCoefficients coefficients(const model::journal::JournalState& s, double spin_rad_s,
                                                    double relative_step = 1e-2);
   int last_sweeps() const { return sweeps_; }
+  /// Raimondi & Boyd's inlet: p = 0 on the circumferential node `i` (all axial nodes), where
+  /// the caller places the maximum film; -1 (default): no inlet line, cavitation alone.
+  void set_zero_pressure_node(int i) { zero_node_ = i; }
 
  private:
   model::journal::BearingGeometry g_;
@@ -39,6 +42,7 @@ class FdFilm {
   int nt_, nz_;
   std::vector<double> p_;
   int sweeps_ = 0;
+  int zero_node_ = -1;
 };
 
 }  // namespace amb::test::journal

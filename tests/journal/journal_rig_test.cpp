@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <complex>
 #include <cstdio>
 #include <filesystem>
@@ -352,4 +353,16 @@ TEST(JournalRig, HarmonicBalanceAndWearIdRefuseBadSettingsByName) {
       EXPECT_NE(std::string(e.what()).find("harmonics"), std::string::npos) << e.what();
     }
   }
+}
+
+// wear-id's chi-square level (issue 33): the quantiles against published table values
+// (chi-square 95 %: 3.841, 5.991, 7.815 for 1, 2, 3 degrees of freedom; 99 %: 6.635, 9.210, 11.345).
+TEST(WearIdLevel, ChiSquareQuantilesMatchTheTable) {
+  EXPECT_NEAR(amb::host::wearid::chi_square_quantile(1, 0.95), 3.841, 1e-3);
+  EXPECT_NEAR(amb::host::wearid::chi_square_quantile(2, 0.95), 5.991, 1e-3);
+  EXPECT_NEAR(amb::host::wearid::chi_square_quantile(3, 0.95), 7.815, 1e-3);
+  EXPECT_NEAR(amb::host::wearid::chi_square_quantile(1, 0.99), 6.635, 1e-3);
+  EXPECT_NEAR(amb::host::wearid::chi_square_quantile(2, 0.99), 9.210, 1e-3);
+  EXPECT_NEAR(amb::host::wearid::chi_square_quantile(3, 0.99), 11.345, 1e-3);
+  EXPECT_THROW(amb::host::wearid::chi_square_quantile(4, 0.95), std::invalid_argument);
 }

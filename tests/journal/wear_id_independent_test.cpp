@@ -2,10 +2,14 @@
 // the independent finite-difference solver (fd_film.hpp, 288 x 48 nodes, K/C within ~0.1 %
 // of converged), not by the production film the identification uses (inverse crime avoided).
 // The identification runs as `amb-host wear-id` does by default: search on the board's
-// grid, then the grid refined to 0.2 % estimated K/C error. Label long (minutes).
+// grid, then the grid refined to 0.2 % estimated K/C error. One case per wear: e = 0.1 alone and
+// the joint fit within targets; e = 0.7 alone within targets when reported identified, else the
+// truth inside the reported intervals (valleys + profile likelihood, wear_identification.hpp).
+// Label long (minutes).
 // Run: build/tests/journal/journal_wear_id_independent_tests
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -70,39 +74,94 @@ bool within(const Wear& w, const wi::WearIdResult& r) {
   return std::abs(r.d0_um / w.d0_um - 1) < 0.05 && std::abs(r.gamma_deg - w.gamma_deg) < 3.0 &&
          std::abs(r.beta_deg / w.beta_deg - 1) < 0.05;
 }
+
+bool inside(const std::array<double, 2>& iv, double v) { return iv[0] <= v && v <= iv[1]; }
+
+// The truth lies in the reported intervals (each parameter's).
+bool truth_in_reported_intervals(const Wear& w, const wi::WearIdResult& r) {
+  return inside(r.d0_interval_um, w.d0_um) && inside(r.gamma_interval_deg, w.gamma_deg) && inside(r.beta_interval_deg, w.beta_deg);
+}
+
+// The truth lies in one acceptable valley's intervals (all three parameters in the same valley).
+bool truth_in_an_acceptable_valley(const Wear& w, const wi::WearIdResult& r) {
+  for (const wi::WearValley& v : r.valleys)
+    if (v.acceptable && inside(v.d0_interval_um, w.d0_um) && inside(v.gamma_interval_deg, w.gamma_deg) &&
+        inside(v.beta_interval_deg, w.beta_deg))
+      return true;
+  return false;
+}
+
+// For the record only (the identification is never told): the chi2 the truth would have on the
+// result's refined grid, from the cost ratio (one record: every residual has the same sigma).
+void print_truth_chi2(const board::BoardConfig& b, const std::vector<wi::JournalMeasurement>& ms, const Wear& w,
+                      const wi::WearIdResult& r) {
+  board::BoardConfig fine = b;
+  fine.journal.grid.cells_theta = r.grid_theta;
+  fine.journal.grid.cells_axial = r.grid_axial;
+  wi::WearIdOptions o = options();
+  o.grid_tolerance = 0.0;
+  const mj::WearParams truth{mj::WearModel::elliptical, w.d0_um * 1e-6, w.gamma_deg * k_deg, w.beta_deg * k_deg};
+  const mj::WearParams best{mj::WearModel::elliptical, r.d0_um * 1e-6, r.gamma_deg * k_deg, r.beta_deg * k_deg};
+  const double ct = wi::wear_cost(fine, ms, o, truth), cb = wi::wear_cost(fine, ms, o, best);
+  std::printf("  truth on the %d x %d grid: cost %.3g (best %.3g): chi2 ~ %.3g against the level %.3g\n", r.grid_theta,
+              r.grid_axial, ct, cb, r.chi2_min * ct / cb, r.chi2_min + r.chi2_scale * r.chi2_level);
+}
+
+void print_valleys(const wi::WearIdResult& r) {
+  std::printf("  identified %d, %d of %zu valleys acceptable (chi2 min %.3g, dof %d, level %.2f x scale %.2f), ambiguous:",
+              r.identified, r.acceptable_valleys, r.valleys.size(), r.chi2_min, r.chi2_dof, r.chi2_level, r.chi2_scale);
+  for (const std::string& a : r.ambiguous) std::printf(" %s", a.c_str());
+  std::printf("\n  intervals d0 %.2f..%.2f um, gamma %.2f..%.2f deg, beta %.2f..%.2f deg; measurable %d (dBIC %.1f)\n",
+              r.d0_interval_um[0], r.d0_interval_um[1], r.gamma_interval_deg[0], r.gamma_interval_deg[1],
+              r.beta_interval_deg[0], r.beta_interval_deg[1], r.wear_measurable, r.delta_bic);
+  for (const wi::WearValley& v : r.valleys)
+    std::printf("    valley %.2f um / %.2f deg / %.2f deg: cost %.3g chi2 %.3g %s; d0 %.2f..%.2f, gamma %.2f..%.2f, beta "
+                "%.2f..%.2f\n",
+                v.d0_um, v.gamma_deg, v.beta_deg, v.cost, v.chi2, v.acceptable ? "acceptable" : "rejected",
+                v.d0_interval_um[0], v.d0_interval_um[1], v.gamma_interval_deg[0], v.gamma_interval_deg[1],
+                v.beta_interval_deg[0], v.beta_interval_deg[1]);
+  std::printf("    profile %d points, %.1f s\n", r.profile_points, r.profile_wall_s);
+}
+
+// Wear `index` of Table 2: each record alone at e = 0.1 within targets; alone at e = 0.7 within
+// targets when reported identified, else the truth inside an acceptable valley's intervals;
+// both together within targets.
+void check_wear(int index) {
+  const board::BoardConfig b = board::load_board("unicamp-journal-rig");
+  const Wear& w = k_wears[index];
+  int seed = 71 + 2 * index;
+  const wi::JournalMeasurement m01 = wi::measure_journal(host::load_event(fd_record(w, 0.1, seed++)), b);
+  const wi::JournalMeasurement m07 = wi::measure_journal(host::load_event(fd_record(w, 0.7, seed++)), b);
+  const wi::WearIdResult r01 = wi::identify_wear(b, m01, options());
+  print("e 0.1", w, r01);
+  print_valleys(r01);
+  EXPECT_TRUE(within(w, r01)) << w.tag;
+  EXPECT_TRUE(r01.grid_converged);
+  // e = 0.7 alone (with the journal pressed into the bore a wear may not be identifiable from
+  // this record alone, docs/journal-bearing.md): an identified result must be within the
+  // targets; a result reported not identifiable must hold the truth in its intervals.
+  const wi::WearIdResult r07 = wi::identify_wear(b, m07, options());
+  print("e 0.7", w, r07);
+  print_valleys(r07);
+  print_truth_chi2(b, {m07}, w, r07);
+  // The reported intervals are the hull of the acceptable valleys' profile intervals; whether
+  // the truth also lies in one valley's own region is printed (docs/journal-bearing.md).
+  std::printf("  e = 0.7 %s: truth in the reported intervals %d, in one acceptable valley's region %d\n", w.tag,
+              truth_in_reported_intervals(w, r07), truth_in_an_acceptable_valley(w, r07));
+  if (r07.identified)
+    EXPECT_TRUE(within(w, r07)) << w.tag << ": reported identified but outside the targets";
+  else
+    EXPECT_TRUE(truth_in_reported_intervals(w, r07)) << w.tag << ": reported not identifiable, truth outside its intervals";
+  const wi::WearIdResult rj = wi::identify_wear(b, std::vector<wi::JournalMeasurement>{m07, m01}, options());
+  print("joint", w, rj);
+  print_valleys(rj);
+  EXPECT_TRUE(within(w, rj)) << w.tag;
+}
 }  // namespace
 
-TEST(JournalWearIdIndependent, EachRecordAtE01AloneAndJointWithinTargets) {
-  const board::BoardConfig b = board::load_board("unicamp-journal-rig");
-  int seed = 71;
-  for (const Wear& w : k_wears) {
-    const wi::JournalMeasurement m01 = wi::measure_journal(host::load_event(fd_record(w, 0.1, seed++)), b);
-    const wi::JournalMeasurement m07 = wi::measure_journal(host::load_event(fd_record(w, 0.7, seed++)), b);
-    const wi::WearIdResult r01 = wi::identify_wear(b, m01, options());
-    print("e 0.1", w, r01);
-    EXPECT_TRUE(within(w, r01)) << w.tag;
-    EXPECT_TRUE(r01.grid_converged);
-    // e = 0.7 alone: within targets, or reported not identifiable with intervals (2 sigma,
-    // Gauss-Newton) that contain the truth (with the journal pressed into the bore a wear may
-    // not be identifiable from this record alone, docs/journal-bearing.md).
-    const wi::WearIdResult r07 = wi::identify_wear(b, m07, options());
-    print("e 0.7", w, r07);
-    std::printf("  identified %d, flat direction (%.2f, %.2f, %.2f), measurable %d (dBIC %.1f)\n", r07.identified,
-                r07.flat_direction[0], r07.flat_direction[1], r07.flat_direction[2], r07.wear_measurable, r07.delta_bic);
-    // NOT asserted (issue 33's "e = 0.7 within targets or reported not identifiable with an
-    // interval containing the truth" is not met for wear 1: the search ends in the second
-    // valley with a small Gauss-Newton interval, which cannot show a second minimum; a profile
-    // likelihood would. docs/journal-bearing.md records the figures.)
-    const bool e07_ok = within(w, r07) ||
-                        (!r07.identified && std::abs(r07.d0_um - w.d0_um) <= 2 * r07.d0_uncertainty_um &&
-                         std::abs(r07.gamma_deg - w.gamma_deg) <= 2 * r07.gamma_uncertainty_deg &&
-                         std::abs(r07.beta_deg - w.beta_deg) <= 2 * r07.beta_uncertainty_deg);
-    std::printf("  e = 0.7 %s: %s\n", w.tag, e07_ok ? "met" : "NOT met (confident answer outside the targets)");
-    const wi::WearIdResult rj = wi::identify_wear(b, std::vector<wi::JournalMeasurement>{m07, m01}, options());
-    print("joint", w, rj);
-    EXPECT_TRUE(within(w, rj)) << w.tag;
-  }
-}
+TEST(JournalWearIdIndependent, Wear1AtE01AndE07AloneAndJoint) { check_wear(0); }
+TEST(JournalWearIdIndependent, Wear2AtE01AndE07AloneAndJoint) { check_wear(1); }
+TEST(JournalWearIdIndependent, Wear3AtE01AndE07AloneAndJoint) { check_wear(2); }
 
 TEST(JournalWearIdIndependent, UnwornRecordsHaveNoMeasurableWear) {
   // Unworn bore, FD-film records at both eccentricities: the model comparison (residual
@@ -124,6 +183,7 @@ TEST(JournalWearIdIndependent, UnwornRecordsHaveNoMeasurableWear) {
     ASSERT_TRUE(wi::record_journal_sil(o, stem).ok);
     const wi::JournalMeasurement m = wi::measure_journal(host::load_event(stem + ".json"), b);
     const wi::WearIdResult r = wi::identify_wear(b, m, options());
+    print_valleys(r);
     std::printf("unworn e %.1f: fit d0 %.2f um gamma %.2f beta %.2f, cost %.2e (unworn %.2e), dBIC %.1f, effect %.1f sigma, "
                 "identified %d, measurable %d: %s\n",
                 ecc, r.d0_um, r.gamma_deg, r.beta_deg, r.cost, r.unworn_cost, r.delta_bic, r.effect_sigma, r.identified,
@@ -132,3 +192,4 @@ TEST(JournalWearIdIndependent, UnwornRecordsHaveNoMeasurableWear) {
     (void)none;
   }
 }
+

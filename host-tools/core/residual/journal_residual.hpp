@@ -35,6 +35,7 @@ struct JournalResidualOptions {
     wearid::WearIdOptions o;
     o.model = model::journal::WearModel::elliptical;
     o.depth_um = {1.0, 150.0};
+    o.profile_likelihood = false;  // the loop decides on its own identifiability rule, not on wear-id's intervals
     return o;
   }();
 };

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <nlopt.hpp>
 #include <stdexcept>
@@ -17,6 +18,22 @@ namespace amb::host::wearid {
 namespace mj = model::journal;
 namespace {
 constexpr double k_deg = M_PI / 180.0;
+/// Two polish end points are the same valley when no scaled parameter differs by more than
+/// this (the box is [0, 1] per parameter: 7 % of d0 on its log scale, 1.8 deg of gamma, 2.4 deg
+/// of beta with the default bounds).
+constexpr double k_valley_separation = 0.02;
+/// Profile likelihood: step of the depth (in its log-scaled box, 0.025 = 8.9 % of d0 with the
+/// default bounds) and the most steps from a valley in each direction.
+constexpr double k_profile_step = 0.025;
+constexpr int k_profile_max_steps = 41;
+
+/// Chi-square distribution function with k = 1, 2 or 3 degrees of freedom (closed forms).
+double chi_square_cdf(int k, double x) {
+  if (x <= 0.0) return 0.0;
+  if (k == 1) return std::erf(std::sqrt(x / 2.0));
+  if (k == 2) return 1.0 - std::exp(-x / 2.0);
+  return std::erf(std::sqrt(x / 2.0)) - std::sqrt(2.0 * x / M_PI) * std::exp(-x / 2.0);
+}
 
 // One evaluator per thread: its own Reynolds solver workspace and rig response.
 class Evaluator {
@@ -166,6 +183,14 @@ class Evaluator {
     }
     return 0.5 * s;
   }
+  /// Chi-square of the records at a point: sum over residuals of (residual / its noise sigma)^2.
+  /// Throws std::invalid_argument where the model cannot represent the wear.
+  double chi2(const std::vector<double>& u) {
+    const std::vector<double> r = residual(u);
+    double s = 0.0;
+    for (size_t k = 0; k < r.size(); ++k) s += (r[k] / sigma_[k]) * (r[k] / sigma_[k]);
+    return s;
+  }
   int evaluations = 0;
 
  private:
@@ -201,6 +226,18 @@ const char* nlopt_reason(nlopt::result r) {
 }
 }  // namespace
 
+double chi_square_quantile(int dof, double p) {
+  if (dof < 1 || dof > 3) throw std::invalid_argument("chi_square_quantile: dof must be 1..3");
+  if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("chi_square_quantile: p must be in (0, 1)");
+  double a = 0.0, b = 1.0;
+  while (chi_square_cdf(dof, b) < p) b *= 2.0;
+  for (int it = 0; it < 200 && b - a > 1e-12 * b; ++it) {
+    const double m = 0.5 * (a + b);
+    (chi_square_cdf(dof, m) < p ? a : b) = m;
+  }
+  return 0.5 * (a + b);
+}
+
 std::string WearIdOptions::check() const {
   if (model != mj::WearModel::two_parameter && model != mj::WearModel::elliptical) return "model must be 2p or 3p";
   if (!(depth_um[0] > 0.0 && depth_um[1] > depth_um[0])) return "depth bounds must satisfy 0 < lower < upper (um)";
@@ -213,6 +250,8 @@ std::string WearIdOptions::check() const {
   if (max_evaluations < 10) return "max_evaluations must be >= 10";
   if (max_restarts < 0 || max_restarts > 50) return "max_restarts must be 0..50";
   if (threads < 1 || threads > 64) return "threads must be 1..64";
+  if (max_valleys < 1 || max_valleys > 16) return "max_valleys must be 1..16";
+  if (!(confidence > 0.5 && confidence < 1.0)) return "confidence must be in (0.5, 1)";
   if (!(window_s > 0.0)) return "window_s must be > 0";
   if (second_harmonic && !full_film) return "the 2x components need the full-film model (full_film)";
   if (full_film && use_amb_planes) return "the full-film model predicts the journal probes only (not with the AMB planes)";
@@ -464,28 +503,93 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
     polish_all(more);
     r.refined_starts = static_cast<int>(more.size());
   }
-  const size_t win = winner();
   for (int v : pevals) r.evaluations += v;
   r.evaluations += r.doe_evaluations;
-  std::vector<double> x = best_x[win];
-  r.cost = best_f[win];
-  r.stop_reason = reasons[win];
   r.grid_theta = r.coarse_grid_theta = board.journal.grid.cells_theta;
   r.grid_axial = r.coarse_grid_axial = board.journal.grid.cells_axial;
 
-  Evaluator e(board, meas, o);
+  // Global stage (issue 33): the polishes above start from every local minimum of the DOE
+  // grid over the whole box (and from the winner's neighbours), so their end points are the
+  // cost's valleys. The distinct ones (apart by more than k_valley_separation of the box in
+  // some parameter), best first, up to max_valleys, are carried on: each is polished on the
+  // refined grid, and the records decide between them below by a chi-square level.
+  struct Valley {
+    std::vector<double> x;
+    double cost = 1e300;
+    std::string reason;
+    std::vector<mj::DynamicCoefficients> correction;  // defect correction at x (linear film, refined grid)
+  };
+  const auto same_valley = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    for (int i = 0; i < n; ++i)
+      if (std::abs(a[static_cast<size_t>(i)] - b[static_cast<size_t>(i)]) > k_valley_separation) return false;
+    return true;
+  };
+  std::vector<Valley> valleys;
+  {
+    std::vector<size_t> by_cost(best_f.size());
+    for (size_t s = 0; s < by_cost.size(); ++s) by_cost[s] = s;
+    std::stable_sort(by_cost.begin(), by_cost.end(), [&](size_t a, size_t b) { return best_f[a] < best_f[b]; });
+    for (size_t s : by_cost) {
+      if (static_cast<int>(valleys.size()) >= o.max_valleys) break;
+      if (!valleys.empty() && !(best_f[s] < 1e2)) break;  // 1e3: a wear the model cannot represent
+      bool seen = false;
+      for (const Valley& v : valleys) seen = seen || same_valley(v.x, best_x[s]);
+      if (!seen) valleys.push_back({best_x[s], best_f[s], reasons[s], {}});
+    }
+  }
+  r.stop_reason = valleys.front().reason;
+
   // Converged film: the search above ran on the board's grid; the grid is now refined to the
   // tolerance at the winning wear (each record's journal position; the finest of the grids
-  // the records need), and the optimum is polished on it. Linear film: by defect correction,
-  // the fine grid's coefficients minus the board grid's, both at the current wear, added to
-  // every evaluation of a cheap polish on the board grid; repeated at the new optimum until
-  // it moves < 1e-4 of the box (the correction is exact at the result, so its cost there is
-  // the fine grid's cost). Full film: the polish runs on the fine grid.
-  if (o.grid_tolerance > 0.0) {
+  // the records need), and each valley's optimum is polished on it. Linear film: by defect
+  // correction, the fine grid's coefficients minus the board grid's, both at the current
+  // wear, added to every evaluation of a cheap polish on the board grid; repeated at the new
+  // optimum until it moves < 1e-4 of the box (the correction is exact at the result, so its
+  // cost there is the fine grid's cost). Full film: the polish runs on the fine grid.
+  mj::ReynoldsOptions fine = board.journal.grid;
+  const bool refine = o.grid_tolerance > 0.0;
+  const bool full = o.full_film;
+  auto polish = [&](Evaluator& ev, std::vector<double>& xs, int max_eval) {
+    nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
+    opt.set_lower_bounds(std::vector<double>(static_cast<size_t>(n), 0.0));
+    opt.set_upper_bounds(std::vector<double>(static_cast<size_t>(n), 1.0));
+    opt.set_min_objective(nlopt_cost, &ev);
+    opt.set_xtol_rel(o.xtol_rel);
+    opt.set_ftol_abs(1e-14);
+    opt.set_maxeval(max_eval);
+    double f = ev.cost(xs);
+    for (int restart = 0; restart <= o.max_restarts; ++restart) {
+      std::vector<double> x2 = xs;
+      for (double& v : x2) v = std::clamp(v, 0.03, 0.97);
+      opt.set_initial_step(0.02);
+      double f2 = 1e300;
+      try {
+        opt.optimize(x2, f2);
+      } catch (const std::exception&) {
+        f2 = ev.cost(x2);
+      }
+      if (!(f2 < f)) break;
+      const bool small_gain = f - f2 < 1e-3 * f;
+      xs = x2;
+      f = f2;
+      if (small_gain) break;
+    }
+    return f;
+  };
+  // An evaluator set up as a valley's result is evaluated: the refined grid (full film) or the
+  // board's grid with the valley's defect correction (linear film).
+  auto evaluator_for = [&](const Valley& v) {
+    auto ev = std::make_unique<Evaluator>(board, meas, o);
+    if (refine && full) ev->set_grid(fine);
+    if (refine && !full) ev->set_correction(v.correction);
+    return ev;
+  };
+  if (refine) {
     const auto tg = std::chrono::steady_clock::now();
+    Evaluator e(board, meas, o);
+    const std::vector<double>& x = valleys.front().x;
     mj::GridRefinementOptions go;
     go.tolerance = o.grid_tolerance;
-    mj::ReynoldsOptions fine = board.journal.grid;
     fine.cells_theta = fine.cells_axial = 0;
     r.grid_error_estimate = 0.0;
     r.grid_converged = true;
@@ -507,46 +611,30 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
                  " (estimated K/C error " + std::to_string(100.0 * r.grid_error_estimate) + " %; the board's " +
                  std::to_string(board.journal.grid.cells_theta) + " x " + std::to_string(board.journal.grid.cells_axial) +
                  " grid is " + std::to_string(100.0 * r.coarse_grid_error) + " % off it)");
-    Evaluator fe(board, meas, o);
-    fe.set_grid(fine);
-    auto polish = [&](Evaluator& ev, std::vector<double>& xs, int max_eval) {
-      nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
-      opt.set_lower_bounds(std::vector<double>(static_cast<size_t>(n), 0.0));
-      opt.set_upper_bounds(std::vector<double>(static_cast<size_t>(n), 1.0));
-      opt.set_min_objective(nlopt_cost, &ev);
-      opt.set_xtol_rel(o.xtol_rel);
-      opt.set_ftol_abs(1e-14);
-      opt.set_maxeval(max_eval);
-      double f = ev.cost(xs);
-      for (int restart = 0; restart <= o.max_restarts; ++restart) {
-        std::vector<double> x2 = xs;
-        for (double& v : x2) v = std::clamp(v, 0.03, 0.97);
-        opt.set_initial_step(0.02);
-        double f2 = 1e300;
-        try {
-          opt.optimize(x2, f2);
-        } catch (const std::exception&) {
-          f2 = ev.cost(x2);
-        }
-        if (!(f2 < f)) break;
-        const bool small_gain = f - f2 < 1e-3 * f;
-        xs = x2;
-        f = f2;
-        if (small_gain) break;
-      }
-      return f;
+    struct Counts {
+      int evaluations = 0, fine_evaluations = 0, rounds = 0;
     };
-    if (!e.full_film()) {
+    std::vector<Counts> counts(valleys.size());
+    auto refine_valley = [&](Valley& v, Counts& c) {
+      std::vector<double> xv = v.x;
+      Evaluator fe(board, meas, o);
+      fe.set_grid(fine);
+      if (full) {
+        v.cost = polish(fe, xv, o.max_evaluations);
+        v.x = xv;
+        c.fine_evaluations += fe.evaluations;
+        return;
+      }
       Evaluator ce(board, meas, o);
       auto correction_at = [&](const std::vector<double>& xs) {
         std::vector<mj::DynamicCoefficients> corr(meas.size());
         for (size_t rec = 0; rec < meas.size(); ++rec) {
-          const mj::DynamicCoefficients f = fe.coefficients(e.wear_of(xs), rec), c = ce.coefficients(e.wear_of(xs), rec);
-          corr[rec].fx0_n = f.fx0_n - c.fx0_n;
-          corr[rec].fy0_n = f.fy0_n - c.fy0_n;
-          corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - c.stiffness_n_per_m;
-          corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - c.damping_n_s_per_m;
-          r.fine_evaluations += 2;
+          const mj::DynamicCoefficients f = fe.coefficients(fe.wear_of(xs), rec), g = ce.coefficients(ce.wear_of(xs), rec);
+          corr[rec].fx0_n = f.fx0_n - g.fx0_n;
+          corr[rec].fy0_n = f.fy0_n - g.fy0_n;
+          corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - g.stiffness_n_per_m;
+          corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - g.damping_n_s_per_m;
+          c.fine_evaluations += 2;
         }
         return corr;
       };
@@ -554,106 +642,400 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       // there; the best such point is kept. A round whose new point is worse than the best on
       // the refined grid steps back halfway towards the best (the board grid's cost is rough,
       // so an undamped iteration can cycle between valleys: seen on an FD-film record).
-      std::vector<double> fine_best = x;
+      std::vector<double> fine_best = xv;
       std::vector<mj::DynamicCoefficients> best_corr;
       double fine_best_f = INFINITY;
       for (int it = 0; it < 10; ++it) {
-        const std::vector<mj::DynamicCoefficients> corr = correction_at(x);
+        const std::vector<mj::DynamicCoefficients> corr = correction_at(xv);
         ce.set_correction(corr);
-        const double fx = ce.cost(x);
-        ++r.grid_iterations;
+        const double fx = ce.cost(xv);
+        ++c.rounds;
         if (fx < fine_best_f) {
           fine_best_f = fx;
-          fine_best = x;
+          fine_best = xv;
           best_corr = corr;
         } else {
           double gap = 0.0;
           for (int i = 0; i < n; ++i) {
-            x[static_cast<size_t>(i)] = 0.5 * (x[static_cast<size_t>(i)] + fine_best[static_cast<size_t>(i)]);
-            gap = std::max(gap, std::abs(x[static_cast<size_t>(i)] - fine_best[static_cast<size_t>(i)]));
+            xv[static_cast<size_t>(i)] = 0.5 * (xv[static_cast<size_t>(i)] + fine_best[static_cast<size_t>(i)]);
+            gap = std::max(gap, std::abs(xv[static_cast<size_t>(i)] - fine_best[static_cast<size_t>(i)]));
           }
           if (gap < 1e-4) break;
           continue;
         }
-        std::vector<double> xn = x;
+        std::vector<double> xn = xv;
         polish(ce, xn, o.max_evaluations);
         double moved = 0.0;
-        for (int i = 0; i < n; ++i) moved = std::max(moved, std::abs(xn[static_cast<size_t>(i)] - x[static_cast<size_t>(i)]));
-        x = xn;
+        for (int i = 0; i < n; ++i) moved = std::max(moved, std::abs(xn[static_cast<size_t>(i)] - xv[static_cast<size_t>(i)]));
+        xv = xn;
         if (moved < 1e-4) break;
       }
-      r.evaluations += ce.evaluations;
-      x = fine_best;
-      e.set_correction(best_corr);
-      r.cost = fine_best_f;
-    } else {
-      r.cost = polish(fe, x, o.max_evaluations);
-      e.set_grid(fine);
-      r.fine_evaluations += fe.evaluations;
+      c.evaluations += ce.evaluations;
+      v.x = fine_best;
+      v.correction = best_corr;
+      v.cost = fine_best_f;
+    };
+    {
+      std::vector<std::thread> pool;
+      const int np = std::min(o.threads, static_cast<int>(valleys.size()));
+      for (int t = 0; t < np; ++t)
+        pool.emplace_back([&, t] {
+          for (size_t k = static_cast<size_t>(t); k < valleys.size(); k += static_cast<size_t>(np)) refine_valley(valleys[k], counts[k]);
+        });
+      for (auto& th : pool) th.join();
+    }
+    for (const Counts& c : counts) {
+      r.evaluations += c.evaluations;
+      r.fine_evaluations += c.fine_evaluations;
+      r.grid_iterations = std::max(r.grid_iterations, c.rounds);
     }
     r.grid_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tg).count();
+    // Polishes on the refined grid may end in the same valley: keep the better.
+    std::stable_sort(valleys.begin(), valleys.end(), [](const Valley& a, const Valley& b) { return a.cost < b.cost; });
+    std::vector<Valley> merged;
+    for (Valley& v : valleys) {
+      bool seen = false;
+      for (const Valley& m : merged) seen = seen || same_valley(m.x, v.x);
+      if (!seen) merged.push_back(std::move(v));
+    }
+    valleys = std::move(merged);
   }
+
+  // Each valley: chi-square with the stated noise model (each residual's noise sigma: the
+  // record's off-bin noise, with the model-error floor when set) and the Gauss-Newton
+  // covariance at its optimum.
+  const auto physical_of = [&](const Evaluator& ev, int i, const std::vector<double>& u) {
+    const mj::WearParams p = ev.wear_of(u);
+    return i == 0 ? p.depth_m * 1e6 : (i == 1 ? p.position_rad : p.span_rad) / k_deg;
+  };
+  struct Local {
+    bool ok = false;
+    double chi2 = INFINITY;
+    Eigen::MatrixXd jtj, cov;
+  };
+  auto local_of = [&](Evaluator& ev, const std::vector<double>& x) {
+    Local l;
+    try {
+      l.chi2 = ev.chi2(x);
+    } catch (const std::invalid_argument&) {
+      return l;
+    }
+    // Uncertainty: noise of each real residual component = noise_m / sqrt(2) (complex noise
+    // split evenly), Jacobian by central differences in physical units (um, deg).
+    Eigen::MatrixXd jac(ev.residual_count(), n);
+    l.ok = true;
+    for (int i = 0; i < n; ++i) {
+      const double h = 2e-3;
+      std::vector<double> xp = x, xm = x;
+      xp[static_cast<size_t>(i)] = std::min(1.0, x[static_cast<size_t>(i)] + h);
+      xm[static_cast<size_t>(i)] = std::max(0.0, x[static_cast<size_t>(i)] - h);
+      try {
+        const auto rp = ev.residual(xp), rm = ev.residual(xm);
+        const double du = physical_of(ev, i, xp) - physical_of(ev, i, xm);
+        for (int k = 0; k < ev.residual_count(); ++k)
+          jac(k, i) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * ev.sigma(k));
+      } catch (const std::invalid_argument&) {
+        l.ok = false;
+      }
+    }
+    if (l.ok) {
+      l.jtj = jac.transpose() * jac;
+      l.cov = l.jtj.completeOrthogonalDecomposition().pseudoInverse();
+    }
+    return l;
+  };
+  std::vector<Local> locals;
+  for (const Valley& v : valleys) {
+    auto ev = evaluator_for(v);
+    locals.push_back(local_of(*ev, v.x));
+  }
+  const Valley& best = valleys.front();
+  const std::vector<double> x = best.x;
+  r.cost = best.cost;
+  auto e_ptr = evaluator_for(best);
+  Evaluator& e = *e_ptr;
   for (double v : x) r.bound_active = r.bound_active || v < 0.005 || v > 0.995;
 
   const mj::WearParams w = e.wear_of(x);
   r.d0_um = w.depth_m * 1e6;
   r.gamma_deg = w.position_rad / k_deg;
-  r.beta_deg = n == 3 ? w.span_rad / k_deg
-                      : mj::two_parameter_span_rad(w.depth_m, board.journal.geometry.clearance_m) / k_deg;
+  const double c_um = board.journal.geometry.clearance_m * 1e6;
+  auto span_of_depth_deg = [&](double d0_um) {
+    return mj::two_parameter_span_rad(d0_um * 1e-6, board.journal.geometry.clearance_m) / k_deg;
+  };
+  r.beta_deg = n == 3 ? w.span_rad / k_deg : span_of_depth_deg(r.d0_um);
   r.fitted = e.spectrum(w);
   r.used_full_film = e.full_film();
   r.used_second_harmonic = e.second_harmonic();
   if (e.full_film()) r.fitted_2x = e.second_of(0);
-
-  // Uncertainty: noise of each real residual component = noise_m / sqrt(2) (complex noise
-  // split evenly), Jacobian by central differences in physical units (um, deg).
-  const auto physical = [&](int i, const std::vector<double>& u) {
-    const mj::WearParams p = e.wear_of(u);
-    return i == 0 ? p.depth_m * 1e6 : (i == 1 ? p.position_rad : p.span_rad) / k_deg;
-  };
   r.used_amb_planes = e.planes();
-  Eigen::MatrixXd jac(e.residual_count(), n);
-  bool ok = true;
-  for (int i = 0; i < n; ++i) {
-    const double h = 2e-3;
-    std::vector<double> xp = x, xm = x;
-    xp[static_cast<size_t>(i)] = std::min(1.0, x[static_cast<size_t>(i)] + h);
-    xm[static_cast<size_t>(i)] = std::max(0.0, x[static_cast<size_t>(i)] - h);
-    try {
-      const auto rp = e.residual(xp), rm = e.residual(xm);
-      const double du = physical(i, xp) - physical(i, xm);
-      for (int k = 0; k < e.residual_count(); ++k) jac(k, i) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * e.sigma(k));
-    } catch (const std::invalid_argument&) {
-      ok = false;
-    }
-  }
+
+  const Local& lb = locals.front();
+  const bool ok = lb.ok;
   if (ok) {
-    const Eigen::MatrixXd jtj = jac.transpose() * jac;
-    const Eigen::MatrixXd cov = jtj.completeOrthogonalDecomposition().pseudoInverse();
+    const Eigen::MatrixXd& cov = lb.cov;
     r.d0_uncertainty_um = std::sqrt(std::max(0.0, cov(0, 0)));
     r.gamma_uncertainty_deg = std::sqrt(std::max(0.0, cov(1, 1)));
     if (n == 3) {
       r.beta_uncertainty_deg = std::sqrt(std::max(0.0, cov(2, 2)));
     } else {
       // beta = 2 acos(1 - d0/C): propagate d0's uncertainty.
-      const double c_um = board.journal.geometry.clearance_m * 1e6;
       const double u = 1.0 - r.d0_um / c_um;
       r.beta_uncertainty_deg = 2.0 / std::sqrt(std::max(1e-12, 1.0 - u * u)) / c_um * r.d0_uncertainty_um / k_deg;
     }
     // The direction the records do not determine: the eigenvector of J^T J (noise-normalised,
     // per um / deg) with the smallest eigenvalue.
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(lb.jtj);
     const Eigen::VectorXd v = eig.eigenvectors().col(0);
     r.flat_direction = {v(0), v(1), n == 3 ? v(2) : 0.0};
     r.flat_direction_sigma = eig.eigenvalues()(0) > 0.0 ? 1.0 / std::sqrt(eig.eigenvalues()(0)) : INFINITY;
   } else {
     r.d0_uncertainty_um = r.gamma_uncertainty_deg = r.beta_uncertainty_deg = NAN;
   }
-  // Identifiable: every parameter's 1-sigma within a quarter of its bound range (the residual
-  // loop's rule, host-tools/core/residual/journal_residual.hpp).
-  r.identified = ok && r.d0_uncertainty_um <= 0.25 * (o.depth_um[1] - o.depth_um[0]) &&
-                 r.gamma_uncertainty_deg <= 0.25 * (o.position_deg[1] - o.position_deg[0]) &&
-                 (n == 2 || r.beta_uncertainty_deg <= 0.25 * (o.span_deg[1] - o.span_deg[0])) && !r.bound_active;
+  // Locally identifiable: every parameter's 1-sigma within a quarter of its bound range (the
+  // residual loop's rule, host-tools/core/residual/journal_residual.hpp) and none on a bound.
+  const bool local_identified =
+      ok && r.d0_uncertainty_um <= 0.25 * (o.depth_um[1] - o.depth_um[0]) &&
+      r.gamma_uncertainty_deg <= 0.25 * (o.position_deg[1] - o.position_deg[0]) &&
+      (n == 2 || r.beta_uncertainty_deg <= 0.25 * (o.span_deg[1] - o.span_deg[0])) && !r.bound_active;
+
+  // Which valleys the records cannot reject: likelihood ratio with the stated noise model.
+  // chi2 = sum (residual / sigma)^2; a valley is acceptable when its chi2 exceeds the best's by
+  // at most the chi-square quantile with n degrees of freedom at `confidence` (the valley's
+  // optimum inside the joint confidence region). When the best fit itself misses the records
+  // by more than the noise (chi2_min > dof = residuals - n), the noise model understates the
+  // error (model error): every chi2 is scaled by chi2_min / dof (Birge ratio), never below 1.
+  const int residuals = e.residual_count();
+  r.chi2_dof = residuals - n;
+  double chi2_min = INFINITY;
+  for (const Local& l : locals) chi2_min = std::min(chi2_min, l.chi2);
+  r.chi2_min = chi2_min;
+  r.chi2_scale = r.chi2_dof > 0 && std::isfinite(chi2_min) ? std::max(1.0, chi2_min / r.chi2_dof) : 1.0;
+  r.chi2_level = chi_square_quantile(n, o.confidence);
+  const double allowed = r.chi2_scale * r.chi2_level;  // in chi2 units
+  const double lo[3] = {o.depth_um[0], o.position_deg[0], n == 3 ? o.span_deg[0] : span_of_depth_deg(o.depth_um[0])};
+  const double hi[3] = {o.depth_um[1], o.position_deg[1], n == 3 ? o.span_deg[1] : span_of_depth_deg(o.depth_um[1])};
+  r.d0_interval_um = {INFINITY, -INFINITY};
+  r.gamma_interval_deg = {INFINITY, -INFINITY};
+  r.beta_interval_deg = {INFINITY, -INFINITY};
+  std::array<double, 2>* hull[3] = {&r.d0_interval_um, &r.gamma_interval_deg, &r.beta_interval_deg};
+  r.acceptable_valleys = 0;
+  for (size_t k = 0; k < valleys.size(); ++k) {
+    const Local& l = locals[k];
+    WearValley v;
+    const mj::WearParams p = e.wear_of(valleys[k].x);
+    v.d0_um = p.depth_m * 1e6;
+    v.gamma_deg = p.position_rad / k_deg;
+    v.beta_deg = n == 3 ? p.span_rad / k_deg : span_of_depth_deg(v.d0_um);
+    v.cost = valleys[k].cost;
+    v.chi2 = l.chi2;
+    v.acceptable = std::isfinite(l.chi2) && l.chi2 - chi2_min <= allowed;
+    if (v.acceptable) {
+      ++r.acceptable_valleys;
+      // Profile of each parameter in the valley's quadratic (Gauss-Newton) approximation:
+      // chi2 <= chi2_min + allowed  <=>  |p_i - p_i,valley| <= sqrt(allowed - (chi2_v - chi2_min)) sigma_i.
+      const double reach = std::sqrt(std::max(0.0, allowed - (l.chi2 - chi2_min)));
+      const double centre[3] = {v.d0_um, v.gamma_deg, v.beta_deg};
+      for (int i = 0; i < 3; ++i) {
+        double half = INFINITY;
+        if (l.ok && i < n) half = reach * std::sqrt(std::max(0.0, l.cov(i, i)));
+        std::array<double, 2> iv{std::max(lo[i], centre[i] - half), std::min(hi[i], centre[i] + half)};
+        if (n == 2 && i == 2) iv = {span_of_depth_deg(v.d0_interval_um[0]), span_of_depth_deg(v.d0_interval_um[1])};
+        (i == 0 ? v.d0_interval_um : i == 1 ? v.gamma_interval_deg : v.beta_interval_deg) = iv;
+        (*hull[i])[0] = std::min((*hull[i])[0], iv[0]);
+        (*hull[i])[1] = std::max((*hull[i])[1], iv[1]);
+      }
+    }
+    r.valleys.push_back(v);
+  }
+  // Profile likelihood (issue 33): when the records leave the wear open (several acceptable
+  // valleys, or the best one not locally identified), the valleys are not small ellipsoids:
+  // on a record at e = 0.7 the acceptable set is a long curved valley (wear 1: from 27 um /
+  // 14 deg / 62 deg to 89 um / 41 deg / 111 deg) whose ends the polishes find but whose
+  // Gauss-Newton curvature at either end is steep. So from each acceptable valley the depth is
+  // stepped outwards (k_profile_step of its log-scaled box per step) with the other parameters
+  // re-optimised at each step (the profile), each point's chi2 taken on the refined grid (the
+  // defect correction renewed at the point), until chi2 leaves the level or the depth reaches
+  // its bound. The depth's interval ends where the profile crosses the level (linear
+  // interpolation between the last point inside and the first outside); the other parameters'
+  // intervals are the union over the profile's points inside the level of their extent in that
+  // depth slice (quadratic about the point: +-sqrt(level - chi2) sigma_slice).
+  if (o.profile_likelihood && !(local_identified && r.acceptable_valleys == 1) && n > 1) {
+    const auto tp = std::chrono::steady_clock::now();
+    const double level = chi2_min + allowed;
+    struct TracePoint {
+      std::vector<double> x;
+      double chi2 = INFINITY;
+      bool inside = false;
+      std::array<double, 2> half{NAN, NAN};  // slice half-widths of gamma and beta, deg
+    };
+    struct Job {
+      size_t valley;
+      int dir;
+      std::vector<TracePoint> points;
+      int evaluations = 0, fine_evaluations = 0;
+    };
+    std::vector<Job> jobs;
+    for (size_t k = 0; k < valleys.size(); ++k)
+      if (r.valleys[k].acceptable)
+        for (int dir : {-1, 1}) jobs.push_back({k, dir, {}, 0, 0});
+    auto trace = [&](Job& job) {
+      const Valley& v = valleys[job.valley];
+      Evaluator ce(board, meas, o), fe(board, meas, o);
+      fe.set_grid(fine);
+      if (refine && full) ce.set_grid(fine);
+      if (refine && !full) ce.set_correction(v.correction);
+      std::vector<double> u = v.x;
+      struct Fixed {
+        Evaluator* ev;
+        std::vector<double> u;
+      } fixed{&ce, u};
+      auto fixed_cost = [](unsigned m, const double* y, double* grad, void* data) {
+        (void)grad;
+        auto* f = static_cast<Fixed*>(data);
+        std::vector<double> full_u = f->u;
+        for (unsigned i = 0; i < m; ++i) full_u[i + 1] = y[i];
+        return f->ev->cost(full_u);
+      };
+      for (int step = 0; step < k_profile_max_steps; ++step) {
+        if ((job.dir < 0 && u[0] <= 0.0) || (job.dir > 0 && u[0] >= 1.0)) break;
+        u[0] = std::clamp(u[0] + job.dir * k_profile_step, 0.0, 1.0);
+        // The other parameters at this depth: BOBYQA from the previous point's.
+        fixed.u = u;
+        nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n - 1));
+        opt.set_lower_bounds(std::vector<double>(static_cast<size_t>(n - 1), 0.0));
+        opt.set_upper_bounds(std::vector<double>(static_cast<size_t>(n - 1), 1.0));
+        opt.set_min_objective(fixed_cost, &fixed);
+        opt.set_xtol_rel(1e-4);
+        opt.set_ftol_abs(1e-14);
+        opt.set_maxeval(o.max_evaluations);
+        opt.set_initial_step(0.02);
+        std::vector<double> y(u.begin() + 1, u.end());
+        for (double& c : y) c = std::clamp(c, 0.021, 0.979);
+        double fy = 1e300;
+        try {
+          opt.optimize(y, fy);
+        } catch (const std::exception&) {
+        }
+        for (int i = 1; i < n; ++i) u[static_cast<size_t>(i)] = y[static_cast<size_t>(i - 1)];
+        if (refine && !full) {
+          std::vector<mj::DynamicCoefficients> corr(meas.size());
+          for (size_t rec = 0; rec < meas.size(); ++rec) {
+            const mj::DynamicCoefficients f = fe.coefficients(fe.wear_of(u), rec);
+            ce.set_correction({});
+            const mj::DynamicCoefficients g = ce.coefficients(ce.wear_of(u), rec);
+            corr[rec].fx0_n = f.fx0_n - g.fx0_n;
+            corr[rec].fy0_n = f.fy0_n - g.fy0_n;
+            corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - g.stiffness_n_per_m;
+            corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - g.damping_n_s_per_m;
+            job.fine_evaluations += 2;
+          }
+          ce.set_correction(corr);
+        }
+        TracePoint p;
+        p.x = u;
+        try {
+          p.chi2 = ce.chi2(u);
+        } catch (const std::invalid_argument&) {
+        }
+        p.inside = p.chi2 <= level;
+        if (p.inside) {
+          // Slice at this depth: Jacobian in the other parameters (physical units, noise-normalised).
+          Eigen::MatrixXd jac(ce.residual_count(), n - 1);
+          bool jok = true;
+          for (int i = 1; i < n; ++i) {
+            std::vector<double> xp = u, xm = u;
+            xp[static_cast<size_t>(i)] = std::min(1.0, u[static_cast<size_t>(i)] + 2e-3);
+            xm[static_cast<size_t>(i)] = std::max(0.0, u[static_cast<size_t>(i)] - 2e-3);
+            try {
+              const auto rp = ce.residual(xp), rm = ce.residual(xm);
+              const double du = physical_of(ce, i, xp) - physical_of(ce, i, xm);
+              for (int k = 0; k < ce.residual_count(); ++k)
+                jac(k, i - 1) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * ce.sigma(k));
+            } catch (const std::invalid_argument&) {
+              jok = false;
+            }
+          }
+          if (jok) {
+            const Eigen::MatrixXd cov = (jac.transpose() * jac).completeOrthogonalDecomposition().pseudoInverse();
+            const double reach = std::sqrt(std::max(0.0, level - p.chi2));
+            for (int i = 1; i < n; ++i)
+              p.half[static_cast<size_t>(i - 1)] = reach * std::sqrt(std::max(0.0, cov(i - 1, i - 1)));
+          } else {
+            p.half = {INFINITY, INFINITY};
+          }
+        }
+        job.points.push_back(p);
+        if (!p.inside) break;
+      }
+      job.evaluations += ce.evaluations;
+    };
+    {
+      std::vector<std::thread> pool;
+      const int np = std::min(o.threads, static_cast<int>(jobs.size()));
+      for (int t = 0; t < np; ++t)
+        pool.emplace_back([&, t] {
+          for (size_t k = static_cast<size_t>(t); k < jobs.size(); k += static_cast<size_t>(np)) trace(jobs[k]);
+        });
+      for (auto& th : pool) th.join();
+    }
+    // Each acceptable valley's intervals: its Gauss-Newton ones joined with its profile's.
+    for (const Job& job : jobs) {
+      WearValley& v = r.valleys[job.valley];
+      r.evaluations += job.evaluations;
+      r.fine_evaluations += job.fine_evaluations;
+      r.profile_points += static_cast<int>(job.points.size());
+      std::vector<double> last_in = valleys[job.valley].x;
+      double last_chi2 = locals[job.valley].chi2;
+      for (const TracePoint& p : job.points) {
+        const mj::WearParams pw = e.wear_of(p.x);
+        if (p.inside) {
+          const double d0 = pw.depth_m * 1e6, g = pw.position_rad / k_deg;
+          v.d0_interval_um = {std::min(v.d0_interval_um[0], d0), std::max(v.d0_interval_um[1], d0)};
+          v.gamma_interval_deg = {std::min(v.gamma_interval_deg[0], std::max(lo[1], g - p.half[0])),
+                                  std::max(v.gamma_interval_deg[1], std::min(hi[1], g + p.half[0]))};
+          if (n == 3) {
+            const double b = pw.span_rad / k_deg;
+            v.beta_interval_deg = {std::min(v.beta_interval_deg[0], std::max(lo[2], b - p.half[1])),
+                                   std::max(v.beta_interval_deg[1], std::min(hi[2], b + p.half[1]))};
+          }
+          last_in = p.x;
+          last_chi2 = p.chi2;
+        } else {
+          // Where the profile crosses the level, between the last point inside and this one.
+          const double t = std::isfinite(p.chi2) && p.chi2 > last_chi2 ? std::clamp((level - last_chi2) / (p.chi2 - last_chi2), 0.0, 1.0) : 0.0;
+          std::vector<double> xb = last_in;
+          xb[0] = last_in[0] + t * (p.x[0] - last_in[0]);
+          const double d0 = e.wear_of(xb).depth_m * 1e6;
+          v.d0_interval_um = {std::min(v.d0_interval_um[0], d0), std::max(v.d0_interval_um[1], d0)};
+        }
+      }
+      if (n == 2) v.beta_interval_deg = {span_of_depth_deg(v.d0_interval_um[0]), span_of_depth_deg(v.d0_interval_um[1])};
+    }
+    r.d0_interval_um = {INFINITY, -INFINITY};
+    r.gamma_interval_deg = {INFINITY, -INFINITY};
+    r.beta_interval_deg = {INFINITY, -INFINITY};
+    for (const WearValley& v : r.valleys) {
+      if (!v.acceptable) continue;
+      const std::array<double, 2>* ivs[3] = {&v.d0_interval_um, &v.gamma_interval_deg, &v.beta_interval_deg};
+      for (int i = 0; i < 3; ++i) {
+        (*hull[i])[0] = std::min((*hull[i])[0], (*ivs[i])[0]);
+        (*hull[i])[1] = std::max((*hull[i])[1], (*ivs[i])[1]);
+      }
+    }
+    r.profile_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
+  }
+  r.identified = local_identified && r.acceptable_valleys == 1;
+  // A parameter is ambiguous when its interval reaches beyond the identification targets
+  // around the estimate (d0 and beta: 5 %; gamma: 3 deg, issue 33 / seed 002).
+  {
+    const double half_target[3] = {0.05 * r.d0_um, 3.0, 0.05 * r.beta_deg};
+    const double centre[3] = {r.d0_um, r.gamma_deg, r.beta_deg};
+    const char* names[3] = {"d0", "gamma", "beta"};
+    for (int i = 0; i < 3; ++i)
+      if ((*hull[i])[0] < centre[i] - half_target[i] || (*hull[i])[1] > centre[i] + half_target[i])
+        r.ambiguous.push_back(names[i]);
+  }
 
   // Is there a measurable wear? Model comparison of the unworn bore against the fitted wear on
   // the same forward model (the refined grid when refined), decided by the residual loop's
@@ -684,8 +1066,8 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       c.delta_ic = chi_n - chi_f - n * std::log(static_cast<double>(rn.size()));
       c.ic_basis = "BIC, Gaussian off-bin noise of the +-1x components";
       c.effect_sigma = eff;
-      c.identified = r.identified;
-      if (!r.identified) c.not_identified = "a parameter's 1-sigma exceeds a quarter of its range, or it is on a bound";
+      c.identified = local_identified;
+      if (!local_identified) c.not_identified = "a parameter's 1-sigma exceeds a quarter of its range, or it is on a bound";
       c.decision.push_back({"spectral misfit", "1", std::sqrt(mis_n), std::sqrt(mis_f), false, 0.0});
       const residual::engine::Decision d = residual::engine::decide(c, residual::engine::Criterion{});
       r.unworn_cost = 0.5 * mis_n;

@@ -81,11 +81,33 @@ struct WearIdOptions {
   /// 0 (the library's default, which the residual loop's journal path uses): the board's grid
   /// only, as before issue 33. `amb-host wear-id` defaults to 0.002 (--grid-tolerance).
   double grid_tolerance = 0.0;
+  /// Global stage (issue 33): the distinct valleys the polishes end in (best first, at most
+  /// this many) are each polished on the refined grid and compared by a chi-square level.
+  int max_valleys = 4;
+  /// Confidence of the likelihood-ratio level that decides which valleys the records cannot
+  /// reject and of the intervals (the chi-square quantile with as many degrees of freedom as
+  /// wear parameters).
+  double confidence = 0.95;
+  /// When the result is not identified, trace the profile likelihood along d0 from each
+  /// acceptable valley for the intervals (false: the Gauss-Newton intervals about each valley only).
+  bool profile_likelihood = true;
   /// Progress lines ("design of experiments 120/729", "polish 3/8 starts done"); called from
   /// the worker threads one at a time (serialised here). Empty: silent.
   std::function<void(const std::string&)> progress;
   /// Empty when valid, else the reason.
   std::string check() const;
+};
+
+/// One valley of the cost (a distinct end point of the global stage's polishes).
+struct WearValley {
+  double d0_um = 0.0, gamma_deg = 0.0, beta_deg = 0.0;
+  double cost = 0.0;      ///< the identification's cost at the valley's optimum
+  double chi2 = 0.0;      ///< sum of (residual / its noise sigma)^2 there
+  bool acceptable = false;  ///< chi2 within the level of the best valley's (the records cannot reject it)
+  /// Acceptable valleys: each parameter's range where chi2 stays within the level, clipped to
+  /// the bounds: the Gauss-Newton (quadratic) approximation about the valley, joined, when the
+  /// result is not identified, with the profile likelihood traced from the valley along d0.
+  std::array<double, 2> d0_interval_um{NAN, NAN}, gamma_interval_deg{NAN, NAN}, beta_interval_deg{NAN, NAN};
 };
 
 struct WearIdResult {
@@ -115,12 +137,27 @@ struct WearIdResult {
   int grid_iterations = 0;           ///< defect-correction rounds on the refined grid
   int fine_evaluations = 0;          ///< coefficient sets (or costs) evaluated on the refined grid
   double grid_wall_s = 0.0;          ///< time of the refinement and the polish on it, s
-  /// Identifiable: every parameter's 1-sigma within a quarter of its bound range and none on a
-  /// bound. When not, `flat_direction` (unit vector in d0 um, gamma deg, beta deg) is the
+  /// Identifiable: one acceptable valley, and in it every parameter's 1-sigma within a quarter
+  /// of its bound range and none on a bound. When not, `flat_direction` (unit vector in d0 um, gamma deg, beta deg) is the
   /// combination the records leave undetermined, with 1-sigma `flat_direction_sigma` along it.
   bool identified = false;
   std::array<double, 3> flat_direction{};
   double flat_direction_sigma = NAN;
+  /// Global stage: the valleys found (best first), how many the records cannot reject, and
+  /// the level: chi2 of a valley minus the best's <= chi2_scale * chi2_level, where chi2_level
+  /// is the chi-square quantile (n parameters, WearIdOptions::confidence) and chi2_scale =
+  /// max(1, chi2_min / chi2_dof) (the best fit's misfit beyond the noise, Birge ratio).
+  std::vector<WearValley> valleys;
+  int acceptable_valleys = 0;
+  double chi2_min = NAN, chi2_level = NAN, chi2_scale = 1.0;
+  int chi2_dof = 0;  ///< residuals minus parameters
+  int profile_points = 0;       ///< points of the profile likelihood (only when not identified)
+  double profile_wall_s = 0.0;  ///< its time, s
+  /// Union (hull) of the acceptable valleys' intervals: where the wear can be, at `confidence`.
+  std::array<double, 2> d0_interval_um{NAN, NAN}, gamma_interval_deg{NAN, NAN}, beta_interval_deg{NAN, NAN};
+  /// Parameters ("d0", "gamma", "beta") whose interval reaches beyond the identification
+  /// targets around the estimate (d0 and beta 5 %, gamma 3 deg): the records leave them open.
+  std::vector<std::string> ambiguous;
   /// Model comparison, unworn bore against the fitted wear (residual loop's criterion,
   /// host-tools/core/residual/engine/criterion.hpp, default settings): false = "no measurable wear".
   bool wear_measurable = false;
@@ -129,6 +166,9 @@ struct WearIdResult {
   double effect_sigma = NAN;         ///< largest change of a residual between the two, noise sigmas
   std::string decision_reason;       ///< the criterion's reason in words
 };
+
+/// Quantile of the chi-square distribution with `dof` (1..3) degrees of freedom at probability p.
+double chi_square_quantile(int dof, double p);
 
 /// Run the identification on a measurement. Throws std::invalid_argument on bad options.
 WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasurement& meas, const WearIdOptions& o);
