@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host-tools/core/sweep/sweep_event.hpp"
 #include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
 #include "host-tools/core/fit/fit_result_json.hpp"
@@ -52,7 +53,8 @@ bool other_json(const std::string& path) {
 }
 
 /// Files to import: each file given, and the .ambe/.ambw/.json files in each directory given
-/// (sorted; JSON other than fit/residual results skipped).
+/// (sorted; JSON other than fit/residual results skipped, and loop-sweep events: the store keeps
+/// drop events, and a sweep's figures are amb-host sweep's).
 std::vector<std::string> expand(const std::vector<std::string>& in, size_t& skipped) {
   std::vector<std::string> out;
   for (const std::string& p : in) {
@@ -62,7 +64,8 @@ std::vector<std::string> expand(const std::vector<std::string>& in, size_t& skip
       for (const auto& e : fs::recursive_directory_iterator(p, ec)) {
         const std::string ext = e.path().extension().string();
         if (!e.is_regular_file()) continue;
-        if (ext == ".ambe" || ext == ".ambw") found.push_back(e.path().string());
+        if (ext == ".ambe" && amb::host::sweep::is_sweep_event_file(e.path().string())) ++skipped;
+        else if (ext == ".ambe" || ext == ".ambw") found.push_back(e.path().string());
         else if (ext == ".json" && other_json(e.path().string())) ++skipped;
         else if (ext == ".json") found.push_back(e.path().string());
       }
@@ -150,7 +153,7 @@ int run(const Args& a) {
       if (a.json)
         std::printf("%s\n", nlohmann::json({{"added", added}, {"already_stored", present}, {"errors", bad}, {"skipped_json", skipped}, {"files", list}}).dump(2).c_str());
       else
-        std::fprintf(stderr, "fleet add: %zu added, %zu already stored, %d refused, %zu other JSON files skipped\n", added, present,
+        std::fprintf(stderr, "fleet add: %zu added, %zu already stored, %d refused, %zu other files skipped (JSON other than fit/residual results, sweep events)\n", added, present,
                      bad, skipped);
       return bad ? 1 : 0;
     }

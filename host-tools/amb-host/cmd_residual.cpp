@@ -29,6 +29,8 @@
 #include "host-tools/core/residual/steady_data.hpp"
 #include "host-tools/core/residual/sweep_frf.hpp"
 #include "host-tools/core/residual/sweep_report.hpp"
+#include "host-tools/core/sweep/sweep_analysis.hpp"
+#include "host-tools/core/sweep/sweep_event.hpp"
 #include "host-tools/core/ui/progress_lines.hpp"
 
 namespace {
@@ -82,6 +84,26 @@ int run_drop(const Args& a, const amb::host::LoadedEvent& rec, const amb::board:
   } else {
     std::fputs(hr::residual_text(o.verdict, o.before, o.after, hr::drop_ranking(o), o.effects_added, hr::drop_notes(o)).c_str(), stdout);
     if (a.learned_correction) std::fputs(hr::learned_correction_text(drop_levitated_correction(rec, b, o)).c_str(), stdout);
+  }
+  return 0;
+}
+
+// A board's sweep event (AMBE v4, issue 35): the loop-sensitivity sweep's residual loop on
+// the board's model (the analysis amb-host sweep runs; --board picks the model's board).
+int run_board_sweep(const Args& a) {
+  const auto rec = amb::host::sweep::read_sweep_event_file(a.event);
+  const amb::board::BoardConfig b = amb::board::load_board(a.board.empty() ? rec.board_name : a.board);
+  if (!a.quiet) std::fprintf(stderr, "residual: loop sweep of %s, %zu axes, on the model of %s\n", rec.board_name.c_str(), rec.axes.size(), b.name.c_str());
+  const auto an = amb::host::sweep::analyse_sweep(rec, b);
+  if (a.json) {
+    std::printf("%s\n", amb::host::sweep::sweep_analysis_json(an).dump(2).c_str());
+  } else {
+    const auto& o = an.residual;
+    std::printf("verdict: %s\n", o.verdict.c_str());
+    std::printf("error before -> after: S %.2f -> %.2f dB rms, G %.2f -> %.2f dB rms\n", o.before.s_db_rms, o.after.s_db_rms,
+                o.before.g_db_rms, o.after.g_db_rms);
+    for (const auto& e : o.effects_added) std::printf("added: %s\n", e.name.c_str());
+    for (const std::string& n : an.notes) std::printf("note: %s\n", n.c_str());
   }
   return 0;
 }
@@ -175,6 +197,7 @@ const amb::host::Registration reg{
             std::fprintf(stderr, "amb-host residual: error: '%s' does not exist\n", a->event.c_str());
             return 1;
           }
+          if (amb::host::sweep::is_sweep_event_file(a->event)) return run_board_sweep(*a);
           return run_steady(*a);
         } catch (const amb::host::EventLoadError& e) {  // bad input: the file is named
           std::fprintf(stderr, "amb-host residual: error: %s\n", e.what());

@@ -66,6 +66,10 @@ AddResult FleetStore::add_file(const std::string& path, const std::string& machi
   if (starts_with(bytes, "AMBE")) {
     fw::EventRecord ev;
     std::string err;
+    fw::EventKind kind = fw::EventKind::drop;
+    uint16_t version = 0;
+    if (fw::peek_event_kind(bytes, kind, version, err) && kind == fw::EventKind::sweep)
+      throw std::invalid_argument(path + ": a loop-sweep event (AMBE v4): the fleet store keeps drop events; rate it with amb-host sweep --event");
     if (!fw::decode_event(bytes, ev, err)) throw std::invalid_argument(path + ": " + err);
     r.kind = "event";
     r.machine = machine_override.empty() ? ev.meta.board_name : machine_override;

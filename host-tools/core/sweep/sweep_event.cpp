@@ -1,5 +1,7 @@
 #include "host-tools/core/sweep/sweep_event.hpp"
 
+#include "firmware/events/event_codec.hpp"
+
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -54,6 +56,18 @@ bool decode_sweep_record(std::span<const uint8_t> bytes, SweepRecord& out, std::
   }
   out = to_sweep_record(e);
   return true;
+}
+
+bool is_sweep_event_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::vector<uint8_t> head(16);
+  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  fw::EventKind kind = fw::EventKind::drop;
+  uint16_t version = 0;
+  std::string error;
+  return fw::peek_event_kind(head, kind, version, error) && kind == fw::EventKind::sweep;
 }
 
 SweepRecord read_sweep_event_file(const std::string& path) {

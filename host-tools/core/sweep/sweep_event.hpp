@@ -19,6 +19,10 @@ SweepRecord to_sweep_record(const fw::SweepEvent& e);
 /// `out` untouched then.
 bool decode_sweep_record(std::span<const uint8_t> bytes, SweepRecord& out, std::string& error);
 
+/// Is the file at `path` a board event whose preamble says record kind `sweep`? Reads the
+/// preamble only; false for anything else (a drop event, another file, an unreadable one).
+bool is_sweep_event_file(const std::string& path);
+
 /// Read and decode a file. Throws std::invalid_argument naming the file and what is wrong.
 SweepRecord read_sweep_event_file(const std::string& path);
 
