@@ -81,6 +81,33 @@ std::string hex32(uint32_t v) {
 
 }  // namespace
 
+bool check_event_frame(std::span<const uint8_t> bytes, uint64_t declared_bytes, std::string& error) {
+  const size_t size = bytes.size();
+  // The length comes first (same offset in every version): a short file is reported as
+  // truncated, not as a checksum error.
+  if (size < declared_bytes) {
+    error = "truncated: file has " + std::to_string(size) + " bytes, its header declares " + std::to_string(declared_bytes);
+    return false;
+  }
+  if (size > declared_bytes) {
+    error = "inconsistent sizes: file has " + std::to_string(size) + " bytes, its header declares " +
+            std::to_string(declared_bytes) + " (trailing data)";
+    return false;
+  }
+  if (declared_bytes < k_event_preamble_bytes + 4) {
+    error = "truncated: declared length " + std::to_string(declared_bytes) + " is shorter than a header";
+    return false;
+  }
+  const uint32_t stored = static_cast<uint32_t>(bytes[size - 4]) | (static_cast<uint32_t>(bytes[size - 3]) << 8) |
+                          (static_cast<uint32_t>(bytes[size - 2]) << 16) | (static_cast<uint32_t>(bytes[size - 1]) << 24);
+  const uint32_t computed = crc32(bytes.first(size - 4));
+  if (stored != computed) {
+    error = "bad checksum: stored CRC-32 " + hex32(stored) + ", computed " + hex32(computed) + " (file corrupted)";
+    return false;
+  }
+  return true;
+}
+
 namespace {
 std::vector<uint8_t> encode(const EventRecord& r, uint16_t version) {
   const size_t n = r.samples.size();
@@ -167,28 +194,7 @@ bool decode_event(std::span<const uint8_t> bytes, EventRecord& out, std::string&
   const uint16_t version = pre.u16();
   pre.u16();
   const uint64_t total = pre.u64();
-  // The length comes first (same offset in every version): a short file is reported as
-  // truncated, not as a checksum error.
-  if (size < total) {
-    error = "truncated: file has " + std::to_string(size) + " bytes, its header declares " + std::to_string(total);
-    return false;
-  }
-  if (size > total) {
-    error = "inconsistent sizes: file has " + std::to_string(size) + " bytes, its header declares " +
-            std::to_string(total) + " (trailing data)";
-    return false;
-  }
-  if (total < k_event_preamble_bytes + 4) {
-    error = "truncated: declared length " + std::to_string(total) + " is shorter than a header";
-    return false;
-  }
-  const uint32_t stored = static_cast<uint32_t>(bytes[size - 4]) | (static_cast<uint32_t>(bytes[size - 3]) << 8) |
-                          (static_cast<uint32_t>(bytes[size - 2]) << 16) | (static_cast<uint32_t>(bytes[size - 1]) << 24);
-  const uint32_t computed = crc32(bytes.first(size - 4));
-  if (stored != computed) {
-    error = "bad checksum: stored CRC-32 " + hex32(stored) + ", computed " + hex32(computed) + " (file corrupted)";
-    return false;
-  }
+  if (!check_event_frame(bytes, total, error)) return false;
   if (version < k_event_format_oldest_read || version > k_event_format_newest_read) {
     error = "unsupported version " + std::to_string(version) + " (this reader reads AMBE versions " +
             std::to_string(k_event_format_oldest_read) + " to " + std::to_string(k_event_format_newest_read) + ")";

@@ -50,6 +50,11 @@ std::vector<uint8_t> encode_event_v2(const EventRecord& r);
 /// preamble only (no checksum check: decode_event / decode_sweep_event do that).
 bool peek_event_kind(std::span<const uint8_t> bytes, EventKind& kind, uint16_t& version, std::string& error);
 
+/// The frame every AMBE file shares, after its preamble was read: the file holds exactly the
+/// `declared_bytes` of its header (shorter: "truncated", longer: "inconsistent sizes"), at least
+/// a preamble and a checksum, and its trailing CRC-32 matches. False with `error` otherwise.
+bool check_event_frame(std::span<const uint8_t> bytes, uint64_t declared_bytes, std::string& error);
+
 /// Decode a file image of a drop event. A sweep event is refused ("not a drop event: ..."). Returns false with `error` saying what is wrong: "truncated: ...",
 /// "bad checksum: ...", "unsupported version ...", "not an AMBE event file: ...",
 /// "inconsistent sizes: ...". `out` is only written on success.

@@ -41,11 +41,6 @@ void value_fields(Coder& c, Ev& e) {
   c.u64(e.start_seq);
 }
 
-std::string hex32(uint32_t v) {
-  char b[16];
-  std::snprintf(b, sizeof b, "0x%08" PRIx32, v);
-  return b;
-}
 
 }  // namespace
 
@@ -141,22 +136,7 @@ bool decode_sweep_event(std::span<const uint8_t> bytes, SweepEvent& out, std::st
   ByteReader pre(bytes.data(), size);
   pre.u64();
   const uint64_t total = pre.u64();
-  if (size < total) {
-    error = "truncated: file has " + std::to_string(size) + " bytes, its header declares " + std::to_string(total);
-    return false;
-  }
-  if (size > total) {
-    error = "inconsistent sizes: file has " + std::to_string(size) + " bytes, its header declares " +
-            std::to_string(total) + " (trailing data)";
-    return false;
-  }
-  const uint32_t stored = static_cast<uint32_t>(bytes[size - 4]) | (static_cast<uint32_t>(bytes[size - 3]) << 8) |
-                          (static_cast<uint32_t>(bytes[size - 2]) << 16) | (static_cast<uint32_t>(bytes[size - 1]) << 24);
-  const uint32_t computed = crc32(bytes.first(size - 4));
-  if (stored != computed) {
-    error = "bad checksum: stored CRC-32 " + hex32(stored) + ", computed " + hex32(computed) + " (file corrupted)";
-    return false;
-  }
+  if (!check_event_frame(bytes, total, error)) return false;
   if (kind != EventKind::sweep) {
     error = "not a sweep event: version " + std::to_string(version) + ", record kind " +
             std::to_string(static_cast<int>(kind)) + " (" + to_string(kind) + ")";

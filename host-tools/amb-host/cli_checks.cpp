@@ -1,6 +1,7 @@
 #include "host-tools/amb-host/cli_checks.hpp"
 
 #include <cctype>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 
@@ -140,6 +141,25 @@ std::string in_option_names(std::string message,
 const OptionInfo* info(const CLI::Option* o) {
   const auto it = registry().find(o);
   return it == registry().end() ? nullptr : &it->second;
+}
+
+uint32_t arm_key(const std::string& option_value, const std::string& board, const std::string& when_missing) {
+  auto parse = [](const std::string& text, const char* from) {
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(text.c_str(), &end, 0);
+    if (text.empty() || *end != '\0' || v == 0 || v > 0xFFFFFFFFull)
+      throw std::invalid_argument(std::string("arm key from ") + from + " must be an integer in [1, 2^32-1], got '" + text + "'");
+    return static_cast<uint32_t>(v);
+  };
+  if (!option_value.empty()) return parse(option_value, "--arm-key");
+  if (!board.empty()) {
+    const amb::board::BoardConfig b = amb::board::load_board(board);
+    if (b.comms.modbus.arm_key == 0)
+      throw std::invalid_argument("board " + b.name + " has no [comms.modbus] arm_key: it takes no commands over Modbus");
+    return b.comms.modbus.arm_key;
+  }
+  if (const char* env = std::getenv("AMB_ARM_KEY"); env && *env) return parse(env, "AMB_ARM_KEY");
+  throw std::invalid_argument(when_missing);
 }
 
 }  // namespace amb::host::cli

@@ -4,6 +4,7 @@
 // and each check's error names the option as the user typed it (CLI11 prefixes it). The
 // checks also record what they know about an option (range, file kind, output) for the
 // command table: --help, the man page and the bad-input sweep (tests/cli) read it from there.
+#include <cstdint>
 #include <initializer_list>
 #include <optional>
 #include <string>
@@ -52,5 +53,11 @@ std::string in_option_names(std::string message,
 
 /// What the checks recorded for `o` (nullptr: nothing).
 const OptionInfo* info(const CLI::Option* o);
+
+/// The arm key a Modbus command needs: `option_value` (--arm-key, decimal or 0x hex) when given,
+/// else the [comms.modbus] arm_key of `board` (a board name or file) when given, else the
+/// environment's AMB_ARM_KEY. Throws std::invalid_argument naming the source and what is wrong,
+/// or with `when_missing` (which says where a key can come from) when none is given.
+uint32_t arm_key(const std::string& option_value, const std::string& board, const std::string& when_missing);
 
 }  // namespace amb::host::cli

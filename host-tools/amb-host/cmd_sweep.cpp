@@ -47,19 +47,6 @@ struct Args {
   bool quiet = false;
 };
 
-uint32_t arm_key_of(const Args& a) {
-  auto parse = [](const std::string& text, const char* from) {
-    char* end = nullptr;
-    const unsigned long long v = std::strtoull(text.c_str(), &end, 0);
-    if (text.empty() || *end != '\0' || v == 0 || v > 0xFFFFFFFFull)
-      throw std::invalid_argument(std::string("arm key from ") + from + " must be an integer in [1, 2^32-1], got '" + text + "'");
-    return static_cast<uint32_t>(v);
-  };
-  if (!a.arm_key.empty()) return parse(a.arm_key, "--arm-key");
-  if (const char* env = std::getenv("AMB_ARM_KEY"); env && *env) return parse(env, "AMB_ARM_KEY");
-  throw std::invalid_argument("--connect needs the board's arm key: --arm-key KEY or AMB_ARM_KEY");
-}
-
 /// The figures of a record: per axis u/e at the excited lines (one-bin DFT averaged over the
 /// recorded periods) and its peak -- a quick look; the estimators are the analysis's.
 struct AxisLook {
@@ -185,7 +172,7 @@ int run(const Args& a) {
         lo.host = a.connect;
         lo.port = a.port;
         lo.unit_id = a.unit;
-        res = sw::acquire_sweep_modbus(lo, arm_key_of(a), o);
+        res = sw::acquire_sweep_modbus(lo, amb::host::cli::arm_key(a.arm_key, "", "--connect needs the board's arm key: --arm-key KEY or AMB_ARM_KEY"), o);
       }
     } catch (const sw::AcquireError& e) {
       std::fprintf(stderr, "amb-host sweep: error: %s\n", e.what());

@@ -33,27 +33,6 @@ struct Args {
   std::string board;    ///< board name or file to take the arm key from
 };
 
-/// The arm key: --arm-key, else the board file's [comms.modbus] arm_key, else AMB_ARM_KEY.
-uint32_t arm_key_of(const Args& a) {
-  auto parse = [](const std::string& text, const char* from) {
-    char* end = nullptr;
-    const unsigned long long v = std::strtoull(text.c_str(), &end, 0);
-    if (text.empty() || *end != '\0' || v == 0 || v > 0xFFFFFFFFull)
-      throw std::invalid_argument(std::string("arm key from ") + from + " must be an integer in [1, 2^32-1], got '" + text + "'");
-    return static_cast<uint32_t>(v);
-  };
-  if (!a.arm_key.empty()) return parse(a.arm_key, "--arm-key");
-  if (!a.board.empty()) {
-    const amb::board::BoardConfig b = amb::board::load_board(a.board);
-    if (b.comms.modbus.arm_key == 0)
-      throw std::invalid_argument("board " + b.name + " has no [comms.modbus] arm_key: it takes no commands over Modbus");
-    return b.comms.modbus.arm_key;
-  }
-  if (const char* env = std::getenv("AMB_ARM_KEY"); env && *env) return parse(env, "AMB_ARM_KEY");
-  throw std::invalid_argument("the commit needs the board's arm key: --board NAME|FILE (its [comms.modbus] arm_key), "
-                           "--arm-key KEY or AMB_ARM_KEY");
-}
-
 int run(const Args& a) {
   // The record first: a bad file is named as such, whatever else is missing.
   amb::fw::WearRecord rec;
@@ -65,7 +44,9 @@ int run(const Args& a) {
   }
   // The file's bytes: the decoder accepts only what the encoder writes (fuzz_wear_ambw).
   std::vector<uint8_t> bytes = amb::fw::encode_wear_record(rec);
-  const uint32_t key = arm_key_of(a);
+  const uint32_t key = amb::host::cli::arm_key(
+      a.arm_key, a.board,
+      "the commit needs the board's arm key: --board NAME|FILE (its [comms.modbus] arm_key), --arm-key KEY or AMB_ARM_KEY");
   lk::ModbusLink link(a.link);
   const lk::BoardIdentity id = lk::read_identity(link);
   const lk::WearSummary before = lk::read_wear_summary(link);
