@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "host-tools/core/sweep/sweep_analysis.hpp"
 #include "host-tools/core/sweep/sweep_estimate.hpp"
 #include "host-tools/core/sweep/sweep_model.hpp"
 #include "tests/support/test_paths.hpp"
@@ -83,6 +84,27 @@ TEST(SweepSil, SteppedSineThroughTheSameEstimators) {
     EXPECT_NEAR(std::abs(q.s.h), ms, 0.03 * ms) << q.f_hz;
     EXPECT_GE(q.s.coherence, 0.95) << q.f_hz;
   }
+}
+
+// Too few recorded periods for the residual loop's noise weights: the zone is still rated, the
+// loop is not run and the analysis says why; from the stated minimum on it runs.
+TEST(SweepSil, ResidualLoopNeedsEnoughPeriods) {
+  const board::BoardConfig b = board::load_board(std::string(test::source_dir()) + "/boards/bath-amb-rig.toml");
+  test::SilSweepOptions o;
+  o.axes = {0};
+  o.lines = 12;
+  o.recorded_periods = 2;
+  const host::sweep::SweepRecord few = test::run_sil_sweep(b, o);
+  const host::sweep::SweepAnalysis a = host::sweep::analyse_sweep(few, b);
+  EXPECT_FALSE(a.residual_done);
+  ASSERT_EQ(a.zones.size(), 1u);
+  EXPECT_TRUE(a.zones[0].measured.found);
+  bool said = false;
+  for (const std::string& n : a.notes) said = said || n.find("residual loop not run") != std::string::npos;
+  EXPECT_TRUE(said);
+  host::sweep::SweepAnalysisOptions ao;
+  ao.min_residual_periods = 2;
+  EXPECT_TRUE(host::sweep::analyse_sweep(few, b, ao).residual_done);
 }
 
 }  // namespace

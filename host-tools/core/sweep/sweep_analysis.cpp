@@ -52,7 +52,12 @@ SweepAnalysis analyse_sweep(const SweepRecord& r, const board::BoardConfig& b, c
   SweepLoopModel m(bb, r.speed_hz, axes, f);
   a.model = m.board();
   SweepResidualOptions ro = o.residual;
-  if (o.run_residual) {
+  const bool enough_periods = r.plan.recorded_periods >= o.min_residual_periods;
+  if (o.run_residual && !enough_periods)
+    a.notes.push_back("residual loop not run: " + std::to_string(r.plan.recorded_periods) +
+                      " recorded periods are too few for each line's noise level (the loop needs >= " +
+                      std::to_string(o.min_residual_periods) + " periods; its false-alarm rate was measured on 6)");
+  if (o.run_residual && enough_periods) {
     a.residual = run_sweep_residual(a.measured, m, ro);
     a.residual_done = true;
     a.s_db_rms = a.residual.before.s_db_rms;

@@ -20,6 +20,12 @@ struct SweepAnalysisOptions {
   EstimateOptions estimate;
   SweepResidualOptions residual;
   bool run_residual = true;   ///< false: estimate and model overlay only (fast)
+  /// Fewest recorded periods the residual loop runs on: its criterion weighs the misfit by each
+  /// line's period-to-period variance, poorly known from few periods (a clean 2-period sweep of
+  /// the target rig named a pedestal); the loop's false-alarm rate was measured on 6-period
+  /// sweeps (docs/sweep.md). Fewer: the loop is not run and a note says why (the zone and the
+  /// model overlay are still given).
+  uint32_t min_residual_periods = 4;
 };
 
 /// Per axis: the zone table row (ISO 14839-3 on the peak of |S|).
