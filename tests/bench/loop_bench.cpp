@@ -30,32 +30,40 @@ namespace {
 
 using namespace amb;
 
+// A configured supervisor and its I/O, with the levitate command posted.
+struct StepRig {
+  fw::Supervisor sup;
+  hal::AnalogInputs in{};
+  hal::DiscreteInputs din{};
+  hal::AnalogOutputs out{};
+  hal::DiscreteOutputs dout{};
+  explicit StepRig(const board::BoardConfig& b) {
+    sup.configure(b);
+    sup.post(fw::Command::levitate);
+  }
+  void step() {
+    in.t_ns += 100000;
+    sup.step(in, true, din, out, dout);
+  }
+};
+
 // The timed part: one 10 kHz step per iteration with a moving A1 reading; allocations per step
 // counted by the interposed operator new (counter allocs_per_step).
-void timed_steps(benchmark::State& state, fw::Supervisor& sup, hal::AnalogInputs& in, hal::DiscreteInputs& din,
-                 hal::AnalogOutputs& out, hal::DiscreteOutputs& dout) {
+void timed_steps(benchmark::State& state, StepRig& r) {
   long k = 0;
   const long a0 = g_allocs.load();
   for (auto _ : state) {
-    in.t_ns += 100000;
-    in.displacement_m[0] = 1e-6 * std::sin(0.01 * static_cast<double>(++k));
-    sup.step(in, true, din, out, dout);
-    benchmark::DoNotOptimize(out);
+    r.in.displacement_m[0] = 1e-6 * std::sin(0.01 * static_cast<double>(++k));
+    r.step();
+    benchmark::DoNotOptimize(r.out);
   }
   state.counters["allocs_per_step"] = static_cast<double>(g_allocs.load() - a0) / static_cast<double>(state.iterations());
 }
 
 void BM_ControlStep(benchmark::State& state) {
-  const board::BoardConfig b = board::load_board("bath-amb-rig");
-  fw::Supervisor sup;
-  sup.configure(b);
-  hal::AnalogInputs in{};
-  hal::DiscreteInputs din{};
-  hal::AnalogOutputs out{};
-  hal::DiscreteOutputs dout{};
-  sup.post(fw::Command::levitate);
-  sup.step(in, true, din, out, dout);
-  timed_steps(state, sup, in, din, out, dout);
+  StepRig r(board::load_board("bath-amb-rig"));
+  r.sup.step(r.in, true, r.din, r.out, r.dout);
+  timed_steps(state, r);
 }
 BENCHMARK(BM_ControlStep);
 
@@ -68,22 +76,13 @@ void control_step_levitated(benchmark::State& state, bool sweep) {
   board::BoardConfig b = board::load_board("bath-amb-rig");
   b.sweep.axes = {true, false, false, false};
   b.sweep.recorded_periods = 200;
-  fw::Supervisor sup;
-  sup.configure(b);
-  hal::AnalogInputs in{};
-  hal::DiscreteInputs din{};
-  hal::AnalogOutputs out{};
-  hal::DiscreteOutputs dout{};
-  sup.post(fw::Command::levitate);
-  for (int i = 0; i < static_cast<int>((b.lifecycle.liftoff_ramp_s + b.lifecycle.settle_s) * b.rate_hz) + 20; ++i) {
-    in.t_ns += 100000;
-    sup.step(in, true, din, out, dout);
-  }
-  if (sweep) sup.request_sweep_start();
-  timed_steps(state, sup, in, din, out, dout);
-  const fw::SweepState ss = sup.status().sweep.state;
+  StepRig r(b);
+  for (int i = 0; i < static_cast<int>((b.lifecycle.liftoff_ramp_s + b.lifecycle.settle_s) * b.rate_hz) + 20; ++i) r.step();
+  if (sweep) r.sup.request_sweep_start();
+  timed_steps(state, r);
+  const fw::SweepState ss = r.sup.status().sweep.state;
   state.counters["sweep_recording"] = (ss == fw::SweepState::recording || ss == fw::SweepState::settling) ? 1.0 : 0.0;
-  state.counters["levitated"] = sup.status().phase == fw::Phase::levitated ? 1.0 : 0.0;
+  state.counters["levitated"] = r.sup.status().phase == fw::Phase::levitated ? 1.0 : 0.0;
 }
 void BM_ControlStepLevitated(benchmark::State& state) { control_step_levitated(state, false); }
 void BM_ControlStepSweep(benchmark::State& state) { control_step_levitated(state, true); }
