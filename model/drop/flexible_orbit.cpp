@@ -41,8 +41,10 @@ void FlexibleOrbit::init(const rotor::RotorModel& rotor, const rotor::ReducedRot
   }
   const Eigen::Matrix2d s_r = s.leftCols(2), a_r = a.leftCols(2);
   s_f_ = s.rightCols(nf_);
-  const Eigen::MatrixXd a_f = a.rightCols(nf_);
-  const Eigen::MatrixXd p = a_f.transpose() * a_r.transpose().inverse();  // nf x 2
+  a_f_ = a.rightCols(nf_);
+  s_r_inv_ = s_r.inverse();
+  a_r_ = a_r;
+  const Eigen::MatrixXd p = a_f_.transpose() * a_r.transpose().inverse();  // nf x 2
   e_ = p * s_r.inverse();
   const Eigen::MatrixXd l = Eigen::MatrixXd::Identity(nf_, nf_) + e_ * s_f_;
   l_inv_ = l.inverse();
@@ -62,10 +64,9 @@ void FlexibleOrbit::init(const rotor::RotorModel& rotor, const rotor::ReducedRot
   }
 }
 
-std::vector<std::array<double, 4>> FlexibleOrbit::rigid_part(const std::vector<std::array<double, 4>>& planes_m,
-                                                             double dt_s, bool with_gravity) const {
-  std::vector<std::array<double, 4>> out(planes_m);
-  if (planes_m.size() < 2 || !(dt_s > 0.0)) return out;
+template <class PerSample>
+void FlexibleOrbit::integrate(const std::vector<std::array<double, 4>>& planes_m, double dt_s, bool with_gravity,
+                              PerSample&& sample) const {
   // Sub-steps: the fastest of the bending and inverse modes resolved to 0.1 rad per step.
   double w_max = std::sqrt(w_f_.maxCoeff());
   for (double f : inverse_hz_) w_max = std::max(w_max, 2.0 * M_PI * f);
@@ -84,10 +85,7 @@ std::vector<std::array<double, 4>> FlexibleOrbit::rigid_part(const std::vector<s
     };
     for (size_t i = 0;; ++i) {
       const Eigen::Vector2d y0 = y_at(i);
-      const Eigen::VectorXd q = l_inv_ * (u + e_ * y0);
-      const Eigen::Vector2d bend = s_f_ * q;
-      out[i][static_cast<size_t>(plane)] -= bend(0);
-      out[i][static_cast<size_t>(2 + plane)] -= bend(1);
+      sample(i, plane, Eigen::VectorXd(l_inv_ * (u + e_ * y0)));
       if (i + 1 >= planes_m.size()) break;
       y_rate = (y_at(i + 1) - y0) / dt_s;
       for (int j = 0; j < sub; ++j) {  // classical Runge-Kutta, y linear between samples
@@ -101,6 +99,31 @@ std::vector<std::array<double, 4>> FlexibleOrbit::rigid_part(const std::vector<s
       }
     }
   }
+}
+
+std::vector<std::array<double, 4>> FlexibleOrbit::rigid_part(const std::vector<std::array<double, 4>>& planes_m,
+                                                             double dt_s, bool with_gravity) const {
+  std::vector<std::array<double, 4>> out(planes_m);
+  if (planes_m.size() < 2 || !(dt_s > 0.0)) return out;
+  integrate(planes_m, dt_s, with_gravity, [&](size_t i, int plane, const Eigen::VectorXd& q) {
+    const Eigen::Vector2d bend = s_f_ * q;
+    out[i][static_cast<size_t>(plane)] -= bend(0);
+    out[i][static_cast<size_t>(2 + plane)] -= bend(1);
+  });
+  return out;
+}
+
+std::vector<std::array<double, 4>> FlexibleOrbit::aux_planes(const std::vector<std::array<double, 4>>& planes_m,
+                                                             double dt_s) const {
+  std::vector<std::array<double, 4>> out(planes_m.size());
+  if (planes_m.size() < 2 || !(dt_s > 0.0)) return out;
+  integrate(planes_m, dt_s, true, [&](size_t i, int plane, const Eigen::VectorXd& q) {
+    const auto p = static_cast<size_t>(plane);
+    const Eigen::Vector2d y(planes_m[i][p], planes_m[i][2 + p]);
+    const Eigen::Vector2d aux = a_r_ * (s_r_inv_ * (y - s_f_ * q)) + a_f_ * q;
+    out[i][p] = aux(0);
+    out[i][2 + p] = aux(1);
+  });
   return out;
 }
 

@@ -59,12 +59,25 @@ class FlexibleOrbit {
   /// `with_gravity` false: the path of a signal alone (e.g. probe noise), without the weight.
   std::vector<std::array<double, 4>> rigid_part(const std::vector<std::array<double, 4>>& planes_m, double dt_s,
                                                 bool with_gravity = true) const;
+  /// The same integration, returning the rotor centre at the two aux-bearing planes per
+  /// sample (x0, y0, x1, y1), m: the rigid-body part extrapolated to the aux planes plus the
+  /// bending there. This is where the rotor touches its aux bearings; the straight line
+  /// through the two sensor planes misses it by the bending between the planes.
+  std::vector<std::array<double, 4>> aux_planes(const std::vector<std::array<double, 4>>& planes_m, double dt_s) const;
 
  private:
+  /// Integrates the bending coordinates q_f over the record and calls
+  /// `sample(i, plane, q_f)` at every sample (plane 0: x, 1: y).
+  template <class PerSample>
+  void integrate(const std::vector<std::array<double, 4>>& planes_m, double dt_s, bool with_gravity,
+                 PerSample&& sample) const;
   void init(const rotor::RotorModel& rotor, const rotor::ReducedRotor& red, std::array<double, 2> sensor_axial_m,
             std::array<double, 2> aux_axial_m, double gravity_m_s2);
   int nf_ = 0;
   Eigen::MatrixXd s_f_;           // 2 x nf: bending shapes at the sensor planes
+  Eigen::MatrixXd a_f_;           // 2 x nf: bending shapes at the aux planes
+  Eigen::Matrix2d s_r_inv_;       // rigid-body shapes at the sensor planes, inverted
+  Eigen::Matrix2d a_r_;           // rigid-body shapes at the aux planes
   Eigen::MatrixXd l_inv_, e_;     // nf x nf, nf x 2
   Eigen::VectorXd d_f_, w_f_;     // modal damping (1/s) and stiffness (rad/s)^2
   Eigen::VectorXd c_y_;           // constant modal load from gravity in the y plane

@@ -72,7 +72,7 @@ TEST(FlexibleOrbit, RecoversTheRigidPartOfAModalSimulation) {
     if (plane == 1) acc += grav;
     return acc;
   };
-  std::vector<std::array<double, 4>> readings, rigid_truth;
+  std::vector<std::array<double, 4>> readings, rigid_truth, aux_truth;
   double bending_max = 0.0;
   for (int k = 0; k < samples; ++k) {
     std::array<double, 4> r{}, rt{};
@@ -85,8 +85,15 @@ TEST(FlexibleOrbit, RecoversTheRigidPartOfAModalSimulation) {
       rt[static_cast<size_t>(2 + plane)] = yr(1);
       bending_max = std::max(bending_max, (y - yr).cwiseAbs().maxCoeff());
     }
+    std::array<double, 4> at{};
+    for (int plane = 0; plane < 2; ++plane) {
+      const Eigen::Vector2d ya = a * q[static_cast<size_t>(plane)];
+      at[static_cast<size_t>(plane)] = ya(0);
+      at[static_cast<size_t>(2 + plane)] = ya(1);
+    }
     readings.push_back(r);
     rigid_truth.push_back(rt);
+    aux_truth.push_back(at);
     for (int j = 0; j < per_sample; ++j) {
       const double t = k * dt + j * h;
       for (int plane = 0; plane < 2; ++plane) {
@@ -110,6 +117,25 @@ TEST(FlexibleOrbit, RecoversTheRigidPartOfAModalSimulation) {
     for (size_t c = 0; c < 4; ++c) err = std::max(err, std::abs(rigid[static_cast<size_t>(k)][c] - rigid_truth[static_cast<size_t>(k)][c]));
   std::printf("bending at the sensors up to %.3f um; rigid part recovered to %.4f um\n", 1e6 * bending_max, 1e6 * err);
   EXPECT_LT(err, 0.03 * bending_max);
+
+  // Where the rotor touches its aux bearings: aux_planes() against the modal truth there, and
+  // the straight line through the two sensor planes (what a rigid-rotor view reads) against it.
+  const auto aux = flex.aux_planes(readings, dt);
+  const double za = sensor_planes(p)[0], zb = sensor_planes(p)[1];
+  double aux_err = 0.0, line_err = 0.0;
+  for (int k = 0; k < samples; ++k)
+    for (size_t plane = 0; plane < 2; ++plane)
+      for (size_t b = 0; b < 2; ++b) {
+        const double s_b = (aux_planes(p)[b] - za) / (zb - za);
+        const auto& r = readings[static_cast<size_t>(k)];
+        const double line = r[plane] + s_b * (r[2 + plane] - r[plane]);
+        const double truth = aux_truth[static_cast<size_t>(k)][2 * b + plane];
+        aux_err = std::max(aux_err, std::abs(aux[static_cast<size_t>(k)][2 * b + plane] - truth));
+        line_err = std::max(line_err, std::abs(line - truth));
+      }
+  std::printf("aux planes: straight-line view off by up to %.3f um, aux_planes() by %.4f um\n", 1e6 * line_err, 1e6 * aux_err);
+  ASSERT_GT(line_err, 1e-7);
+  EXPECT_LT(aux_err, 0.03 * line_err);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "host-tools/core/io/number_text.hpp"
 #include "host-tools/core/residual/drop_residual.hpp"
+#include "host-tools/core/residual/contact_view.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -81,7 +82,7 @@ using model::signal::pearson;  // one definition: model/signal/pearson.hpp
 // `sag`: the board rotor's sag bias of the straight-line view (gravity_sag_view_shift_m),
 // computed once per event (it does not depend on the aux-bearing offsets the refits move).
 DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, const model::PlantParams& rig,
-                    const DropResidualOptions& o, const SagViewShift& sag) {
+                    const DropResidualOptions& o, const SagViewShift& sag, const ContactView& contact_view) {
   DropErrors e;
   e.cost = f.cost.total;
   e.friction_coefficient = f.friction_coefficient;
@@ -130,8 +131,21 @@ DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, 
   e.error.pearson = chans > 0 ? pear / chans : 0.0;
   // Contact geometry: measured contact points about the model's centres, corrected by the
   // estimator's bias seen on the simulation.
-  e.measured_circle = estimate_contact_circles(meas, rig, m.sample_rate_hz, o);
-  e.simulated_circle = estimate_contact_circles(sim, rig, m.sample_rate_hz, o);
+  // With a flexible board rotor both sides are read at the aux planes themselves: the
+  // record through the rotor's bending (ContactView), the simulation from its own rotor
+  // centre there (exact for a rigid or a flexible drop model).
+  Readings meas_c = meas, sim_c = sim;
+  if (contact_view.flexible()) {
+    meas_c = contact_view.contact_readings(meas, m.sample_rate_hz);
+    std::vector<std::array<double, 4>> aux(n);
+    for (size_t i = 0; i < n; ++i) {
+      const auto& sm = f.trace.samples[i];
+      aux[i] = {sm.aux_x_m[0], sm.aux_y_m[0], sm.aux_x_m[1], sm.aux_y_m[1]};
+    }
+    sim_c = contact_view.from_aux_planes(aux);
+  }
+  e.measured_circle = estimate_contact_circles(meas_c, rig, m.sample_rate_hz, o);
+  e.simulated_circle = estimate_contact_circles(sim_c, rig, m.sample_rate_hz, o);
   // A rigid drop model (chosen by the drop cost) has no shaft sag between the aux contacts,
   // which the straight-line sensor view of the board's flexible rotor reads as centres lower
   // by the static sag: that bias is added to the simulated circles (the main job's drop: the
@@ -140,7 +154,7 @@ DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, 
   // In contact the shaft carries more than its weight: the inertia of a decelerated rotor is
   // distributed as its mass is, so the sag scales with the mean downward contact force over
   // the contact samples (from the fitted simulation) against the weight.
-  if (f.rotor_modes_per_plane == 2 && rig.rotor.modes_kept != 2) {
+  if (!contact_view.flexible() && f.rotor_modes_per_plane == 2 && rig.rotor.modes_kept != 2) {
     double fy = 0.0, weight = 0.0;
     std::array<double, 2> fk{};
     std::array<int, 2> nk{};
@@ -170,7 +184,7 @@ DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, 
                                       ? e.simulated_circle[static_cast<size_t>(k)].centre_m
                                       : e.model_centre_m[static_cast<size_t>(k)];
   }
-  const auto mis = contact_misfit(meas, rig, ref, o);
+  const auto mis = contact_misfit(meas_c, rig, ref, o);
   double st2 = 0.0;
   for (int k = 0; k < 2; ++k) {
     const auto& [rms, cnt] = mis[static_cast<size_t>(k)];
@@ -490,7 +504,39 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   }
   out.contact_law = law_name[static_cast<int>(bu.plant.aux[0].contact_law)];
   const SagViewShift sag = gravity_sag_view_shift_m(b.plant, *rig_model);
-  out.drop_before = evaluate(m, base, bu.plant, o, sag);
+  auto after_trigger = [&](const fit::DropMeasurement& mm) {
+    return Readings(mm.sensor_m.begin() + static_cast<long>(first), mm.sensor_m.end());
+  };
+  // Which view of the contact points the record supports: a flexible rotor's contact points
+  // lie on circles only when read through its bending, a rigid rotor's only on the straight
+  // line. The record chooses: the view with the smaller radial scatter of the contact points
+  // about their own fitted circles.
+  const ContactView bent(b.plant, *rig_model), straight(b.plant, *rig_model, false);
+  auto contact_scatter = [&](const ContactView& v) {
+    const Readings rd = v.contact_readings(after_trigger(m), fs);
+    const auto circ = estimate_contact_circles(rd, b.plant, fs, o);
+    std::array<std::array<double, 2>, 2> centres{};
+    for (size_t k = 0; k < 2; ++k) centres[k] = circ[k].valid ? circ[k].centre_m : rig_centre(b.plant, static_cast<int>(k));
+    double ssr = 0.0;
+    int count = 0;
+    for (const auto& [rms, cnt] : contact_misfit(rd, b.plant, centres, o)) {
+      ssr += rms * rms * cnt;
+      count += cnt;
+    }
+    return count > 0 ? std::sqrt(ssr / count) : std::numeric_limits<double>::infinity();
+  };
+  bool use_bending = false;
+  if (bent.flexible()) {
+    const double s_bent = contact_scatter(bent), s_straight = contact_scatter(straight);
+    use_bending = s_bent < s_straight;
+    out.drop_notes.push_back(io::printf_text("contact points about their own circles: %.2f um rms read through the board rotor's "
+                                             "first bending mode (%.0f Hz free-free), %.2f um on the straight line through the "
+                                             "sensor planes: ", s_bent * 1e6, bent.bending_hz(), s_straight * 1e6) +
+                             (use_bending ? "the contact geometry is read at the aux planes through the bending"
+                                          : "the straight line (with the static sag bias) is kept"));
+  }
+  const ContactView& view = use_bending ? bent : straight;
+  out.drop_before = evaluate(m, base, bu.plant, o, sag, view);
   out.drop_after = out.drop_before;
   out.drop_notes.push_back(io::printf_text("drop model fitted: friction coefficient %.3f, Phase C cost %.4g", base.friction_coefficient,
                                base.cost.total) + ", contact law " + out.contact_law +
@@ -523,9 +569,6 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   ContactGeometryOptions geo;
   geo.contact_band = o.contact_band;
   geo.decorrelation_s = o.decorrelation_s;
-  auto after_trigger = [&](const fit::DropMeasurement& mm) {
-    return Readings(mm.sensor_m.begin() + static_cast<long>(first), mm.sensor_m.end());
-  };
 
   // ---- Candidate: sensor_runout (drop part) ----
   // The fitted unbalance's own signature in contact (shaft bending between the contacts,
@@ -628,7 +671,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   if (have_apply && angle_through) {
     fit::DropMeasurement mc = m;
     mc.sensor_m = remove_runout(m.sensor_m, angle, apply, bu.plant);
-    const DropErrors e1 = evaluate(mc, base, bu.plant, o, sag);  // runout is a reading artefact: the drop model's motion is unchanged
+    const DropErrors e1 = evaluate(mc, base, bu.plant, o, sag, view);  // runout is a reading artefact: the drop model's motion is unchanged
     out.drop_notes.push_back("runout (" + out.runout_source + ") subtracted from the drop readings: " + errs(out.drop_before.error) +
                              " -> " + errs(e1.error));
     bool keep = !runout_sig || lev_runout;  // a runout the levitated part named is applied as found there
@@ -728,7 +771,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
         const ContactGain g1 = estimate_contact_gain(after_trigger(m), bu.plant, fs, geo, fr);
         fit::DropMeasurement mc = m;
         mc.sensor_m = remove_gain_ratio(m.sensor_m, g1.log_ratio);
-        const DropErrors e1 = evaluate(mc, base, bu.plant, o, sag);  // a reading artefact: the drop model's motion is unchanged
+        const DropErrors e1 = evaluate(mc, base, bu.plant, o, sag, view);  // a reading artefact: the drop model's motion is unchanged
         const ContactGain post = estimate_contact_gain(after_trigger(mc), bu.plant, fs, geo, fr);
         engine::CandidateEvidence ce;
         ce.element = "sensor_gain";
@@ -814,7 +857,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
   if (testable) {
     // Candidate score without refit: the scatter about the measured circles' centres
     // (= the bias-corrected model centres moved by delta).
-    const Readings meas = after_trigger(m);
+    const Readings meas = view.contact_readings(after_trigger(m), fs);
     const auto mis = contact_misfit(meas, b.plant, {cur.measured_circle[0].centre_m, cur.measured_circle[1].centre_m}, o);
     double ssr = 0.0;
     for (const auto& [rms, cnt] : mis) ssr += rms * rms * cnt;
@@ -858,7 +901,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     board::BoardConfig b2 = with_offset(delta);
     say("drop part: refit with aux_bearing_offset");
     fit::DropFitResult refit = fit::fit_drop(m, b2, fo);
-    DropErrors after = evaluate(m, refit, b2.plant, o, sag);
+    DropErrors after = evaluate(m, refit, b2.plant, o, sag, view);
     for (int it = 0; it < o.max_offset_iterations; ++it) {
       double worst = 0.0;
       const double c2 = centre_chi2(after, &worst);
@@ -869,7 +912,7 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
       board::BoardConfig bn = with_offset(next);
       say("drop part: aux_bearing_offset fixed-point refit " + std::to_string(it + 1));
       fit::DropFitResult rn = fit::fit_drop(m, bn, fo);
-      DropErrors an = evaluate(m, rn, bn.plant, o, sag);
+      DropErrors an = evaluate(m, rn, bn.plant, o, sag, view);
       const double c2n = centre_chi2(an, nullptr);
       out.drop_notes.push_back(io::printf_text("offset iteration %.0f: centre chi2 %.1f -> %.1f", it + 1.0, c2, c2n) +
                                io::printf_text(", rotor %.0f modes per plane", static_cast<double>(rn.rotor_modes_per_plane)));
