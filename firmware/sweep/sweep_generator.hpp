@@ -5,8 +5,9 @@
 // allocated at configure time. Axes are swept one after the other: settle periods, then P
 // recorded periods each.
 //
-// Threads: the loop calls begin_step()/end_step() every period ([RT]: a table lookup, a few
-// comparisons and four stores; no allocation, lock, system call or exception). Any thread may
+// Threads: the loop checks quiet() every period and, unless quiet, calls begin_step(),
+// end_step() and publish_status() ([RT]: a table lookup, a few comparisons and four stores, a
+// status publication when it changed; no allocation, lock, system call or exception). Any thread may
 // request a start or an abort (atomic flags, taken at the loop's next period) and count a
 // refusal it made itself (the supervisory link). When a sweep ends (complete or aborted) the
 // buffer is handed to the event thread (ready()); the loop does not touch it again until that
@@ -129,8 +130,8 @@ class SweepGenerator {
   /// [RT] Progress and counters, the loop's own view (loop thread only).
   SweepStatus status() const;
   /// [RT] Publish status() for other threads if it changed since the last publication (a
-  /// start, a refusal, a settle or recorded period done, an axis done, the end, the record
-  /// handed back). The loop calls it after begin_step()/end_step(); a quiet generator has
+  /// start, a settle or recorded period done, an axis done, the end, the record handed back;
+  /// refusals are read live by published_status()). The loop calls it after begin_step()/end_step(); a quiet generator has
   /// nothing to publish, so the idle loop does not publish the sweep status at all.
   void publish_status() {
     if (!changed_) return;
