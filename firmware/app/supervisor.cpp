@@ -292,23 +292,6 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
       enter_safe_state(FaultReason::orbit_limit);
   }
 
-  // Loop-sensitivity sweep: the excitation e of this period and the axis it goes to (none
-  // unless levitated or at speed, not in fault, orbit inside the abort radius).
-  int sweep_axis = -1;
-  double excitation_a = 0.0;
-  if (!sweep_.quiet()) {
-    SweepInputs sweep_in;
-    sweep_in.levitated = (phase_ == Phase::levitated || phase_ == Phase::at_speed) &&
-                         (state_ == State::levitating || state_ == State::running);
-    sweep_in.fault = state_ == State::fault;
-    sweep_in.orbit_max_m = std::max(status_.orbit_radius_m[0], status_.orbit_radius_m[1]);
-    sweep_in.t_ns = in.t_ns;
-    sweep_in.seq = seq_;
-    sweep_in.speed_hz = speed_cmd_hz_;
-    excitation_a = sweep_.begin_step(sweep_in, sweep_axis);
-  }
-  double sweep_uc = 0.0, sweep_u = 0.0, sweep_y = 0.0;
-
   // Control: PID per axis in the bearing frame, then to actuator axes and currents.
   const bool energised = state_ == State::levitating || state_ == State::running;
   bool saturated = false;
@@ -331,21 +314,15 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
           ic[a] = std::copysign(lim, ic[a]);
           sx = true;
         }
-        if (sweep_axis == static_cast<int>(2 * b + a)) {
-          // The summing point: u = u_c + e (limited like any demand); y is the position
-          // reading along this actuator axis in the controller's frame.
-          sweep_uc = ic[a];
-          ic[a] = std::clamp(ic[a] + excitation_a, -lim, lim);
-          sweep_u = ic[a];
-          sweep_y = act_dir_[b][a][0] * status_.xy_m[2 * b] + act_dir_[b][a][1] * status_.xy_m[2 * b + 1];
-        }
       }
       saturated = saturated || sx || sy;
     }
     out.current_demand_a[2 * b] = ic[0];
     out.current_demand_a[2 * b + 1] = ic[1];
   }
-  if (sweep_axis >= 0) sweep_.end_step(sweep_uc, sweep_u, sweep_y);
+  // Loop-sensitivity sweep: while idle with no request, two flag reads (quiet()) and nothing
+  // else; the excitation goes onto the demand the controller has just formed.
+  if (!sweep_.quiet()) step_sweep(in.t_ns, out);
   if (saturated) ++counters_.saturated_steps;
   if (!energised) speed_cmd_hz_ = 0.0;
   out.amplifiers_enabled = energised;
@@ -457,8 +434,36 @@ void Supervisor::step(const hal::AnalogInputs& in, bool in_ok, const hal::Discre
   status_.speed_lost = speed_lost;
   status_.tach_speed_hz = tach;
   status_.counters = counters_;
-  status_.sweep = sweep_.status();
   published_.store(status_);
+}
+
+__attribute__((noinline)) void Supervisor::step_sweep(int64_t t_ns, hal::AnalogOutputs& out) {
+  // The excitation e of this period and the axis it goes to (none unless levitated or at
+  // speed, not in fault, orbit inside the abort radius). Levitated implies energised, so an
+  // excited axis always has a demand formed by the controller this period.
+  SweepInputs sweep_in;
+  sweep_in.levitated = (phase_ == Phase::levitated || phase_ == Phase::at_speed) &&
+                       (state_ == State::levitating || state_ == State::running);
+  sweep_in.fault = state_ == State::fault;
+  sweep_in.orbit_max_m = std::max(status_.orbit_radius_m[0], status_.orbit_radius_m[1]);
+  sweep_in.t_ns = t_ns;
+  sweep_in.seq = seq_;
+  sweep_in.speed_hz = speed_cmd_hz_;
+  int axis = -1;
+  const double excitation_a = sweep_.begin_step(sweep_in, axis);
+  if (axis >= 0 && axis < 4) {
+    // The summing point: u = u_c + e, u_c the demand after the controller's limit, u limited
+    // like any demand; y is the position reading along this actuator axis in the
+    // controller's frame.
+    const auto b = static_cast<size_t>(axis / 2), a = static_cast<size_t>(axis % 2);
+    const double lim = board_.controller.current_limit_a;
+    const double uc = out.current_demand_a[static_cast<size_t>(axis)];
+    const double u = std::clamp(uc + excitation_a, -lim, lim);
+    out.current_demand_a[static_cast<size_t>(axis)] = u;
+    const double y = act_dir_[b][a][0] * status_.xy_m[2 * b] + act_dir_[b][a][1] * status_.xy_m[2 * b + 1];
+    sweep_.end_step(uc, u, y);
+  }
+  sweep_.publish_status();
 }
 
 }  // namespace amb::fw

@@ -63,8 +63,8 @@ struct TrackedSpeedView {
   uint64_t updates = 0;       ///< tracker updates the loop has seen
 };
 
-/// Snapshot published each step for other threads (supervisory link, CLI, tests).
-struct Status {
+/// The loop's part of the status, published every step (one SeqLock store of these words).
+struct LoopStatus {
   int64_t t_ns = 0;
   uint64_t step = 0;
   State state = State::unconfigured;
@@ -80,6 +80,14 @@ struct Status {
   double tach_speed_hz = -1.0;            ///< tachometer reading, Hz (<0: none)
   TrackedSpeedView tracked;               ///< the tracker's speed as the loop sees it
   FaultCounters counters;
+};
+
+/// Snapshot for other threads (supervisory link, CLI, tests): the loop's part, published every
+/// step, and the sweep's, which the generator publishes only when it changes (a start, a period
+/// or an axis done, the end) so that an idle generator adds nothing to the step's publication
+/// (docs/sweep.md "Cost in the loop"). Both are as of the latest step; the two are read one after
+/// the other, so the sweep part may be one step newer than the loop part.
+struct Status : LoopStatus {
   SweepStatus sweep;                      ///< loop-sensitivity sweep: progress, aborts, refusals
 };
 
@@ -110,7 +118,12 @@ class Supervisor {
   /// The record of the last step (for the capture ring).
   const LoopSample& last_sample() const { return sample_; }
   /// Latest status (lock-free snapshot; any thread).
-  Status status() const { return published_.load(); }
+  Status status() const {
+    Status s;
+    static_cast<LoopStatus&>(s) = published_.load();
+    s.sweep = sweep_.published_status();
+    return s;
+  }
   State state() const { return state_; }
   double period_s() const { return dt_s_; }
 
@@ -129,6 +142,11 @@ class Supervisor {
 
  private:
   void handle_command(Command c);
+  /// [RT] The sweep's part of a step, called only while the generator is not quiet: the
+  /// excitation added at the summing point of its axis (out.current_demand_a, after the
+  /// controller's limit), the record, the sweep status published when it changed. Kept out of
+  /// line so that the step's control path is the same code with the generator idle.
+  void step_sweep(int64_t t_ns, hal::AnalogOutputs& out);
   void set_phase(Phase p) { phase_ = p; phase_t_s_ = 0.0; }
 
   board::BoardConfig board_{};
@@ -153,8 +171,8 @@ class Supervisor {
   bool watchdog_ = false;
   FaultCounters counters_{};
   LoopSample sample_{};
-  Status status_{};
-  SeqLock<Status> published_;
+  LoopStatus status_{};
+  SeqLock<LoopStatus> published_;
   std::atomic<uint8_t> pending_{0};
   // Tracked speed: f32 speed bits | confidence percent << 32 | lost << 40 | update counter << 48.
   std::atomic<uint64_t> tracked_packed_{0};

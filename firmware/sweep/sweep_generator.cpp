@@ -86,6 +86,8 @@ void SweepGenerator::reset() {
   released_.store(false);
   refusals_.store(0);
   last_refusal_.store(0);
+  changed_ = false;
+  published_.store(status());
 }
 
 void SweepGenerator::count_refusal(SweepRefusal r) {
@@ -104,6 +106,7 @@ void SweepGenerator::finish(SweepAbort reason) {
     ++completed_;
   }
   state_ = SweepState::storing;
+  changed_ = true;
   ready_.store(true, std::memory_order_release);
 }
 
@@ -116,7 +119,10 @@ double SweepGenerator::begin_step(const SweepInputs& in, int& axis) {
   auto take = [](std::atomic<bool>& f) {
     return f.load(std::memory_order_relaxed) && f.exchange(false, std::memory_order_acquire);
   };
-  if (take(released_) && state_ == SweepState::storing) state_ = SweepState::idle;
+  if (take(released_) && state_ == SweepState::storing) {
+    state_ = SweepState::idle;
+    changed_ = true;
+  }
   const bool running = state_ == SweepState::settling || state_ == SweepState::recording;
   if (take(abort_req_) && running) {
     finish(SweepAbort::operator_abort);
@@ -140,6 +146,7 @@ double SweepGenerator::begin_step(const SweepInputs& in, int& axis) {
       start_stamped_ = false;
       speed_hz_ = in.speed_hz;
       ++started_;
+      changed_ = true;
     }
   }
   if (state_ != SweepState::settling && state_ != SweepState::recording) return 0.0;
@@ -179,6 +186,7 @@ void SweepGenerator::end_step(double uc_a, double u_a, double y_m) {
   if (++k_ < n) return;
   k_ = 0;
   ++period_;
+  changed_ = true;
   if (period_ == p_.settle_periods) state_ = SweepState::recording;
   if (period_ < p_.settle_periods + p_.recorded_periods) return;
   period_ = 0;

@@ -5,8 +5,9 @@
 // allocated at configure time. Axes are swept one after the other: settle periods, then P
 // recorded periods each.
 //
-// Threads: the loop calls begin_step()/end_step() every period ([RT]: a table lookup, a few
-// comparisons and four stores; no allocation, lock, system call or exception). Any thread may
+// Threads: the loop checks quiet() every period and, unless quiet, calls begin_step(),
+// end_step() and publish_status() ([RT]: a table lookup, a few comparisons and four stores, a
+// status publication when it changed; no allocation, lock, system call or exception). Any thread may
 // request a start or an abort (atomic flags, taken at the loop's next period) and count a
 // refusal it made itself (the supervisory link). When a sweep ends (complete or aborted) the
 // buffer is handed to the event thread (ready()); the loop does not touch it again until that
@@ -18,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "firmware/common/spsc_ring.hpp"
 #include "firmware/sweep/multisine.hpp"
 #include "firmware/sweep/sweep_params.hpp"
 
@@ -93,6 +95,7 @@ struct SweepCaptureView {
 
 class SweepGenerator {
  public:
+  SweepGenerator() { published_.store(status()); }
   /// Configure time (allocates the period table and the record buffer). `bias_current_a`: the
   /// amplitude's reference; `abort_orbit_m`: the orbit radius that aborts. Returns "" or why
   /// the sweep cannot run (then every start is refused, reason amplitude_limit or
@@ -124,8 +127,25 @@ class SweepGenerator {
   /// [RT] After the demand is formed: u_c, u (what goes to the amplifier) and y of the excited
   /// axis (ignored when begin_step returned axis -1). Records and advances.
   void end_step(double uc_a, double u_a, double y_m);
-  /// [RT] Progress and counters.
+  /// [RT] Progress and counters, the loop's own view (loop thread only).
   SweepStatus status() const;
+  /// [RT] Publish status() for other threads if it changed since the last publication (a
+  /// start, a settle or recorded period done, an axis done, the end, the record handed back;
+  /// refusals are read live by published_status()). The loop calls it after begin_step()/end_step(); a quiet generator has
+  /// nothing to publish, so the idle loop does not publish the sweep status at all.
+  void publish_status() {
+    if (!changed_) return;
+    changed_ = false;
+    published_.store(status());
+  }
+  /// Any thread: the latest published status, with the refusal counter and reason as of now
+  /// (refusals are also counted outside the loop).
+  SweepStatus published_status() const {
+    SweepStatus s = published_.load();
+    s.refusals = refusals_.load(std::memory_order_relaxed);
+    s.last_refusal = static_cast<SweepRefusal>(last_refusal_.load(std::memory_order_relaxed));
+    return s;
+  }
 
   /// Event thread: a finished sweep waits; its view; hand the buffer back.
   bool ready() const { return ready_.load(std::memory_order_acquire); }
@@ -163,6 +183,8 @@ class SweepGenerator {
   bool start_stamped_ = false;
   uint32_t started_ = 0, completed_ = 0, aborts_ = 0;
   SweepAbort last_abort_ = SweepAbort::none;
+  bool changed_ = false;                  ///< status() differs from the published one
+  SeqLock<SweepStatus> published_;
   // Shared with other threads.
   std::atomic<bool> start_req_{false}, abort_req_{false};
   std::atomic<bool> ready_{false}, released_{false};

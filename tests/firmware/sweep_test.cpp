@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "firmware/app/supervisor.hpp"
 #include "firmware/common/crc32.hpp"
@@ -250,6 +252,160 @@ TEST(SweepGenerator, ControlStepWithTheGeneratorRunningDoesNotAllocate) {
   EXPECT_EQ(st.sweep.axes_done, 4);
   EXPECT_EQ(st.state, State::levitating);
   EXPECT_EQ(st.fault, FaultReason::none);
+}
+
+// A levitated supervisor on the Bath board with a short four-axis plan (500-sample periods,
+// one settle and two recorded periods per axis) and fixed inputs: the position reading does not
+// depend on the demand, so two of them given the same inputs run the same controller.
+struct SweepRig {
+  amb::board::BoardConfig board = amb::board::load_board("bath-amb-rig");
+  Supervisor sup;
+  amb::hal::AnalogInputs in{};
+  amb::hal::DiscreteInputs din{};
+  amb::hal::AnalogOutputs out{};
+  amb::hal::DiscreteOutputs dout{};
+  SweepRig() {
+    board.sweep.samples_per_period = 500;
+    board.sweep.settle_periods = 1;
+    board.sweep.recorded_periods = 2;
+    sup.configure(board);
+    sup.post(Command::levitate);
+    const int n = static_cast<int>((board.lifecycle.liftoff_ramp_s + board.lifecycle.settle_s) * board.rate_hz) + 20;
+    for (int i = 0; i < n; ++i) {
+      in.t_ns += 100000;
+      sup.step(in, true, din, out, dout);
+    }
+  }
+  // One period; once levitated the sensor readings move so that every axis's controller works.
+  void step(long k) {
+    in.t_ns += 100000;
+    for (size_t i = 0; i < 4; ++i)
+      in.displacement_m[i] = 2e-6 * std::sin(0.013 * static_cast<double>(k) * static_cast<double>(i + 1));
+    sup.step(in, true, din, out, dout);
+  }
+};
+
+bool same_sweep_status(const SweepStatus& a, const SweepStatus& b) {
+  return a.state == b.state && a.axis == b.axis && a.axis_index == b.axis_index && a.axes_total == b.axes_total &&
+         a.axes_done == b.axes_done && a.period == b.period && a.periods_per_axis == b.periods_per_axis &&
+         a.started == b.started && a.completed == b.completed && a.aborts == b.aborts && a.refusals == b.refusals &&
+         a.last_abort == b.last_abort && a.last_refusal == b.last_refusal;
+}
+
+// The generator publishes its status only when it changes (docs/sweep.md "Cost in the loop"):
+// what other threads read through Supervisor::status() must still be the loop's own view after
+// every step - through a refusal, a start, every settle and recorded period, each axis, a
+// complete sweep, the hand-back of the record, an operator abort - and a refusal counted
+// outside the loop must show at once.
+TEST(SweepGenerator, PublishedStatusIsTheLoopsViewAfterEveryStep) {
+  SweepRig r;
+  ASSERT_EQ(r.sup.status().phase, Phase::levitated);
+  ASSERT_TRUE(same_sweep_status(r.sup.status().sweep, r.sup.sweep().status()));
+  long k = 0;
+  int mismatches = 0;
+  long first_mismatch = -1;
+  uint32_t periods_seen = 0, last_period = 0;
+  auto run = [&](int n) {
+    for (int i = 0; i < n; ++i) {
+      r.step(++k);
+      const SweepStatus published = r.sup.status().sweep;
+      if (!same_sweep_status(published, r.sup.sweep().status())) {
+        if (mismatches++ == 0) first_mismatch = k;
+      }
+      if (published.period != last_period) ++periods_seen;
+      last_period = published.period;
+    }
+  };
+  // A refusal decided outside the loop (the supervisory link's "not armed").
+  r.sup.sweep().count_refusal(SweepRefusal::not_armed);
+  EXPECT_EQ(r.sup.status().sweep.refusals, 1u);
+  EXPECT_EQ(r.sup.status().sweep.last_refusal, SweepRefusal::not_armed);
+  run(5);
+  // A whole sweep: 4 axes x 3 periods x 500 steps, then storing until the record is released.
+  r.sup.request_sweep_start();
+  run(4 * 3 * 500 + 10);
+  EXPECT_EQ(r.sup.status().sweep.state, SweepState::storing);
+  EXPECT_EQ(r.sup.status().sweep.completed, 1u);
+  EXPECT_EQ(r.sup.status().sweep.axes_done, 4);
+  EXPECT_GE(periods_seen, 4u * 3u - 1u);  // the published period moved with the loop's
+  ASSERT_TRUE(r.sup.sweep().ready());
+  r.sup.sweep().release();
+  run(3);
+  EXPECT_EQ(r.sup.status().sweep.state, SweepState::idle);
+  // An operator abort in the second recorded period of the first axis.
+  r.sup.request_sweep_start();
+  run(1200);
+  EXPECT_EQ(r.sup.status().sweep.state, SweepState::recording);
+  r.sup.request_sweep_abort();
+  run(3);
+  EXPECT_EQ(r.sup.status().sweep.state, SweepState::storing);
+  EXPECT_EQ(r.sup.status().sweep.aborts, 1u);
+  EXPECT_EQ(r.sup.status().sweep.last_abort, SweepAbort::operator_abort);
+  EXPECT_EQ(r.sup.status().sweep.started, 2u);
+  std::printf("[ RESULT ] published sweep status vs the loop's: %d mismatches over %ld steps (first at %ld), %u period changes seen\n",
+              mismatches, k, first_mismatch, periods_seen);
+  EXPECT_EQ(mismatches, 0) << "first at step " << first_mismatch;
+}
+
+// The summing point: the swept axis's demand is the controller's demand (after its limit)
+// plus the excitation, u = clamp(u_c + e); the other axes' demands are untouched. Checked
+// against a second supervisor given the same inputs with no sweep, bit for bit, on all four
+// axes, and the record's u_c, u, e channels against what went to the outputs.
+TEST(SweepGenerator, ExcitationIsAddedAtTheSummingPointOfTheSweptAxisOnly) {
+  SweepRig swept, plain;
+  ASSERT_EQ(swept.sup.status().phase, Phase::levitated);
+  const double lim = swept.board.controller.current_limit_a;
+  // The start is taken at the next step (a settle step of axis 0), then the loop names the
+  // axis of each step before it runs.
+  swept.sup.request_sweep_start();
+  long k = 1;
+  swept.step(k);
+  plain.step(k);
+  ASSERT_EQ(swept.sup.sweep().status().axis, 0);
+  int wrong_other = 0, wrong_swept = 0, wrong_record = 0, excited_steps = 0;
+  std::array<int, 4> axis_steps{};
+  axis_steps[0] = 1;
+  std::vector<std::array<double, 3>> expected;  // per recorded step of the first axis: e, u_c, u
+  const uint32_t n = swept.board.sweep.samples_per_period;
+  for (int i = 1; i < 4 * 3 * static_cast<int>(n); ++i) {
+    const SweepStatus before = swept.sup.sweep().status();
+    swept.step(++k);
+    plain.step(k);
+    const int axis = (before.state == SweepState::settling || before.state == SweepState::recording) ? before.axis : -1;
+    for (int a = 0; a < 4; ++a) {
+      const double uc = plain.out.current_demand_a[static_cast<size_t>(a)];
+      const double u = swept.out.current_demand_a[static_cast<size_t>(a)];
+      if (a != axis) {
+        wrong_other += u != uc;
+        continue;
+      }
+      ++axis_steps[static_cast<size_t>(a)];
+      const double e = u - uc;
+      excited_steps += e != 0.0;
+      // |e| within the amplitude times the crest-scaled table peak (table peak 1), and u clamped.
+      wrong_swept += !(std::abs(e) <= swept.sup.sweep().amplitude_a() * 1.0000001) || std::abs(u) > lim;
+      if (a == 0 && before.period >= swept.board.sweep.settle_periods) expected.push_back({e, uc, u});
+    }
+  }
+  ASSERT_TRUE(swept.sup.sweep().ready());
+  const SweepCaptureView v = swept.sup.sweep().view();
+  ASSERT_EQ(v.axes_done, 4);
+  ASSERT_EQ(v.axes[0], 0);
+  const auto e0 = v.channel(0, 0), uc0 = v.channel(0, 1), u0 = v.channel(0, 2);
+  ASSERT_EQ(expected.size(), e0.size());
+  for (size_t j = 0; j < expected.size(); ++j)
+    wrong_record += std::abs(uc0[j] - static_cast<float>(expected[j][1])) > 1e-6f * (1.0f + std::abs(uc0[j])) ||
+                    std::abs(u0[j] - static_cast<float>(expected[j][2])) > 1e-6f * (1.0f + std::abs(u0[j])) ||
+                    std::abs(e0[j] - static_cast<float>(expected[j][0])) > 1e-5f;
+  std::printf("[ RESULT ] summing point: %d excited steps, steps per axis %d %d %d %d; demand differences off the swept axis %d, "
+              "swept axis out of bounds %d, record mismatches %d\n",
+              excited_steps, axis_steps[0], axis_steps[1], axis_steps[2], axis_steps[3], wrong_other, wrong_swept, wrong_record);
+  EXPECT_EQ(wrong_other, 0);
+  EXPECT_EQ(wrong_swept, 0);
+  EXPECT_EQ(wrong_record, 0);
+  for (int a = 0; a < 4; ++a) EXPECT_EQ(axis_steps[static_cast<size_t>(a)], 3 * static_cast<int>(n)) << "axis " << a;
+  EXPECT_GT(excited_steps, 4 * 3 * static_cast<int>(n) * 9 / 10);
+  EXPECT_EQ(swept.sup.status().fault, FaultReason::none);
 }
 
 SweepEvent small_event() {
