@@ -17,7 +17,7 @@
 // it is found (the long-labelled ctest runs it).
 //
 //   residual_population [--clean N] [--per-element N] [--combined N] [--threads T]
-//                       [--seed S] [--out FILE] [--check]
+//                       [--seed S] [--out FILE] [--check] [--verbose] [--keep DIR]
 #include <fftw3.h>
 
 #include <algorithm>
@@ -149,7 +149,7 @@ Case make_case(int id, const std::string& kind, std::mt19937_64& g) {
   return c;
 }
 
-Result run_case(const Case& c, const std::string& dir) {
+Result run_case(const Case& c, const std::string& dir, const std::string& keep_dir) {
   Result r;
   r.c = c;
   const auto t0 = std::chrono::steady_clock::now();
@@ -184,8 +184,12 @@ Result run_case(const Case& c, const std::string& dir) {
     note(out.drop_ranking);
     for (const auto& s : out.drop_ranking) r.lines.push_back("drop " + hr::candidate_text(s));
     for (const auto& n : out.drop_notes) r.lines.push_back("note " + n);
-    std::filesystem::remove(std::filesystem::path(dir) / (stem + ".json"));
-    std::filesystem::remove(std::filesystem::path(dir) / (stem + ".csv"));
+    for (const char* ext : {".json", ".csv"}) {
+      const auto f = std::filesystem::path(dir) / (stem + ext);
+      if (!keep_dir.empty()) std::filesystem::copy_file(f, std::filesystem::path(keep_dir) / (stem + ext),
+                                                        std::filesystem::copy_options::overwrite_existing);
+      std::filesystem::remove(f);
+    }
   } catch (const std::exception& e) {
     r.error = e.what();
   }
@@ -209,6 +213,7 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 31;
   std::string out_path;
   bool check = false, verbose = false;
+  std::string keep_dir;  // --keep DIR: the generated records are kept there (pop_<id>.json/.csv), for amb-host
   std::vector<std::string> elements{"aux_bearing_offset", "sensor_runout", "sensor_gain", "pedestal_resonance"};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -231,6 +236,7 @@ int main(int argc, char** argv) {
       for (std::string e; std::getline(ss, e, ',');) elements.push_back(e);
     } else if (a == "--check") check = true;
     else if (a == "--verbose") verbose = true;
+    else if (a == "--keep") keep_dir = next();
     else {
       std::fprintf(stderr, "residual_population: unknown option %s\n", a.c_str());
       return 1;
@@ -257,7 +263,7 @@ int main(int argc, char** argv) {
     std::fprintf(csv, "id,kind,size,unit,speed_hz,friction,rigid,contact_exponent,ring_scale,amp_scale,tach,verdict,dic_offset,dic_runout,dic_gain,dic_pedestal,wall_s,error,offset_err_um,view\n");
   auto worker = [&] {
     for (size_t i; (i = next_case++) < cases.size();) {
-      results[i] = run_case(cases[i], dir);
+      results[i] = run_case(cases[i], dir, keep_dir);
       const Result& r = results[i];
       std::lock_guard<std::mutex> lock(io);
       ++done;

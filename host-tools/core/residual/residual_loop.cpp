@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "host-tools/core/residual/engine/elements.hpp"
 #include "host-tools/core/residual/nelder_mead.hpp"
 #include "model/amb/amb_force.hpp"
 #include "model/rotor/rotor_model.hpp"
@@ -312,6 +313,26 @@ std::vector<std::pair<std::string, double>> effect_parameters(const EffectSet& e
   }
   return p;
 }
+
+namespace {
+// The element's fitted parameters outside the physical bounds of the element catalogue
+// (engine/elements): "name value (bounds lo .. hi)", empty when all are inside. The fit's own
+// search box is wider (a filler then shows as a value no real element would have, e.g. a
+// "pedestal" with 62 % damping shaping a faster amplifier's spectrum); such an element is
+// not identified.
+std::string outside_catalogue(const EffectSet& e, EffectKind k) {
+  const engine::ElementSpec* spec = engine::find_element(model::effects::effect_name(k));
+  if (spec == nullptr) return "";
+  std::string out;
+  for (const auto& [name, value] : effect_parameters(e, k))
+    if (!engine::within_bounds(*spec, name, value))
+      for (const auto& ps : spec->parameters)
+        if (ps.name == name)
+          out += (out.empty() ? "" : ", ") + io::printf_text("%s %.4g outside its physical bounds %.4g .. %.4g", name.c_str(), value,
+                                                              ps.lower, ps.upper);
+  return out;
+}
+}  // namespace
 
 ResidualStructure analyse_structure(const SteadyData& d, const board::BoardConfig& b, const SteadyEvaluation& ev) {
   ResidualStructure s;
@@ -627,7 +648,8 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
       const SteadyEvaluation ev = evaluate_steady(d, b, e, nullptr, fit.rig);
       c.delta_bic = now.bic - ev.bic;
       const double z = effect_size_sigma(d, b, ev, now);
-      const bool bound = at_bound(e, k, fit.bd) || !fit.identified(e, k);
+      const std::string outside = outside_catalogue(e, k);
+      const bool bound = at_bound(e, k, fit.bd) || !fit.identified(e, k) || !outside.empty();
       // Saturation acts through the variation of the force per ampere with the current; a
       // constant ki change at the operating point is the force scale of the model update. Its
       // effect within the recorded range is the ki variation over the recorded currents.
@@ -652,7 +674,9 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
         c.evidence += io::printf_text(" (no effect within the recorded range: force per ampere varies by %.2g %% over the recorded currents)",
                           100.0 * ki_variation);
       engine::CandidateEvidence ce =
-          evidence_of(c.name, now, ev, !bound, bound ? "a fitted parameter is at its bound or not bounded by the data" : "", !out_of_range);
+          evidence_of(c.name, now, ev, !bound,
+                      !outside.empty() ? outside : bound ? "a fitted parameter is at its bound or not bounded by the data" : "",
+                      !out_of_range);
       ce.evidence = c.evidence;
       const engine::Decision dec = engine::decide(ce, o.criterion);
       scores.push_back(scored(ce, dec));
@@ -673,8 +697,11 @@ ResidualOutcome run_residual_loop(const SteadyData& d, const board::BoardConfig&
     // candidate's own fit if the joint one is not better (or not kept by the criterion).
     const auto kind_added = *model::effects::effect_from_name(scores[idx[0]].name);
     auto final_evidence = [&](const SteadyEvaluation& ev) {
-      const bool ok = !at_bound(ev.effects, kind_added, fit.bd) && fit.identified(ev.effects, kind_added);
-      engine::CandidateEvidence ce = evidence_of(scores[idx[0]].name, now, ev, ok, ok ? "" : "a fitted parameter is at its bound or not bounded by the data", true);
+      const std::string outside = outside_catalogue(ev.effects, kind_added);
+      const bool ok = !at_bound(ev.effects, kind_added, fit.bd) && fit.identified(ev.effects, kind_added) && outside.empty();
+      engine::CandidateEvidence ce = evidence_of(scores[idx[0]].name, now, ev, ok,
+                                                 ok ? "" : !outside.empty() ? outside : "a fitted parameter is at its bound or not bounded by the data",
+                                                 true);
       ce.evidence = scores[idx[0]].evidence;
       return ce;
     };
