@@ -17,7 +17,7 @@
 // it is found (the long-labelled ctest runs it).
 //
 //   residual_population [--clean N] [--per-element N] [--combined N] [--threads T]
-//                       [--seed S] [--out FILE] [--check] [--verbose] [--keep DIR]
+//                       [--seed S] [--out FILE] [--check] [--verbose] [--keep DIR] [--only ID,ID]
 #include <fftw3.h>
 
 #include <algorithm>
@@ -213,6 +213,7 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 31;
   std::string out_path;
   bool check = false, verbose = false;
+  std::set<int> only;    // --only ID,ID: run only these case ids (the same draws as the full run)
   std::string keep_dir;  // --keep DIR: the generated records are kept there (pop_<id>.json/.csv), for amb-host
   std::vector<std::string> elements{"aux_bearing_offset", "sensor_runout", "sensor_gain", "pedestal_resonance"};
   for (int i = 1; i < argc; ++i) {
@@ -237,6 +238,10 @@ int main(int argc, char** argv) {
     } else if (a == "--check") check = true;
     else if (a == "--verbose") verbose = true;
     else if (a == "--keep") keep_dir = next();
+    else if (a == "--only") {
+      std::stringstream ss(next());
+      for (std::string e; std::getline(ss, e, ',');) only.insert(std::stoi(e));
+    }
     else {
       std::fprintf(stderr, "residual_population: unknown option %s\n", a.c_str());
       return 1;
@@ -252,6 +257,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i < per_element; ++i) cases.push_back(make_case(id++, e, g));
   for (const std::string k : {"aux_bearing_offset+sensor_runout", "sensor_runout+sensor_gain"})
     for (int i = 0; i < combined; ++i) cases.push_back(make_case(id++, k, g));
+  if (!only.empty())
+    cases.erase(std::remove_if(cases.begin(), cases.end(), [&](const Case& c) { return only.count(c.id) == 0; }), cases.end());
 
   const std::string dir = (std::filesystem::temp_directory_path() / ("amb_population_" + std::to_string(::getpid()))).string();
   std::filesystem::create_directories(dir);
