@@ -174,7 +174,7 @@ Result run_case(const Case& c, const std::string& dir, const std::string& keep_d
     }
     for (const auto& n : out.drop_notes)
       if (n.find("contact points about their own circles") != std::string::npos)
-        r.view = n.find("through the bending") != std::string::npos && n.find("straight line (with") == std::string::npos ? "bent"
+        r.view = n.find("through the bending") != std::string::npos && n.find("straight line is kept") == std::string::npos ? "bent"
                                                                                                                            : "straight";
     auto note = [&](const std::vector<hr::CandidateScore>& v) {
       for (const auto& s : v)

@@ -154,7 +154,7 @@ DropErrors evaluate(const fit::DropMeasurement& m, const fit::DropFitResult& f, 
   // In contact the shaft carries more than its weight: the inertia of a decelerated rotor is
   // distributed as its mass is, so the sag scales with the mean downward contact force over
   // the contact samples (from the fitted simulation) against the weight.
-  if (!contact_view.flexible() && f.rotor_modes_per_plane == 2 && rig.rotor.modes_kept != 2) {
+  if (!contact_view.flexible() && sag.weight_n > 0.0 && f.rotor_modes_per_plane == 2 && rig.rotor.modes_kept != 2) {
     double fy = 0.0, weight = 0.0;
     std::array<double, 2> fk{};
     std::array<int, 2> nk{};
@@ -503,7 +503,6 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
     }
   }
   out.contact_law = law_name[static_cast<int>(bu.plant.aux[0].contact_law)];
-  const SagViewShift sag = gravity_sag_view_shift_m(b.plant, *rig_model);
   auto after_trigger = [&](const fit::DropMeasurement& mm) {
     return Readings(mm.sensor_m.begin() + static_cast<long>(first), mm.sensor_m.end());
   };
@@ -533,9 +532,14 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
                                              "first bending mode (%.0f Hz free-free), %.2f um on the straight line through the "
                                              "sensor planes: ", s_bent * 1e6, bent.bending_hz(), s_straight * 1e6) +
                              (use_bending ? "the contact geometry is read at the aux planes through the bending"
-                                          : "the straight line (with the static sag bias) is kept"));
+                                          : "the straight line is kept (the rotor behaves as a rigid one: no sag bias added)"));
   }
   const ContactView& view = use_bending ? bent : straight;
+  // The static sag bias of the straight view is a flexible rotor's: added to a rigid
+  // simulation's circles only when the board's rotor is flexible and its bending cannot be
+  // read (no invertible bending mode). Where it can and the record chose the straight line,
+  // the rotor behaves as a rigid one (on rigid-rotor records the sag put the centres 5 um high).
+  const SagViewShift sag = bent.flexible() ? SagViewShift{} : gravity_sag_view_shift_m(b.plant, *rig_model);
   out.drop_before = evaluate(m, base, bu.plant, o, sag, view);
   out.drop_after = out.drop_before;
   out.drop_notes.push_back(io::printf_text("drop model fitted: friction coefficient %.3f, Phase C cost %.4g", base.friction_coefficient,
