@@ -50,6 +50,14 @@ hal::CanFrame frame(uint32_t id, uint8_t len, bool fd) {
   return f;
 }
 
+// Four int16 channels into `f`: value / lsb, or invalid where the channel's bit of
+// `fault_bits` is set (get_channels16 reads them back).
+hal::CanFrame put_channels16(hal::CanFrame f, const std::array<double, 4>& v, double lsb, uint32_t fault_bits) {
+  for (int i = 0; i < 4; ++i)
+    put16(f, 2 * i, static_cast<uint16_t>((fault_bits >> i) & 1u ? k_invalid_i16 : to_i16(v[static_cast<size_t>(i)], lsb)));
+  return f;
+}
+
 // Four int16 channels: value * lsb, or invalid (NaN + fault bit).
 void get_channels16(const hal::CanFrame& f, double lsb, std::array<double, 4>& v, uint32_t& faults) {
   for (int i = 0; i < 4; ++i) {
@@ -77,19 +85,11 @@ void get_channels32(const hal::CanFrame& f, int at, double lsb, std::array<doubl
 }  // namespace
 
 hal::CanFrame encode_position(uint8_t node, const std::array<double, 4>& d, uint32_t fault_bits) {
-  hal::CanFrame f = frame(k_position + node, 8, false);
-  for (int i = 0; i < 4; ++i)
-    put16(f, 2 * i,
-          static_cast<uint16_t>((fault_bits >> i) & 1u ? k_invalid_i16 : to_i16(d[static_cast<size_t>(i)], k_position_lsb_m)));
-  return f;
+  return put_channels16(frame(k_position + node, 8, false), d, k_position_lsb_m, fault_bits);
 }
 
 hal::CanFrame encode_current(uint8_t node, const std::array<double, 4>& c, uint32_t fault_bits) {
-  hal::CanFrame f = frame(k_current + node, 8, false);
-  for (int i = 0; i < 4; ++i)
-    put16(f, 2 * i,
-          static_cast<uint16_t>((fault_bits >> i) & 1u ? k_invalid_i16 : to_i16(c[static_cast<size_t>(i)], k_current_lsb_a)));
-  return f;
+  return put_channels16(frame(k_current + node, 8, false), c, k_current_lsb_a, fault_bits);
 }
 
 hal::CanFrame encode_demand(uint8_t node, const std::array<double, 4>& c) {

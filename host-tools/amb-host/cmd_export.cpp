@@ -2,12 +2,14 @@
 // the measured-event exchange format STEM.csv + STEM.json. Logic:
 // host-tools/core/events/measured_event.hpp.
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
+#include "host-tools/amb-host/event_input.hpp"
 #include "host-tools/core/events/load_event.hpp"
 #include "host-tools/core/events/measured_event.hpp"
 
@@ -20,13 +22,9 @@ struct Args {
 };
 
 int run(const Args& a) {
-  amb::host::LoadedEvent e;
-  try {
-    e = amb::host::load_event(a.event);
-  } catch (const amb::host::EventLoadError& err) {
-    std::fprintf(stderr, "amb-host export: error: %s\n", err.what());
-    return 1;
-  }
+  const std::optional<amb::host::LoadedEvent> loaded = amb::host::load_event_or_report(a.event, "export");
+  if (!loaded) return 1;
+  const amb::host::LoadedEvent& e = *loaded;
   amb::host::export_measured_event(e, a.out);
   const auto paths = amb::host::measured_event_paths(a.out);
   if (a.json) {

@@ -2,12 +2,14 @@
 // event (amb-measured-event/1 sidecar + CSV), and summarise it. Logic:
 // host-tools/core/events/load_event.hpp.
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "host-tools/amb-host/cli_checks.hpp"
 #include "host-tools/amb-host/command.hpp"
+#include "host-tools/amb-host/event_input.hpp"
 #include "host-tools/core/events/event_json.hpp"
 #include "host-tools/core/events/load_event.hpp"
 
@@ -19,13 +21,9 @@ struct Args {
 };
 
 int run(const Args& a) {
-  amb::host::LoadedEvent e;
-  try {
-    e = amb::host::load_event(a.file);
-  } catch (const amb::host::EventLoadError& err) {
-    std::fprintf(stderr, "amb-host import: error: %s\n", err.what());
-    return 1;
-  }
+  const std::optional<amb::host::LoadedEvent> loaded = amb::host::load_event_or_report(a.file, "import");
+  if (!loaded) return 1;
+  const amb::host::LoadedEvent& e = *loaded;
   if (a.json) {
     std::printf("%s\n", amb::host::event_summary_json(e).dump(2).c_str());
     return 0;

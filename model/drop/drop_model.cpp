@@ -16,12 +16,6 @@ constexpr double k_two_pi = 2.0 * M_PI;
 // displacements here are micrometres to millimetres (no overflow or underflow possible).
 inline double radius(double x, double y) { return std::sqrt(x * x + y * y); }
 
-ModeVec to_vec(const Eigen::RowVectorXd& r) {
-  ModeVec v(r.size());
-  for (Eigen::Index i = 0; i < r.size(); ++i) v(i) = r(i);
-  return v;
-}
-
 double lag_alpha(double bandwidth_hz, double h) {
   return bandwidth_hz > 0.0 ? 1.0 - std::exp(-k_two_pi * bandwidth_hz * h) : 1.0;
 }
@@ -64,47 +58,20 @@ DropModel::DropModel(std::shared_ptr<const RigModel> rig, const PlantParams& pla
 
   const int modes = o_.modes_per_plane > 0 ? o_.modes_per_plane : p_.rotor.modes_kept;
   red_ = modes == p_.rotor.modes_kept ? rig_->board_reduction() : rig_->reduction(modes);
-  const rotor::RotorModel& fe = rig_->rotor();
-  m_ = red_.modes();
-  if (m_ > k_max_modes) fail("modes per plane exceed the capacity of " + std::to_string(k_max_modes));
-  spin_inertia_ = fe.polar_inertia_kg_m2;
-  if (!(spin_inertia_ > 0.0)) fail("rotor has no polar inertia");
-
-  w2_ = to_vec(red_.reduced.omega2.transpose());
-  damp_ = to_vec(red_.reduced.damping.transpose());
-  polar_ = red_.reduced.polar;
-  // Gravity along -y on the consistent mass (as rotor_amb_plant.cpp).
-  gravity_y_ = to_vec(red_.gravity_y_n.transpose());
-
+  rows_ = make_step_rows(*rig_, red_, p_, "drop model");
+  m_ = rows_.modes;
   for (size_t b = 0; b < 2; ++b) {
-    b_amb_[b] = to_vec(red_.amb[b]);
-    b_aux_[b] = to_vec(red_.aux[b]);
-    law_[b] = magnet::make_axis_law(p_.amb[b]);
-    for (size_t a = 0; a < 2; ++a) act_dir_[2 * b + a] = magnet::axis_direction(p_.amb[b].actuator_angle_deg[a]);
-    const auto& s0 = magnet::axis_direction(p_.sensor[2 * b].angle_deg);
-    const auto& s1 = magnet::axis_direction(p_.sensor[2 * b + 1].angle_deg);
+    const auto& s0 = rows_.sensor_dir[2 * b];
+    const auto& s1 = rows_.sensor_dir[2 * b + 1];
     sensor_inv_[b] = inverse2(s0[0], s0[1], s1[0], s1[1]);
-    const auto& a0 = act_dir_[2 * b];
-    const auto& a1 = act_dir_[2 * b + 1];
+    const auto& a0 = rows_.act_dir[2 * b];
+    const auto& a1 = rows_.act_dir[2 * b + 1];
     actuator_inv_[b] = inverse2(a0[0], a1[0], a0[1], a1[1]);
   }
-  for (size_t k = 0; k < 4; ++k) {
-    b_sensor_[k] = to_vec(red_.sensor[k]);
-    sensor_dir_[k] = magnet::axis_direction(p_.sensor[k].angle_deg);
-  }
-  b_coupling_ = to_vec(red_.coupling);
-
-  // Unbalance expansion in cos/sin of the spin angle (see rotor_amb_plant.cpp): this model's
-  // unbalance, the rig model's disk rows.
-  const UnbalanceExpansion unb = unbalance_expansion(red_, p_.rotor);
-  unb_s_ = to_vec(unb.sin_sum.transpose());
-  unb_c_ = to_vec(unb.cos_sum.transpose());
-  b_mid_disk_ = to_vec(unb.mid_row);
-  mid_disk_phase_rad_ = unb.mid_phase_rad;
   fext_x_ = ModeVec::Zero(m_);
   fext_y_ = ModeVec::Zero(m_);
-  unb_s_step_ = unb_s_;
-  unb_c_step_ = unb_c_;
+  unb_s_step_ = rows_.unb_sin;
+  unb_c_step_ = rows_.unb_cos;
   for (auto& mm : mats_) {
     mm.a_inv = LatMat::Identity(2 * m_, 2 * m_);
     mm.z = LatBasis::Zero(2 * m_, 4);
@@ -202,12 +169,12 @@ void DropModel::reset(bool levitated, double spin_hz) {
     for (int axis = 0; axis < 2; ++axis) {
       Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(m_ + 2, m_ + 2);
       Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m_ + 2);
-      for (int i = 0; i < m_; ++i) kkt(i, i) = w2_(i);
-      if (axis == 1) rhs.head(m_) = gravity_y_;
+      for (int i = 0; i < m_; ++i) kkt(i, i) = rows_.w2(i);
+      if (axis == 1) rhs.head(m_) = rows_.gravity_y;
       for (int b = 0; b < 2; ++b) {
         const auto& a = p_.aux[static_cast<size_t>(b)];
-        kkt.block(0, m_ + b, m_, 1) = b_aux_[static_cast<size_t>(b)];
-        kkt.block(m_ + b, 0, 1, m_) = b_aux_[static_cast<size_t>(b)].transpose();
+        kkt.block(0, m_ + b, m_, 1) = rows_.aux[static_cast<size_t>(b)];
+        kkt.block(m_ + b, 0, 1, m_) = rows_.aux[static_cast<size_t>(b)].transpose();
         rhs(m_ + b) = axis == 0 ? a.centre_offset_x_m : a.centre_offset_y_m - a.clearance_m;
       }
       const Eigen::VectorXd sol = kkt.fullPivLu().solve(rhs);
@@ -220,10 +187,10 @@ void DropModel::reset(bool levitated, double spin_hz) {
     Eigen::Vector2d g;
     int r = 0;
     for (int i = 0; i < m_ && r < 2; ++i)
-      if (w2_(i) == 0.0) {
-        a(r, 0) = b_amb_[0](i);
-        a(r, 1) = b_amb_[1](i);
-        g(r) = -gravity_y_(i);
+      if (rows_.w2(i) == 0.0) {
+        a(r, 0) = rows_.amb[0](i);
+        a(r, 1) = rows_.amb[1](i);
+        g(r) = -rows_.gravity_y(i);
         ++r;
       }
     if (r == 2) {
@@ -233,8 +200,8 @@ void DropModel::reset(bool levitated, double spin_hz) {
     }
   }
   for (size_t k = 0; k < 4; ++k) {
-    s.sensor_filtered_m[k] = sensor_dir_[k][0] * b_sensor_[k].dot(s.q.head(m_)) +
-                             sensor_dir_[k][1] * b_sensor_[k].dot(s.q.tail(m_));
+    s.sensor_filtered_m[k] = rows_.sensor_dir[k][0] * rows_.sensor[k].dot(s.q.head(m_)) +
+                             rows_.sensor_dir[k][1] * rows_.sensor[k].dot(s.q.tail(m_));
     s.sensor_out_m[k] = s.sensor_filtered_m[k];
   }
   s_ = s;
@@ -257,8 +224,8 @@ void DropModel::controller_update(double period_s) {
     double xy[2] = {si[0] * r[0] + si[1] * r[1], si[2] * r[0] + si[3] * r[1]};
     if (o_.internal_controller_collocated) {
       const double nz = o_.sensor_noise ? p_.sensor[2 * b].noise_rms_m : 0.0;
-      xy[0] = b_amb_[b].dot(s_.q.head(m_)) + nz * s_.rng.normal();
-      xy[1] = b_amb_[b].dot(s_.q.tail(m_)) + nz * s_.rng.normal();
+      xy[0] = rows_.amb[b].dot(s_.q.head(m_)) + nz * s_.rng.normal();
+      xy[1] = rows_.amb[b].dot(s_.q.tail(m_)) + nz * s_.rng.normal();
     }
     const double ki = p_.amb[b].ki_n_per_a;
     const double force_limit = pid_.current_limit_a * ki;
@@ -295,15 +262,15 @@ void DropModel::step(double dt_s, const PlantInputs& in) {
   if (s_.t_s >= f.misalignment_start_s && f.misalignment_stiffness_n_per_m > 0.0) {
     const double drift = f.misalignment_rate_m_per_s * (s_.t_s - f.misalignment_start_s);
     const auto d = magnet::axis_direction(f.misalignment_direction_deg);
-    fext_x_ += f.misalignment_stiffness_n_per_m * drift * d[0] * b_coupling_;
-    fext_y_ += f.misalignment_stiffness_n_per_m * drift * d[1] * b_coupling_;
+    fext_x_ += f.misalignment_stiffness_n_per_m * drift * d[0] * rows_.coupling;
+    fext_y_ += f.misalignment_stiffness_n_per_m * drift * d[1] * rows_.coupling;
   }
-  unb_s_step_ = unb_s_;
-  unb_c_step_ = unb_c_;
+  unb_s_step_ = rows_.unb_sin;
+  unb_c_step_ = rows_.unb_cos;
   if (s_.t_s >= f.unbalance_growth_start_s) {
     const double du = f.unbalance_growth_kg_m_per_s * (s_.t_s - f.unbalance_growth_start_s);
-    unb_s_step_ += du * std::sin(mid_disk_phase_rad_) * b_mid_disk_;
-    unb_c_step_ += du * std::cos(mid_disk_phase_rad_) * b_mid_disk_;
+    unb_s_step_ += du * std::sin(rows_.mid_disk_phase_rad) * rows_.mid_disk;
+    unb_c_step_ += du * std::cos(rows_.mid_disk_phase_rad) * rows_.mid_disk;
   }
   for (int i = 0; i < n; ++i) substep(h, in);
   for (size_t k = 0; k < 4; ++k)
@@ -314,17 +281,17 @@ void DropModel::refactor(double h, double spin_rad_s, StepMatrices& mm) {
   // A = I + h/2 (C + Omega G) + h^2/4 K, G = [[0, P], [-P, 0]] on (x modes, y modes).
   LatMat a = LatMat::Zero(2 * m_, 2 * m_);
   for (int i = 0; i < m_; ++i) {
-    const double d = 1.0 + 0.5 * h * damp_(i) + 0.25 * h * h * w2_(i);
+    const double d = 1.0 + 0.5 * h * rows_.damp(i) + 0.25 * h * h * rows_.w2(i);
     a(i, i) = d;
     a(m_ + i, m_ + i) = d;
   }
-  a.block(0, m_, m_, m_) = 0.5 * h * spin_rad_s * polar_;
-  a.block(m_, 0, m_, m_) = -0.5 * h * spin_rad_s * polar_;
+  a.block(0, m_, m_, m_) = 0.5 * h * spin_rad_s * rows_.polar;
+  a.block(m_, 0, m_, m_) = -0.5 * h * spin_rad_s * rows_.polar;
   mm.a_inv = a.partialPivLu().inverse();
   LatBasis b = LatBasis::Zero(2 * m_, 4);
   for (int k = 0; k < 2; ++k) {
-    b.block(0, 2 * k, m_, 1) = b_aux_[static_cast<size_t>(k)];
-    b.block(m_, 2 * k + 1, m_, 1) = b_aux_[static_cast<size_t>(k)];
+    b.block(0, 2 * k, m_, 1) = rows_.aux[static_cast<size_t>(k)];
+    b.block(m_, 2 * k + 1, m_, 1) = rows_.aux[static_cast<size_t>(k)];
   }
   mm.z.noalias() = mm.a_inv * b;
   mm.s_aux.noalias() = b.transpose() * mm.z;
@@ -341,7 +308,7 @@ bool DropModel::compliant_contact_near(double h) const {
   // whirl) takes the full step: its spring is linearised about a penetration that hardly moves.
   for (size_t b = 0; b < 2; ++b) {
     const auto& a = p_.aux[b];
-    const ModeVec& bb = b_aux_[b];
+    const ModeVec& bb = rows_.aux[b];
     const double x = bb.dot(s_.q.head(m_)) - a.centre_offset_x_m, y = bb.dot(s_.q.tail(m_)) - a.centre_offset_y_m;
     const double vx = bb.dot(s_.u.head(m_)), vy = bb.dot(s_.u.tail(m_));
     const double r = radius(x, y);
@@ -389,7 +356,7 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
   if (in.amplifiers_enabled) {
     const LatVec qm = s.q + 0.5 * h * s.u;
     for (size_t b = 0; b < 2; ++b) {
-      const double xb = b_amb_[b].dot(qm.head(m)), yb = b_amb_[b].dot(qm.tail(m));
+      const double xb = rows_.amb[b].dot(qm.head(m)), yb = rows_.amb[b].dot(qm.tail(m));
       double fxb = 0.0, fyb = 0.0;
       for (size_t a = 0; a < 2; ++a) {
         const size_t j = 2 * b + a;
@@ -400,14 +367,14 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
         const double lim = p_.amb[b].coil_current_limit_a;
         cmd = std::clamp(cmd, -lim, lim);
         s.current_a[j] += M.amp_alpha[b] * (cmd - s.current_a[j]);
-        const double z = act_dir_[j][0] * xb + act_dir_[j][1] * yb;
-        const double force = magnet::axis_force_n(law_[b], z, s.current_a[j]);
+        const double z = rows_.act_dir[j][0] * xb + rows_.act_dir[j][1] * yb;
+        const double force = magnet::axis_force_n(rows_.law[b], z, s.current_a[j]);
         s.amb_force_n[j] = force;
-        fxb += force * act_dir_[j][0];
-        fyb += force * act_dir_[j][1];
+        fxb += force * rows_.act_dir[j][0];
+        fyb += force * rows_.act_dir[j][1];
       }
-      fx += fxb * b_amb_[b];
-      fy += fyb * b_amb_[b];
+      fx += fxb * rows_.amb[b];
+      fy += fyb * rows_.amb[b];
     }
   } else {
     s.current_a.fill(0.0);
@@ -431,14 +398,14 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
   LatVec rhs(2 * m);
   {
     const auto ux = s.u.head(m), uy = s.u.tail(m), qx = s.q.head(m), qy = s.q.tail(m);
-    const ModeVec pux = polar_ * ux, puy = polar_ * uy;
-    const ModeVec diag = (1.0 - 0.5 * h * damp_.array() - 0.25 * h * h * w2_.array()).matrix();
-    rhs.head(m) = diag.cwiseProduct(ux) - gs * puy - h * w2_.cwiseProduct(qx) + h * fx;
-    rhs.tail(m) = diag.cwiseProduct(uy) + gs * pux - h * w2_.cwiseProduct(qy) + h * (fy + gravity_y_);
+    const ModeVec pux = rows_.polar * ux, puy = rows_.polar * uy;
+    const ModeVec diag = (1.0 - 0.5 * h * rows_.damp.array() - 0.25 * h * h * rows_.w2.array()).matrix();
+    rhs.head(m) = diag.cwiseProduct(ux) - gs * puy - h * rows_.w2.cwiseProduct(qx) + h * fx;
+    rhs.tail(m) = diag.cwiseProduct(uy) + gs * pux - h * rows_.w2.cwiseProduct(qy) + h * (fy + rows_.gravity_y);
   }
   LatVec u_free(2 * m);
   u_free.noalias() = M.a_inv * rhs;
-  const double spin_free = s.spin_rad_s + h * drive / spin_inertia_;
+  const double spin_free = s.spin_rad_s + h * drive / rows_.spin_inertia_kg_m2;
 
   // 3. Contacts: closed when the predicted end-of-step gap is <= 0; geometry at the midpoint.
   ContactProblem cp;
@@ -452,7 +419,7 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
   CompliantContactProblem ccp;
   for (size_t b = 0; b < 2; ++b) {
     const auto& a = p_.aux[b];
-    const ModeVec& bb = b_aux_[b];
+    const ModeVec& bb = rows_.aux[b];
     // The rotor centre at this aux plane now (relative to the bearing centre) and its velocity;
     // the predicted end and midpoint follow from them (q is advanced by h u below).
     const double x0 = bb.dot(s.q.head(m)) - a.centre_offset_x_m, y0 = bb.dot(s.q.tail(m)) - a.centre_offset_y_m;
@@ -513,7 +480,7 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
     for (int i = 1; i < 4; i += 2)
       for (int j = 1; j < 4; j += 2)
         cp.delassus(i, j) += p_.aux[static_cast<size_t>(i / 2)].collar_radius_m *
-                             p_.aux[static_cast<size_t>(j / 2)].collar_radius_m / spin_inertia_;
+                             p_.aux[static_cast<size_t>(j / 2)].collar_radius_m / rows_.spin_inertia_kg_m2;
     for (size_t b = 0; b < 2; ++b) {
       const int t = 2 * static_cast<int>(b) + 1, d = 4 + static_cast<int>(b);
       const double jr = p_.aux[b].ring_inertia_kg_m2, rr = ring_radius_m_[b];
@@ -567,7 +534,7 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
   double spin_new = spin_free;
   std::array<double, 2> ring_new{};
   for (size_t b = 0; b < 2; ++b) {
-    spin_new += p_.aux[b].collar_radius_m * impulse(static_cast<int>(2 * b + 1)) / spin_inertia_;
+    spin_new += p_.aux[b].collar_radius_m * impulse(static_cast<int>(2 * b + 1)) / rows_.spin_inertia_kg_m2;
     ring_new[b] = s.ring_rad_s[b] + (-ring_radius_m_[b] * impulse(static_cast<int>(2 * b + 1)) + impulse(static_cast<int>(4 + b))) /
                                         p_.aux[b].ring_inertia_kg_m2;
   }
@@ -576,7 +543,7 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
   LatVec u_avg = 0.5 * (s.u + u_new);
   const double spin_avg = 0.5 * (s.spin_rad_s + spin_new);
   EnergyLedger& L = s.ledger;
-  L.damping_dissipated_j += h * (damp_.dot(u_avg.head(m).cwiseAbs2()) + damp_.dot(u_avg.tail(m).cwiseAbs2()));
+  L.damping_dissipated_j += h * (rows_.damp.dot(u_avg.head(m).cwiseAbs2()) + rows_.damp.dot(u_avg.tail(m).cwiseAbs2()));
   L.external_work_j += h * (fx.dot(u_avg.head(m)) + fy.dot(u_avg.tail(m)) + drive * spin_avg);
   double step_diss = 0.0;
   StepContact& rec = s.last_contact;
@@ -634,7 +601,7 @@ void DropModel::advance(double h, const PlantInputs& in, StepMatrices& M) {
   }
 
   for (size_t k = 0; k < 4; ++k) {
-    const double meas = sensor_dir_[k][0] * b_sensor_[k].dot(s.q.head(m)) + sensor_dir_[k][1] * b_sensor_[k].dot(s.q.tail(m));
+    const double meas = rows_.sensor_dir[k][0] * rows_.sensor[k].dot(s.q.head(m)) + rows_.sensor_dir[k][1] * rows_.sensor[k].dot(s.q.tail(m));
     s.sensor_filtered_m[k] += M.sensor_alpha[k] * (meas - s.sensor_filtered_m[k]);
   }
   if (observer_ != nullptr) observer_->on_step(rec);
@@ -661,28 +628,28 @@ void DropModel::project_positions(const std::array<bool, 2>& closed) {
   }
   if (count == 0) return;
   const double e_before = mechanical_energy_j();
-  const ModeVec hm = (1.0 + 0.25 * o_.step_s * o_.step_s * w2_.array()).matrix();
+  const ModeVec hm = (1.0 + 0.25 * o_.step_s * o_.step_s * rows_.w2.array()).matrix();
   Eigen::Matrix2d g = Eigen::Matrix2d::Identity();
   Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
   for (size_t b = 0; b < 2; ++b) {
     if (pen[b] == 0.0) continue;
     for (size_t c = 0; c < 2; ++c) {
       if (pen[c] == 0.0) continue;
-      g(static_cast<int>(b), static_cast<int>(c)) = (n[b][0] * n[c][0] + n[b][1] * n[c][1]) * b_aux_[b].dot(b_aux_[c].cwiseQuotient(hm));
+      g(static_cast<int>(b), static_cast<int>(c)) = (n[b][0] * n[c][0] + n[b][1] * n[c][1]) * rows_.aux[b].dot(rows_.aux[c].cwiseQuotient(hm));
     }
     rhs(static_cast<int>(b)) = -pen[b];
   }
   const Eigen::Vector2d lambda = g.ldlt().solve(rhs);
   for (size_t b = 0; b < 2; ++b) {
     if (pen[b] == 0.0) continue;
-    s_.q.head(m_) += lambda(static_cast<int>(b)) * n[b][0] * b_aux_[b].cwiseQuotient(hm);
-    s_.q.tail(m_) += lambda(static_cast<int>(b)) * n[b][1] * b_aux_[b].cwiseQuotient(hm);
+    s_.q.head(m_) += lambda(static_cast<int>(b)) * n[b][0] * rows_.aux[b].cwiseQuotient(hm);
+    s_.q.tail(m_) += lambda(static_cast<int>(b)) * n[b][1] * rows_.aux[b].cwiseQuotient(hm);
   }
   s_.ledger.projection_energy_j += mechanical_energy_j() - e_before;
 }
 
 std::array<double, 2> DropModel::aux_position_m(int bearing) const {
-  const ModeVec& b = b_aux_[static_cast<size_t>(bearing)];
+  const ModeVec& b = rows_.aux[static_cast<size_t>(bearing)];
   return {b.dot(s_.q.head(m_)), b.dot(s_.q.tail(m_))};
 }
 
@@ -697,9 +664,9 @@ std::array<double, 2> DropModel::displacement_at(double axial_m) const {
 }
 
 double DropModel::mechanical_energy_j() const {
-  double e = 0.5 * s_.u.squaredNorm() + 0.5 * spin_inertia_ * s_.spin_rad_s * s_.spin_rad_s;
-  e += 0.5 * (w2_.dot(s_.q.head(m_).cwiseAbs2()) + w2_.dot(s_.q.tail(m_).cwiseAbs2()));
-  e -= gravity_y_.dot(s_.q.tail(m_));
+  double e = 0.5 * s_.u.squaredNorm() + 0.5 * rows_.spin_inertia_kg_m2 * s_.spin_rad_s * s_.spin_rad_s;
+  e += 0.5 * (rows_.w2.dot(s_.q.head(m_).cwiseAbs2()) + rows_.w2.dot(s_.q.tail(m_).cwiseAbs2()));
+  e -= rows_.gravity_y.dot(s_.q.tail(m_));
   for (size_t b = 0; b < 2; ++b) e += 0.5 * p_.aux[b].ring_inertia_kg_m2 * s_.ring_rad_s[b] * s_.ring_rad_s[b];
   if (compliant()) e += s_.contact_energy_j[0] + s_.contact_energy_j[1];
   return e;
@@ -724,11 +691,11 @@ PlantTruth DropModel::truth() const {
     t.contact_force_n[b] = s_.last_contact.normal_n[b];
     t.friction_force_n[b] = s_.last_contact.friction_n[b];
     t.ring_speed_rad_s[b] = s_.ring_rad_s[b];
-    t.amb_x_m[b] = b_amb_[b].dot(s_.q.head(m_));
-    t.amb_y_m[b] = b_amb_[b].dot(s_.q.tail(m_));
+    t.amb_x_m[b] = rows_.amb[b].dot(s_.q.head(m_));
+    t.amb_y_m[b] = rows_.amb[b].dot(s_.q.tail(m_));
   }
   t.amb_force_n = s_.amb_force_n;
-  double ke = 0.5 * s_.u.squaredNorm() + 0.5 * spin_inertia_ * s_.spin_rad_s * s_.spin_rad_s;
+  double ke = 0.5 * s_.u.squaredNorm() + 0.5 * rows_.spin_inertia_kg_m2 * s_.spin_rad_s * s_.spin_rad_s;
   for (size_t b = 0; b < 2; ++b) ke += 0.5 * p_.aux[b].ring_inertia_kg_m2 * s_.ring_rad_s[b] * s_.ring_rad_s[b];
   t.kinetic_energy_j = ke;
   t.potential_energy_j = mechanical_energy_j() - ke;

@@ -54,15 +54,16 @@
 #include "model/plant/gaussian_rng.hpp"
 #include "model/plant/plant.hpp"
 #include "model/rig/rig_model.hpp"
+#include "model/rig/step_rows.hpp"
 #include "model/rotor/modal_reduction.hpp"
 #include "model/rotor/rotor_model.hpp"
 
 namespace amb::model::drop {
 
-inline constexpr int k_max_modes = 24;                 ///< capacity: modes per lateral plane
+inline constexpr int k_max_modes = k_step_max_modes;   ///< capacity: modes per lateral plane
 inline constexpr int k_max_lateral = 2 * k_max_modes;  ///< capacity: lateral modal DOFs (x then y)
-using ModeVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, k_max_modes, 1>;
-using ModeMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, k_max_modes, k_max_modes>;
+using ModeVec = StepModeVec;
+using ModeMat = StepModeMat;
 using LatVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, k_max_lateral, 1>;
 using LatMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, k_max_lateral, k_max_lateral>;
 using LatBasis = Eigen::Matrix<double, Eigen::Dynamic, 4, 0, k_max_lateral, 4>;
@@ -192,11 +193,11 @@ class DropModel final : public Plant {
   int modes_per_plane() const { return m_; }
   /// Squared natural frequencies of the free-free modes of one plane, rad^2/s^2 (exactly 0
   /// for the rigid-body modes; mass-normalised: q and u of a mode are in sqrt(kg) m, sqrt(kg) m/s).
-  const ModeVec& modal_omega2() const { return w2_; }
+  const ModeVec& modal_omega2() const { return rows_.w2; }
   double step_s() const { return o_.step_s; }
   double rotor_mass_kg() const { return rig_->mass_kg(); }
   const std::shared_ptr<const RigModel>& rig_model() const { return rig_; }
-  double spin_inertia_kg_m2() const { return spin_inertia_; }
+  double spin_inertia_kg_m2() const { return rows_.spin_inertia_kg_m2; }
   /// Rotor centre (x, y) at an axial position now, m (truth; allocates: not for the loop).
   std::array<double, 2> displacement_at(double axial_m) const;
   /// Rotor centre at aux-bearing plane `bearing` now, m.
@@ -230,17 +231,10 @@ class DropModel final : public Plant {
   std::shared_ptr<const RigModel> rig_;  // shared, read only
   RigReduction red_;                     // the rig model's rows at this model's mode count
   int m_ = 0;
-  double spin_inertia_ = 0.0;
 
-  // Reduced model (fixed after construction).
-  ModeVec w2_, damp_, gravity_y_;
-  ModeMat polar_;
-  std::array<ModeVec, 2> b_amb_, b_aux_;
-  std::array<ModeVec, 4> b_sensor_;
-  ModeVec b_coupling_, b_mid_disk_, unb_s_, unb_c_;
-  double mid_disk_phase_rad_ = 0.0;
-  std::array<magnet::AxisLaw, 2> law_{};
-  std::array<std::array<double, 2>, 4> act_dir_{}, sensor_dir_{};
+  // Reduced model (fixed after construction): the rig model's rows, this model's laws and
+  // unbalance.
+  StepRows rows_;
   std::array<std::array<double, 4>, 2> sensor_inv_{}, actuator_inv_{};  // per bearing 2x2 inverses
   std::array<double, 2> ring_radius_m_{};
 

@@ -10,11 +10,6 @@ namespace amb::model::journal {
 namespace {
 constexpr double k_two_pi = 2.0 * M_PI;
 
-double wrap_2pi(double a) {
-  a = std::fmod(a, k_two_pi);
-  return a < 0.0 ? a + k_two_pi : a;
-}
-
 void gauss_legendre_01(int n, std::vector<double>& x, std::vector<double>& w) {
   // Nodes and weights on [0, 1].
   switch (n) {

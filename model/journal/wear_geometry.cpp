@@ -7,10 +7,6 @@ namespace amb::model::journal {
 namespace {
 constexpr double k_two_pi = 2.0 * M_PI;
 
-double wrap_2pi(double a) {
-  a = std::fmod(a, k_two_pi);
-  return a < 0.0 ? a + k_two_pi : a;
-}
 // Angle in (-pi, pi].
 double wrap_pi(double a) {
   a = wrap_2pi(a);

@@ -20,9 +20,17 @@
 // Reynolds solver integrates the film exactly piecewise between cell centres, so a kink
 // or a true step is handled without smoothing (see reynolds_fvm.hpp).
 #include <array>
+#include <cmath>
 #include <string>
 
 namespace amb::model::journal {
+
+/// An angle wrapped to [0, 2 pi), rad (the bore angle theta's range).
+inline double wrap_2pi(double a_rad) {
+  const double two_pi = 2.0 * M_PI;
+  a_rad = std::fmod(a_rad, two_pi);
+  return a_rad < 0.0 ? a_rad + two_pi : a_rad;
+}
 
 enum class WearModel : int {
   none = 0,            ///< plain cylindrical bore

@@ -10,12 +10,6 @@ namespace {
 
 constexpr double k_two_pi = 2.0 * M_PI;
 
-RotorAmbPlant::Vec to_vec(const Eigen::RowVectorXd& r) {
-  RotorAmbPlant::Vec v(r.size());
-  for (Eigen::Index i = 0; i < r.size(); ++i) v(i) = r(i);
-  return v;
-}
-
 // Exact first-order lag factor over h for a bandwidth in Hz (0: no lag).
 double lag_alpha(double bandwidth_hz, double h) {
   return bandwidth_hz > 0.0 ? 1.0 - std::exp(-k_two_pi * bandwidth_hz * h) : 1.0;
@@ -40,47 +34,12 @@ RotorAmbPlant::RotorAmbPlant(std::shared_ptr<const RigModel> rig, const PlantPar
     : p_(p), o_(o), rig_(std::move(rig)), rng_(o.noise_seed) {
   if (!rig_) throw std::invalid_argument("plant: no rig model");
   rig_->check_same_rig(p, "plant");
-  const RigReduction& red = rig_->board_reduction();
-  const rotor::RotorModel& fe = rig_->rotor();
-  m_ = red.modes();
-  if (m_ > k_max_modes)
-    throw std::invalid_argument("plant: modes_kept (per plane) exceeds the capacity of " +
-                                std::to_string(k_max_modes));
-  spin_inertia_ = fe.polar_inertia_kg_m2;
-  if (!(spin_inertia_ > 0.0)) throw std::invalid_argument("plant: rotor has no polar inertia");
-
-  w2_ = to_vec(red.reduced.omega2.transpose());
-  damp_ = to_vec(red.reduced.damping.transpose());
-  polar_.resize(m_, m_);
-  polar_ = red.reduced.polar;
-  // Gravity along -y on the consistent mass: f = Phi^T M (-g t), t = unit translation.
-  gravity_y_ = to_vec(red.gravity_y_n.transpose());
-
-  for (size_t b = 0; b < 2; ++b) {
-    b_amb_[b] = to_vec(red.amb[b]);
-    b_aux_[b] = to_vec(red.aux[b]);
-    aux_inv_mass_[b] = b_aux_[b].squaredNorm();
-    law_[b] = magnet::make_axis_law(p.amb[b]);
-    for (size_t a = 0; a < 2; ++a) act_dir_[2 * b + a] = magnet::axis_direction(p.amb[b].actuator_angle_deg[a]);
-  }
-  for (size_t s = 0; s < 4; ++s) {
-    b_sensor_[s] = to_vec(red.sensor[s]);
-    sensor_dir_[s] = magnet::axis_direction(p.sensor[s].angle_deg);
-  }
-  b_coupling_ = to_vec(red.coupling);
-
-  // Unbalance: disk d at angle a_d = phase_d - theta from the vertical. Its force
-  // u (W^2 (sin a, cos a) + W' (cos a, -sin a)) expands in cos(theta), sin(theta) with the
-  // two sums S = sum b_d u_d sin(phase_d), C = sum b_d u_d cos(phase_d). The unbalance is
-  // this plant's own (p), the disk rows the rig model's.
-  const UnbalanceExpansion unb = unbalance_expansion(red, p.rotor);
-  unb_s_ = to_vec(unb.sin_sum.transpose());
-  unb_c_ = to_vec(unb.cos_sum.transpose());
-  b_mid_disk_ = to_vec(unb.mid_row);
-  mid_disk_phase_rad_ = unb.mid_phase_rad;
+  rows_ = make_step_rows(*rig_, rig_->board_reduction(), p, "plant");
+  m_ = rows_.modes;
+  for (size_t b = 0; b < 2; ++b) aux_inv_mass_[b] = rows_.aux[b].squaredNorm();
 
   // Sub-step rule (see header).
-  double w_max = std::sqrt(w2_.maxCoeff());
+  double w_max = std::sqrt(rows_.w2.maxCoeff());
   double h_damp = 1e300;
   for (size_t b = 0; b < 2; ++b) {
     w_max = std::max(w_max, std::sqrt(p.aux[b].contact_stiffness_n_per_m * aux_inv_mass_[b]));
@@ -92,8 +51,8 @@ RotorAmbPlant::RotorAmbPlant(std::shared_ptr<const RigModel> rig, const PlantPar
 
   fconst_x_ = Vec::Zero(m_);
   fconst_y_ = Vec::Zero(m_);
-  unb_s_step_ = unb_s_;
-  unb_c_step_ = unb_c_;
+  unb_s_step_ = rows_.unb_sin;
+  unb_c_step_ = rows_.unb_cos;
   reset(false, 0.0);
 }
 
@@ -109,13 +68,13 @@ void RotorAmbPlant::reset(bool levitated, double spin_hz) {
     // Static rest on both touchdown bearings (bottom of each ring): the contacts act as
     // springs below the clearance; x is held at the ring centres by the same springs.
     Mat a = Mat(m_, m_);
-    a = w2_.asDiagonal();
-    Vec rx = Vec::Zero(m_), ry = gravity_y_;
+    a = rows_.w2.asDiagonal();
+    Vec rx = Vec::Zero(m_), ry = rows_.gravity_y;
     for (size_t b = 0; b < 2; ++b) {
       const double k = p_.aux[b].contact_stiffness_n_per_m;
-      a += k * b_aux_[b] * b_aux_[b].transpose();
-      rx += k * p_.aux[b].centre_offset_x_m * b_aux_[b];
-      ry += k * (p_.aux[b].centre_offset_y_m - p_.aux[b].clearance_m) * b_aux_[b];
+      a += k * rows_.aux[b] * rows_.aux[b].transpose();
+      rx += k * p_.aux[b].centre_offset_x_m * rows_.aux[b];
+      ry += k * (p_.aux[b].centre_offset_y_m - p_.aux[b].clearance_m) * rows_.aux[b];
     }
     Eigen::LDLT<Mat> ldlt(a);
     ex_ = ldlt.solve(rx);
@@ -128,7 +87,7 @@ void RotorAmbPlant::reset(bool levitated, double spin_hz) {
   ring_rad_s_ = {0.0, 0.0};
   current_a_ = {};
   // A levitated start has the bias flux established; a start at rest has none.
-  for (size_t j = 0; j < 4; ++j) bias_a_[j] = levitated ? law_[j / 2].bias_a : 0.0;
+  for (size_t j = 0; j < 4; ++j) bias_a_[j] = levitated ? rows_.law[j / 2].bias_a : 0.0;
   amb_force_n_ = {};
   contact_ = {};
   friction_dissipated_j_ = 0.0;
@@ -136,12 +95,12 @@ void RotorAmbPlant::reset(bool levitated, double spin_hz) {
   counters_ = Counters{};
   rng_.reseed(o_.noise_seed);
   for (size_t s = 0; s < 4; ++s) {
-    sensor_filtered_m_[s] = sensor_dir_[s][0] * b_sensor_[s].dot(ex_) + sensor_dir_[s][1] * b_sensor_[s].dot(ey_);
+    sensor_filtered_m_[s] = rows_.sensor_dir[s][0] * rows_.sensor[s].dot(ex_) + rows_.sensor_dir[s][1] * rows_.sensor[s].dot(ey_);
     sensor_true_m_[s] = sensor_filtered_m_[s];
     sensor_out_m_[s] = sensor_filtered_m_[s];
   }
-  unb_s_step_ = unb_s_;
-  unb_c_step_ = unb_c_;
+  unb_s_step_ = rows_.unb_sin;
+  unb_c_step_ = rows_.unb_cos;
 }
 
 void RotorAmbPlant::set_faults(const PlantFaults& faults) { faults_ = faults; }
@@ -152,13 +111,13 @@ void RotorAmbPlant::set_journal(const journal::LinearJournal& j) {
   journal_force_n_ = {};
   if (!j.enabled) return;
   if (!(j.ref_spin_rad_s > 0.0)) throw std::invalid_argument("plant: journal linearisation speed must be > 0");
-  b_journal_ = to_vec(rig_->modal_row(rig_->board_reduction(), j.axial_m));
+  b_journal_ = to_step_vec(rig_->modal_row(rig_->board_reduction(), j.axial_m));
   for (size_t k = 0; k < 2; ++k) journal_probe_dir_[k] = magnet::axis_direction(j.probe_angle_deg[k]);
   // Sub-step rule with the film as a spring (up to twice the linearisation speed) and a damper.
   const double inv_mass = b_journal_.squaredNorm();
   const double k_max = 2.0 * j.coeff.stiffness_n_per_m.cwiseAbs().maxCoeff();
   const double c_max = j.coeff.damping_n_s_per_m.cwiseAbs().maxCoeff();
-  h_rule_s_ = std::min(h_rule_s_, 0.2 / std::sqrt(k_max * inv_mass + w2_.maxCoeff()));
+  h_rule_s_ = std::min(h_rule_s_, 0.2 / std::sqrt(k_max * inv_mass + rows_.w2.maxCoeff()));
   if (c_max > 0.0) h_rule_s_ = std::min(h_rule_s_, 0.5 / (c_max * inv_mass));
   h_nominal_s_ = p_.integration_step_s > 0.0 ? std::min(p_.integration_step_s, h_rule_s_) : h_rule_s_;
   amp_h_ = -1.0;
@@ -211,7 +170,7 @@ void RotorAmbPlant::step(double dt_s, const PlantInputs& in) {
       sensor_ramp_[s] = ramp_gain(p_.sensor[s].bandwidth_hz, h);
     }
     // Implicit Rayleigh damping of the kick, and the film damping's direction through it.
-    kick_den_ = (1.0 + h * damp_.array()).matrix();
+    kick_den_ = (1.0 + h * rows_.damp.array()).matrix();
     if (journal_.enabled) {
       journal_u_ = b_journal_.cwiseQuotient(kick_den_);
       journal_g_ = b_journal_.dot(journal_u_);
@@ -220,20 +179,20 @@ void RotorAmbPlant::step(double dt_s, const PlantInputs& in) {
   // Forces that change slowly enough to hold over one call: gravity, the misalignment
   // drift (coupling force at the right end) and the unbalance growth at the mid disk.
   fconst_x_ = Vec::Zero(m_);
-  fconst_y_ = gravity_y_;
+  fconst_y_ = rows_.gravity_y;
   if (t_s_ >= faults_.misalignment_start_s && faults_.misalignment_stiffness_n_per_m > 0.0) {
     const double drift = faults_.misalignment_rate_m_per_s * (t_s_ - faults_.misalignment_start_s);
     const auto d = magnet::axis_direction(faults_.misalignment_direction_deg);
     const double f = faults_.misalignment_stiffness_n_per_m * drift;
-    fconst_x_ += f * d[0] * b_coupling_;
-    fconst_y_ += f * d[1] * b_coupling_;
+    fconst_x_ += f * d[0] * rows_.coupling;
+    fconst_y_ += f * d[1] * rows_.coupling;
   }
-  unb_s_step_ = unb_s_;
-  unb_c_step_ = unb_c_;
+  unb_s_step_ = rows_.unb_sin;
+  unb_c_step_ = rows_.unb_cos;
   if (t_s_ >= faults_.unbalance_growth_start_s) {
     const double du = faults_.unbalance_growth_kg_m_per_s * (t_s_ - faults_.unbalance_growth_start_s);
-    unb_s_step_ += du * std::sin(mid_disk_phase_rad_) * b_mid_disk_;
-    unb_c_step_ += du * std::cos(mid_disk_phase_rad_) * b_mid_disk_;
+    unb_s_step_ += du * std::sin(rows_.mid_disk_phase_rad) * rows_.mid_disk;
+    unb_c_step_ += du * std::cos(rows_.mid_disk_phase_rad) * rows_.mid_disk;
   }
   for (const double d : in.current_demand_a)
     if (std::abs(d) > p_.amb[0].coil_current_limit_a) {
@@ -257,7 +216,7 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
 
   // Amplifiers and AMB forces. Disabled amplifiers carry no current at all (bias included).
   for (size_t b = 0; b < 2; ++b) {
-    const double xb = b_amb_[b].dot(ex_), yb = b_amb_[b].dot(ey_);
+    const double xb = rows_.amb[b].dot(ex_), yb = rows_.amb[b].dot(ey_);
     double fxb = 0.0, fyb = 0.0;
     for (size_t a = 0; a < 2; ++a) {
       const size_t j = 2 * b + a;
@@ -275,22 +234,22 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
         // one sub-step early.)
         // The amplifier drives the coil currents i0 +- ic: the bias builds up through the same
         // lag as the control current when the amplifiers are switched on.
-        magnet::AxisLaw law = law_[b];
+        magnet::AxisLaw law = rows_.law[b];
         law.bias_a = bias_a_[j];
-        const double z = act_dir_[j][0] * xb + act_dir_[j][1] * yb;
+        const double z = rows_.act_dir[j][0] * xb + rows_.act_dir[j][1] * yb;
         force = magnet::axis_force_n(law, z, current_a_[j]);
         current_a_[j] += amp_alpha_[b] * (cmd - current_a_[j]);
-        bias_a_[j] += amp_alpha_[b] * (law_[b].bias_a - bias_a_[j]);
+        bias_a_[j] += amp_alpha_[b] * (rows_.law[b].bias_a - bias_a_[j]);
       } else {
         current_a_[j] = 0.0;
         bias_a_[j] = 0.0;
       }
       amb_force_n_[j] = force;
-      fxb += force * act_dir_[j][0];
-      fyb += force * act_dir_[j][1];
+      fxb += force * rows_.act_dir[j][0];
+      fyb += force * rows_.act_dir[j][1];
     }
-    fx += fxb * b_amb_[b];
-    fy += fyb * b_amb_[b];
+    fx += fxb * rows_.amb[b];
+    fy += fyb * rows_.amb[b];
   }
 
   // Auxiliary bearings.
@@ -298,23 +257,23 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
   bool any_contact = false;
   for (size_t b = 0; b < 2; ++b) {
     ContactState cs;
-    cs.x_m = b_aux_[b].dot(ex_);
-    cs.y_m = b_aux_[b].dot(ey_);
+    cs.x_m = rows_.aux[b].dot(ex_);
+    cs.y_m = rows_.aux[b].dot(ey_);
     const double dx = cs.x_m - p_.aux[b].centre_offset_x_m, dy = cs.y_m - p_.aux[b].centre_offset_y_m;
     if (dx * dx + dy * dy <= p_.aux[b].clearance_m * p_.aux[b].clearance_m) {
       contact_[b] = ContactResult{};
       continue;
     }
     any_contact = true;
-    cs.vx_m_s = b_aux_[b].dot(vx_);
-    cs.vy_m_s = b_aux_[b].dot(vy_);
+    cs.vx_m_s = rows_.aux[b].dot(vx_);
+    cs.vy_m_s = rows_.aux[b].dot(vy_);
     cs.spin_rad_s = spin_rad_s_;
     cs.ring_rad_s = ring_rad_s_[b];
     cs.lateral_inv_mass_1_per_kg = aux_inv_mass_[b];
-    cs.spin_inertia_kg_m2 = spin_inertia_;
+    cs.spin_inertia_kg_m2 = rows_.spin_inertia_kg_m2;
     contact_[b] = aux_contact(p_.aux[b], cs, h, o_.slip_regularisation_m_s, o_.contact_exponent);
-    fx += contact_[b].fx_n * b_aux_[b];
-    fy += contact_[b].fy_n * b_aux_[b];
+    fx += contact_[b].fx_n * rows_.aux[b];
+    fy += contact_[b].fy_n * rows_.aux[b];
     spin_torque += contact_[b].spin_torque_n_m;
     friction_dissipated_j_ += h * contact_[b].friction_power_w;
   }
@@ -347,8 +306,8 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
 
   // Lateral motion: explicit stiffness, implicit Rayleigh damping, then the gyroscopic
   // rotation (I - h W G + (h W)^2/2 G^2 with G = [[0, P], [-P, 0]]), then positions.
-  vx_ = (vx_ + h * (fx - w2_.cwiseProduct(ex_))).cwiseQuotient(kick_den_);
-  vy_ = (vy_ + h * (fy - w2_.cwiseProduct(ey_))).cwiseQuotient(kick_den_);
+  vx_ = (vx_ + h * (fx - rows_.w2.cwiseProduct(ex_))).cwiseQuotient(kick_den_);
+  vy_ = (vy_ + h * (fy - rows_.w2.cwiseProduct(ey_))).cwiseQuotient(kick_den_);
   if (journal_.enabled) {
     // Film damping F = -C (v0 + v1) / 2 at the journal, v = b . v_modal: with D the diagonal
     // of the update above and u = D^-1 b, v1_modal = v1_above - (h/2) u (C (v0 + v1)), so the
@@ -370,8 +329,8 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
   }
   const double g = h * spin_rad_s_;
   if (g != 0.0) {
-    const Vec pvx = polar_ * vx_, pvy = polar_ * vy_;
-    const Vec ppvx = polar_ * pvx, ppvy = polar_ * pvy;
+    const Vec pvx = rows_.polar * vx_, pvy = rows_.polar * vy_;
+    const Vec ppvx = rows_.polar * pvx, ppvy = rows_.polar * pvy;
     vx_ += -g * pvy - 0.5 * g * g * ppvx;
     vy_ += g * pvx - 0.5 * g * g * ppvy;
   }
@@ -384,7 +343,7 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
   if (in.amplifiers_enabled)
     drive = std::clamp(p_.drive_speed_gain_n_m_s * (k_two_pi * in.spin_speed_command_hz - spin_rad_s_),
                        -p_.drive_torque_limit_n_m, p_.drive_torque_limit_n_m);
-  spin_accel_rad_s2_ = (drive + spin_torque) / spin_inertia_;
+  spin_accel_rad_s2_ = (drive + spin_torque) / rows_.spin_inertia_kg_m2;
   spin_rad_s_ += h * spin_accel_rad_s2_;
   spin_angle_rad_ = std::fmod(spin_angle_rad_ + h * spin_rad_s_, k_two_pi);
 
@@ -401,7 +360,7 @@ void RotorAmbPlant::substep(double h, const PlantInputs& in) {
   // exact for a displacement that moves linearly over the sub-step (first-order hold between
   // its values at t_n and t_n + h; holding the end value instead leads by half a sub-step).
   for (size_t k = 0; k < 4; ++k) {
-    const double meas = sensor_dir_[k][0] * b_sensor_[k].dot(ex_) + sensor_dir_[k][1] * b_sensor_[k].dot(ey_);
+    const double meas = rows_.sensor_dir[k][0] * rows_.sensor[k].dot(ex_) + rows_.sensor_dir[k][1] * rows_.sensor[k].dot(ey_);
     const double prev = sensor_true_m_[k];
     sensor_filtered_m_[k] += sensor_alpha_[k] * (prev - sensor_filtered_m_[k]) + sensor_ramp_[k] * (meas - prev);
     sensor_true_m_[k] = meas;
@@ -432,8 +391,8 @@ std::array<double, 2> RotorAmbPlant::displacement_at(double axial_m) const {
 double RotorAmbPlant::contact_energy_j() const {
   double e = 0.0;
   for (size_t b = 0; b < 2; ++b) {
-    const double dx = b_aux_[b].dot(ex_) - p_.aux[b].centre_offset_x_m;
-    const double dy = b_aux_[b].dot(ey_) - p_.aux[b].centre_offset_y_m;
+    const double dx = rows_.aux[b].dot(ex_) - p_.aux[b].centre_offset_x_m;
+    const double dy = rows_.aux[b].dot(ey_) - p_.aux[b].centre_offset_y_m;
     const double pen = std::hypot(dx, dy) - p_.aux[b].clearance_m;
     if (pen > 0.0) e += 0.5 * p_.aux[b].contact_stiffness_n_per_m * pen * pen;
   }
@@ -443,23 +402,23 @@ double RotorAmbPlant::contact_energy_j() const {
 PlantTruth RotorAmbPlant::truth() const {
   PlantTruth t;
   for (size_t b = 0; b < 2; ++b) {
-    t.aux_x_m[b] = b_aux_[b].dot(ex_);
-    t.aux_y_m[b] = b_aux_[b].dot(ey_);
+    t.aux_x_m[b] = rows_.aux[b].dot(ex_);
+    t.aux_y_m[b] = rows_.aux[b].dot(ey_);
     t.contact_force_n[b] = contact_[b].normal_n;
     t.friction_force_n[b] = contact_[b].friction_n;
     t.ring_speed_rad_s[b] = ring_rad_s_[b];
-    t.amb_x_m[b] = b_amb_[b].dot(ex_);
-    t.amb_y_m[b] = b_amb_[b].dot(ey_);
+    t.amb_x_m[b] = rows_.amb[b].dot(ex_);
+    t.amb_y_m[b] = rows_.amb[b].dot(ey_);
   }
   t.amb_force_n = amb_force_n_;
   // Kinetic: lateral (mass-normalised modal velocities), spin and the two rings.
-  t.kinetic_energy_j = 0.5 * (vx_.squaredNorm() + vy_.squaredNorm()) + 0.5 * spin_inertia_ * spin_rad_s_ * spin_rad_s_;
+  t.kinetic_energy_j = 0.5 * (vx_.squaredNorm() + vy_.squaredNorm()) + 0.5 * rows_.spin_inertia_kg_m2 * spin_rad_s_ * spin_rad_s_;
   for (size_t b = 0; b < 2; ++b)
     t.kinetic_energy_j += 0.5 * p_.aux[b].ring_inertia_kg_m2 * ring_rad_s_[b] * ring_rad_s_[b];
   // Potential: shaft elastic + contact penalty springs + gravity (zero at the sensor zero).
   // The magnetic field energy of the AMBs is not included (the amplifiers are an input).
-  t.potential_energy_j = 0.5 * (w2_.dot(ex_.cwiseProduct(ex_)) + w2_.dot(ey_.cwiseProduct(ey_))) +
-                         contact_energy_j() - gravity_y_.dot(ey_);
+  t.potential_energy_j = 0.5 * (rows_.w2.dot(ex_.cwiseProduct(ex_)) + rows_.w2.dot(ey_.cwiseProduct(ey_))) +
+                         contact_energy_j() - rows_.gravity_y.dot(ey_);
   t.friction_dissipated_j = friction_dissipated_j_;
   return t;
 }

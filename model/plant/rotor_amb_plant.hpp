@@ -37,6 +37,7 @@
 #include "model/plant/gaussian_rng.hpp"
 #include "model/plant/plant.hpp"
 #include "model/rig/rig_model.hpp"
+#include "model/rig/step_rows.hpp"
 #include "model/rotor/modal_reduction.hpp"
 #include "model/rotor/rotor_model.hpp"
 
@@ -44,9 +45,9 @@ namespace amb::model {
 
 class RotorAmbPlant final : public Plant {
  public:
-  static constexpr int k_max_modes = 24;  ///< capacity: modes per lateral plane
-  using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, k_max_modes, 1>;
-  using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, k_max_modes, k_max_modes>;
+  static constexpr int k_max_modes = k_step_max_modes;  ///< capacity: modes per lateral plane
+  using Vec = StepModeVec;
+  using Mat = StepModeMat;
 
   struct Options {
     std::uint64_t noise_seed = 1;               ///< sensor-noise seed (deterministic)
@@ -83,7 +84,7 @@ class RotorAmbPlant final : public Plant {
   double integration_step_s() const { return h_nominal_s_; } ///< sub-step in use, s
   double step_rule_s() const { return h_rule_s_; }           ///< largest sub-step the rule allows, s
   double rotor_mass_kg() const { return rig_->mass_kg(); }
-  double spin_inertia_kg_m2() const { return spin_inertia_; }
+  double spin_inertia_kg_m2() const { return rows_.spin_inertia_kg_m2; }
   const rotor::RotorModel& rotor_model() const { return rig_->rotor(); }
   const rotor::ReducedRotor& reduced_rotor() const { return rig_->board_reduction().reduced; }
   const std::shared_ptr<const RigModel>& rig_model() const { return rig_; }
@@ -125,20 +126,11 @@ class RotorAmbPlant final : public Plant {
   Options o_;
   std::shared_ptr<const RigModel> rig_;       // shared, read only
   int m_ = 0;                                 // modes per plane
-  double spin_inertia_ = 0.0;
   double h_rule_s_ = 0.0, h_nominal_s_ = 0.0;
 
-  // Reduced model (fixed capacity).
-  Vec w2_, damp_, gravity_y_;                 // diag stiffness, diag damping, gravity force
-  Mat polar_;
-  std::array<Vec, 2> b_amb_, b_aux_;
-  std::array<Vec, 4> b_sensor_;
-  Vec b_coupling_, b_mid_disk_, unb_s_, unb_c_;   // unbalance sums (see .cpp)
-  double mid_disk_phase_rad_ = 0.0;
+  // Reduced model (fixed capacity): the rig model's rows, this plant's laws and unbalance.
+  StepRows rows_;
   std::array<double, 2> aux_inv_mass_{};
-  std::array<magnet::AxisLaw, 2> law_{};
-  std::array<std::array<double, 2>, 4> act_dir_{};   // per actuator axis (x, y)
-  std::array<std::array<double, 2>, 4> sensor_dir_{};
 
   // State.
   Vec ex_, ey_, vx_, vy_;                     // modal displacements and velocities

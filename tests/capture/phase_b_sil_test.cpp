@@ -104,6 +104,13 @@ void report(const char* name, const Outcome& o) {
               d.summary.c_str(), o.wall_s);
 }
 
+// The scenario froze an event (reported as `name`) and Phase B named `type` for it.
+void expect_verdict(const Outcome& o, const char* name, FaultType type) {
+  ASSERT_TRUE(o.frozen);
+  report(name, o);
+  EXPECT_EQ(o.event.diagnosis.type, type);
+}
+
 TEST(PhaseBSil, ChannelCutoff) {
   const Outcome o = run_scenario([](sil::SilRig& rig, double) {
     model::PlantFaults f;
@@ -128,9 +135,7 @@ TEST(PhaseBSil, CurrentDisturbance) {
     f.disturbance_start_s = t + 0.05;
     rig.plant().set_faults(f);
   });
-  ASSERT_TRUE(o.frozen);
-  report("current disturbance", o);
-  EXPECT_EQ(o.event.diagnosis.type, FaultType::current_disturbance);
+  expect_verdict(o, "current disturbance", FaultType::current_disturbance);
   EXPECT_NEAR(o.event.diagnosis.disturbance_frequency_hz, f_hz, 1.0);
   EXPECT_GE(o.event.diagnosis.confidence, 0.6);
 }
@@ -142,9 +147,7 @@ TEST(PhaseBSil, ChangingUnbalance) {
     f.unbalance_growth_start_s = t + 0.05;
     rig.plant().set_faults(f);
   });
-  ASSERT_TRUE(o.frozen);
-  report("changing unbalance", o);
-  EXPECT_EQ(o.event.diagnosis.type, FaultType::changing_unbalance);
+  expect_verdict(o, "changing unbalance", FaultType::changing_unbalance);
   EXPECT_GE(o.event.diagnosis.confidence, 0.6);
 }
 
@@ -158,28 +161,22 @@ TEST(PhaseBSil, Misalignment) {
     f.misalignment_start_s = t + 0.05;
     rig.plant().set_faults(f);
   });
-  ASSERT_TRUE(o.frozen);
-  report("misalignment", o);
-  EXPECT_EQ(o.event.diagnosis.type, FaultType::misalignment);
+  expect_verdict(o, "misalignment", FaultType::misalignment);
   EXPECT_NEAR(std::remainder(o.event.diagnosis.misalignment_direction_deg - dir_deg, 360.0), 0.0, 25.0);
   EXPECT_GE(o.event.diagnosis.confidence, 0.6);
 }
 
 TEST(PhaseBSil, ManualTriggerWhileHealthyIsNotAModeledFault) {
   const Outcome o = run_scenario([](sil::SilRig& rig, double) { rig.sim().discrete().inputs.external_trigger = true; });
-  ASSERT_TRUE(o.frozen);
-  report("external trigger", o);
+  expect_verdict(o, "external trigger", FaultType::not_modeled);
   EXPECT_EQ(o.event.meta.cause, fw::TriggerCause::external_input);
-  EXPECT_EQ(o.event.diagnosis.type, FaultType::not_modeled);
   EXPECT_GE(o.event.diagnosis.confidence, 0.6);
 }
 
 TEST(PhaseBSil, LandingCommandIsNotAModeledFault) {
   const Outcome o = run_scenario([](sil::SilRig& rig, double) { rig.supervisor().post(fw::Command::land); });
-  ASSERT_TRUE(o.frozen);
-  report("landing command", o);
+  expect_verdict(o, "landing command", FaultType::not_modeled);
   EXPECT_EQ(o.event.meta.cause, fw::TriggerCause::landing_command);
-  EXPECT_EQ(o.event.diagnosis.type, FaultType::not_modeled);
 }
 
 }  // namespace

@@ -12,15 +12,13 @@
 #include "firmware/board/board.hpp"
 #include "model/drop/flexible_orbit.hpp"
 #include "model/rotor/modal_reduction.hpp"
+#include "tests/support/bath_board.hpp"
+
+using amb::test::bath_board;
 
 namespace {
 
 namespace mr = amb::model::rotor;
-
-const amb::board::BoardConfig& bath() {
-  static const auto b = amb::board::load_board("bath-amb-rig");
-  return b;
-}
 
 std::array<double, 2> sensor_planes(const amb::model::PlantParams& p) { return {p.sensor[0].axial_m, p.sensor[2].axial_m}; }
 std::array<double, 2> aux_planes(const amb::model::PlantParams& p) { return {p.aux[0].axial_m, p.aux[1].axial_m}; }
@@ -29,7 +27,7 @@ std::array<double, 2> aux_planes(const amb::model::PlantParams& p) { return {p.a
 // of the aux bearings, close to them); with the second, whose shape has nodes between the
 // planes, the path from the aux-plane forces to the sensors is not minimum-phase.
 TEST(FlexibleOrbit, BathRigInvertsWithItsFirstBendingModeOnly) {
-  const auto& p = bath().plant;
+  const auto& p = bath_board().plant;
   const mr::RotorModel rotor = mr::build_rotor_model(p.rotor);
   const amb::model::drop::FlexibleOrbit one(rotor, p.rotor, sensor_planes(p), aux_planes(p), 1, p.gravity_m_s2);
   ASSERT_EQ(one.bending_frequencies_hz().size(), 1u);
@@ -48,7 +46,7 @@ TEST(FlexibleOrbit, BathRigInvertsWithItsFirstBendingModeOnly) {
 // and sampled at 10 kHz: rigid_part() returns the rigid-body part of the sensor readings to
 // within 3 % of the bending it removes; the readings themselves are off by all of it.
 TEST(FlexibleOrbit, RecoversTheRigidPartOfAModalSimulation) {
-  const auto& p = bath().plant;
+  const auto& p = bath_board().plant;
   const mr::RotorModel rotor = mr::build_rotor_model(p.rotor);
   const mr::ReducedRotor red = mr::reduce_rotor(rotor, p.rotor, 3);
   Eigen::Matrix<double, 2, 3> s, a;

@@ -17,15 +17,12 @@
 #include "model/plant/rotor_amb_plant.hpp"
 #include "tests/drop/friction_sweep_cell.hpp"
 #include "tests/drop/plant_drop.hpp"
+#include "tests/support/bath_board.hpp"
 #include "tests/support/test_paths.hpp"
 
+using amb::test::bath_board;
 
 namespace {
-
-const amb::board::BoardConfig& board() {
-  static const auto b = amb::board::load_board("bath-amb-rig");
-  return b;
-}
 
 // Two-sided 95 % quantile of Student's t with `dof` degrees of freedom: the check below
 // compares two spin-downs against a standard error estimated from the scatter of only a few
@@ -57,27 +54,27 @@ void print(const char* what, double truth, const hf::FrictionEstimate& e) {
 // error of a few mrad against a larger N), so its 10 % is not a test of the code: with 47
 // windows the standard error of their sum is ~6 %.
 TEST(FrictionEstimate, PlantDrops) {
-  auto whirling = board().plant;
+  auto whirling = bath_board().plant;
   for (auto& a : whirling.aux) a.ring_inertia_kg_m2 = 2e-3;
   for (auto& d : whirling.rotor.disks) d.unbalance_kg_m = 1e-4;
   struct Case {
     double mu, spin_hz;
     const amb::model::PlantParams* p;
     const char* name;
-  } cases[] = {{0.15, 45.0, &board().plant, "plant 0.15 45 Hz"},
-               {0.05, 16.7, &board().plant, "plant 0.05 16.7 Hz"},
-               {0.5, 50.0, &board().plant, "plant 0.5 50 Hz"},
+  } cases[] = {{0.15, 45.0, &bath_board().plant, "plant 0.15 45 Hz"},
+               {0.05, 16.7, &bath_board().plant, "plant 0.05 16.7 Hz"},
+               {0.5, 50.0, &bath_board().plant, "plant 0.5 50 Hz"},
                {0.15, 45.0, &whirling, "plant heavy ring + unbalance 0.15 45 Hz"}};
   for (const auto& c : cases) {
     const hf::DropMeasurement m = amb::test::plant_drop(c.mu, c.spin_hz, *c.p, 0.3);
-    const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
+    const hf::FrictionEstimate e = hf::estimate_friction(m, bath_board().plant);
     print(c.name, c.mu, e);
     ASSERT_TRUE(e.valid) << c.name << ": " << e.note;
     EXPECT_NEAR(e.friction, c.mu, 0.03 * c.mu) << c.name;
     EXPECT_GT(e.force_spin_down_scatter_rad_s2, 0.0) << c.name;
     EXPECT_NEAR(e.force_spin_down_rad_s2, e.measured_spin_down_rad_s2,
                 student_t95(e.windows_used - 1) * e.force_spin_down_scatter_rad_s2) << c.name;
-    if (c.p == &board().plant) {
+    if (c.p == &bath_board().plant) {
       EXPECT_NEAR(e.force_spin_down_rad_s2, e.measured_spin_down_rad_s2, 0.1 * e.measured_spin_down_rad_s2) << c.name;
     }
   }
@@ -91,7 +88,7 @@ TEST(FrictionEstimate, PlantDrops) {
 // within 10 %, the friction is within 3 %, and the tangential forces' spin-down check scatters
 // far less than without the removal (the rotating force no longer leaks into them).
 TEST(FrictionEstimate, UnbalanceIsTakenOutOfTheMomentumBalance) {
-  auto unbalanced = board().plant;
+  auto unbalanced = bath_board().plant;
   for (auto& a : unbalanced.aux) a.ring_inertia_kg_m2 = 2e-3;
   for (auto& d : unbalanced.rotor.disks) d.unbalance_kg_m = 1e-4;
   const double spin_hz = 45.0, omega = 2.0 * M_PI * spin_hz;
@@ -99,10 +96,10 @@ TEST(FrictionEstimate, UnbalanceIsTakenOutOfTheMomentumBalance) {
   for (const auto& d : unbalanced.rotor.disks) u += d.unbalance_kg_m * std::polar(1.0, d.unbalance_phase_deg * M_PI / 180.0);
   const double truth_n = std::abs(u) * omega * omega;
   const hf::DropMeasurement m = amb::test::plant_drop(0.15, spin_hz, unbalanced, 0.3);
-  const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
+  const hf::FrictionEstimate e = hf::estimate_friction(m, bath_board().plant);
   hf::FrictionEstimateOptions off;
   off.remove_synchronous = false;
-  const hf::FrictionEstimate kept = hf::estimate_friction(m, board().plant, off);
+  const hf::FrictionEstimate kept = hf::estimate_friction(m, bath_board().plant, off);
   print("unbalanced, removed", 0.15, e);
   print("unbalanced, kept", 0.15, kept);
   std::printf("synchronous force %.2f N (plant's unbalance %.2f N), moment %.3f N m, %d samples\n", e.synchronous_force_n,
@@ -123,7 +120,7 @@ TEST(FrictionEstimate, UnbalanceIsTakenOutOfTheMomentumBalance) {
 // window (1.6 % now); with the speed differentiated by the first-derivative kernel of the
 // same fit instead, 5.2 % (this test fails).
 TEST(FrictionEstimate, SpeedFrictionImpulseIsSmearedLikeTheForces) {
-  auto p = board().plant;
+  auto p = bath_board().plant;
   for (auto& a : p.aux) a.friction_coefficient = 0.5;
   amb::model::RotorAmbPlant plant(p);
   plant.reset(true, 4000.0 / 60.0);
@@ -143,7 +140,7 @@ TEST(FrictionEstimate, SpeedFrictionImpulseIsSmearedLikeTheForces) {
   }
   hf::FrictionEstimateOptions o;
   o.window_s = o.min_window_s = 1.25e-3;
-  const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant, o);
+  const hf::FrictionEstimate e = hf::estimate_friction(m, bath_board().plant, o);
   // Oracle: second-derivative kernel of the twice-integrated true friction force.
   const int h = static_cast<int>(std::lround(o.smoothing_half_window_s * m.sample_rate_hz));
   const double dt = 1.0 / m.sample_rate_hz;
@@ -186,11 +183,11 @@ TEST(FrictionEstimate, SpeedFrictionImpulseIsSmearedLikeTheForces) {
 // windows (2.5 ms here) and says so, and its uncertainty must cover the truth (2 sigma), or it
 // declines (valid false: the fit fits the friction) - never a confident wrong value.
 TEST(FrictionEstimate, ShortSlidingUsesShorterWindowsOrIsDeclined) {
-  auto whirling = board().plant;
+  auto whirling = bath_board().plant;
   for (auto& a : whirling.aux) a.ring_inertia_kg_m2 = 2e-3;
   for (auto& d : whirling.rotor.disks) d.unbalance_kg_m = 1e-4;
   const hf::DropMeasurement m = amb::test::plant_drop(0.4, 45.0, whirling, 0.3);
-  const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
+  const hf::FrictionEstimate e = hf::estimate_friction(m, bath_board().plant);
   print("plant whirl 0.4", 0.4, e);
   EXPECT_FALSE(e.note.empty());
   if (e.valid) {
@@ -201,14 +198,14 @@ TEST(FrictionEstimate, ShortSlidingUsesShorterWindowsOrIsDeclined) {
   // Without the shorter windows the same record is declined.
   hf::FrictionEstimateOptions fixed;
   fixed.min_window_s = 0.0;
-  EXPECT_FALSE(hf::estimate_friction(m, board().plant, fixed).valid);
+  EXPECT_FALSE(hf::estimate_friction(m, bath_board().plant, fixed).valid);
 }
 
 // No friction at all: no window slides with a ratio worth the name, the estimate stays near 0
 // (it must not find the windows' noise to be friction).
 TEST(FrictionEstimate, FrictionlessPlantDropReadsNearZero) {
-  const hf::DropMeasurement m = amb::test::plant_drop(0.0, 45.0, board().plant, 0.15);
-  const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
+  const hf::DropMeasurement m = amb::test::plant_drop(0.0, 45.0, bath_board().plant, 0.15);
+  const hf::FrictionEstimate e = hf::estimate_friction(m, bath_board().plant);
   print("plant frictionless", 0.0, e);
   if (e.valid) {
     EXPECT_LT(e.friction, 0.01);
@@ -223,7 +220,7 @@ TEST(FrictionEstimate, SyntheticDropsWithinThreePercent) {
     const std::string path = std::string(amb::test::shared_dir()) + "/data/synthetic/bath_drop_example_" + std::to_string(k) + ".json";
     const auto ev = amb::host::load_event(path);
     const hf::DropMeasurement m = hf::drop_measurement_from_event(ev);
-    const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
+    const hf::FrictionEstimate e = hf::estimate_friction(m, bath_board().plant);
     print(("synthetic " + std::to_string(k)).c_str(), truth, e);
     ASSERT_TRUE(e.valid);
     EXPECT_NEAR(e.friction, truth, 0.03 * truth) << "example " << k;
@@ -245,19 +242,19 @@ TEST(FrictionEstimate, SyntheticDropsWithinThreePercent) {
 // rpm flexible, 0.5 at 5000 rpm stiff) by the smaller uncertainty; taking the bent one there
 // on the stiff rotor read -12 %.
 TEST(FrictionEstimate, FlexibleRotorIsToldApartFromARigidOne) {
-  amb::model::PlantParams stiff = board().plant;
+  amb::model::PlantParams stiff = bath_board().plant;
   for (auto& el : stiff.rotor.elements) el.youngs_modulus_pa *= 100.0;
   const struct {
     double mu, spin_hz;
     const amb::model::PlantParams* plant;
     int bending_modes;
     const char* choice;
-  } cases[] = {{0.15, 45.0, &board().plant, 1, "free_flight"},
+  } cases[] = {{0.15, 45.0, &bath_board().plant, 1, "free_flight"},
                {0.15, 16.7, &stiff, 0, "free_flight"},
-               {0.5, 4000.0 / 60.0, &board().plant, 1, "uncertainty"},
+               {0.5, 4000.0 / 60.0, &bath_board().plant, 1, "uncertainty"},
                {0.5, 5000.0 / 60.0, &stiff, 0, "uncertainty"}};
   for (const auto& c : cases) {
-    const hf::FrictionEstimate e = hf::estimate_friction(amb::test::plant_drop(c.mu, c.spin_hz, *c.plant, 0.3), board().plant);
+    const hf::FrictionEstimate e = hf::estimate_friction(amb::test::plant_drop(c.mu, c.spin_hz, *c.plant, 0.3), bath_board().plant);
     std::printf("mu %.2f %.1f Hz %s: free flight %d: rigid %.1f N (noise %.1f), bent %.1f N (noise %.1f) -> %d bending modes by %s, "
                 "friction %.4f +- %.4f\n",
                 c.mu, c.spin_hz, c.plant == &stiff ? "stiff" : "board", e.free_flight_samples, e.free_flight_force_rms_n[0],
@@ -271,7 +268,7 @@ TEST(FrictionEstimate, FlexibleRotorIsToldApartFromARigidOne) {
   // Without the option the flexible plant is read as rigid.
   hf::FrictionEstimateOptions o;
   o.bending_modes = 0;
-  const hf::FrictionEstimate r = hf::estimate_friction(amb::test::plant_drop(0.15, 45.0, board().plant, 0.3), board().plant, o);
+  const hf::FrictionEstimate r = hf::estimate_friction(amb::test::plant_drop(0.15, 45.0, bath_board().plant, 0.3), bath_board().plant, o);
   EXPECT_EQ(r.bending_modes, 0);
   EXPECT_TRUE(r.rotor_choice.empty());
 }
@@ -304,29 +301,28 @@ TEST(FrictionEstimate, DropModelHertzAndRigid) {
       md::DropOptions o;
       o.noise_seed = 99;
       if (rigid) o.contact_law = md::ContactLawChoice::rigid;
-      md::DropModel gen(board().plant, board().controller, board().rate_hz, o);
+      md::DropModel gen(bath_board().plant, bath_board().controller, bath_board().rate_hz, o);
       gen.set_friction_coefficient(mu);
       md::DropScenario sc;
       sc.window_s = 0.4;
       sc.pre_trigger_s = 0.02;
       const auto tr = md::simulate_drop(gen, sc, false);
       const hf::DropMeasurement m = hf::drop_measurement_from_trace(tr, sc, "drop model", "");
-      const hf::FrictionEstimate e = hf::estimate_friction(m, board().plant);
+      const hf::FrictionEstimate e = hf::estimate_friction(m, bath_board().plant);
       print(rigid ? "drop model, rigid law" : "drop model, Hertz law", mu, e);
       ASSERT_TRUE(e.valid) << e.note;
       EXPECT_NEAR(e.friction, mu, 0.03 * mu) << (rigid ? "rigid " : "hertz ") << mu;
     }
 }
 
-
 namespace {
 
 // Options a user can get wrong are refused with a message naming the option.
 TEST(FrictionEstimate, BadOptionsAreRefusedByName) {
-  const hf::DropMeasurement m = amb::test::plant_drop(0.15, 45.0, board().plant, 0.05);
+  const hf::DropMeasurement m = amb::test::plant_drop(0.15, 45.0, bath_board().plant, 0.05);
   const auto message = [&](const hf::FrictionEstimateOptions& o) {
     try {
-      hf::estimate_friction(m, board().plant, o);
+      hf::estimate_friction(m, bath_board().plant, o);
     } catch (const std::invalid_argument& e) {
       return std::string(e.what());
     }

@@ -8,15 +8,11 @@
 #include "host-tools/core/fit/friction_estimate.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
 #include "tests/drop/plant_drop.hpp"
+#include "tests/support/bath_board.hpp"
 
 namespace hf = amb::host::fit;
 
 namespace amb::test {
-
-inline const amb::board::BoardConfig& sweep_board() {
-  static const auto b = amb::board::load_board("bath-amb-rig");
-  return b;
-}
 
 struct SweepCell {
   bool valid = false;
@@ -25,7 +21,7 @@ struct SweepCell {
 };
 
 inline SweepCell sweep_cell(double mu, double rpm) {
-  const hf::FrictionEstimate e = hf::estimate_friction(plant_drop(mu, rpm / 60.0, sweep_board().plant, 0.3), sweep_board().plant);
+  const hf::FrictionEstimate e = hf::estimate_friction(plant_drop(mu, rpm / 60.0, bath_board().plant, 0.3), bath_board().plant);
   SweepCell c;
   c.valid = e.valid;
   c.estimate = e.friction;

@@ -11,30 +11,24 @@
 #include "host-tools/core/fit/drop_fit.hpp"
 #include "model/plant/rotor_amb_plant.hpp"
 #include "tests/drop/plant_drop.hpp"
+#include "tests/support/bath_board.hpp"
+
+using amb::test::bath_board;
 
 namespace hf = amb::host::fit;
-
-namespace {
-
-const amb::board::BoardConfig& board() {
-  static const auto b = amb::board::load_board("bath-amb-rig");
-  return b;
-}
-
-}  // namespace
 
 TEST(PlantDropFit, RecoversFrictionBouncingAndBackwardWhirl) {
   struct Case {
     double mu, spin_hz;
     amb::model::PlantParams p;
   };
-  auto whirling = board().plant;  // a heavy ring and unbalance: backward whirl at mu 0.4
+  auto whirling = bath_board().plant;  // a heavy ring and unbalance: backward whirl at mu 0.4
   for (auto& a : whirling.aux) a.ring_inertia_kg_m2 = 2e-3;
   for (auto& d : whirling.rotor.disks) d.unbalance_kg_m = 1e-4;
-  const Case cases[] = {{0.15, 45.0, board().plant}, {0.4, 45.0, whirling}};
+  const Case cases[] = {{0.15, 45.0, bath_board().plant}, {0.4, 45.0, whirling}};
   for (const auto& c : cases) {
     const hf::DropMeasurement m = amb::test::plant_drop(c.mu, c.spin_hz, c.p, 0.4);
-    amb::board::BoardConfig b = board();
+    amb::board::BoardConfig b = bath_board();
     b.plant = c.p;
     for (auto& a : b.plant.aux) a.friction_coefficient = 0.15;  // the board's assumption, not the truth
     const hf::DropFitResult r = hf::fit_drop(m, b, hf::DropFitOptions{});
@@ -61,14 +55,14 @@ TEST(PlantDropFit, RecoversFrictionBouncingAndBackwardWhirl) {
 // behind the record, and its first impacts miss (the main job's Phase C fitted a bouncing
 // model to a backward-whirling record that way). One simulation per variant: every unknown off.
 TEST(PlantDropFit, LateTriggerTakesTheStateFromBeforeTheTrigger) {
-  hf::DropMeasurement m = amb::test::plant_drop(0.15, 45.0, board().plant, 0.3);
+  hf::DropMeasurement m = amb::test::plant_drop(0.15, 45.0, bath_board().plant, 0.3);
   // Trigger on the first sample whose aux-plane orbit radius reaches 0.9 of the clearance.
-  const amb::model::drop::SensorOrbit view(board().plant);
+  const amb::model::drop::SensorOrbit view(bath_board().plant);
   int trig = -1;
   for (size_t i = 0; i < m.sensor_m.size() && trig < 0; ++i)
     for (int k = 0; k < 2; ++k) {
       const auto p = view.at_aux_plane(m.sensor_m[i], k);
-      if (std::hypot(p[0], p[1]) >= 0.9 * board().plant.aux[static_cast<size_t>(k)].clearance_m) trig = static_cast<int>(i);
+      if (std::hypot(p[0], p[1]) >= 0.9 * bath_board().plant.aux[static_cast<size_t>(k)].clearance_m) trig = static_cast<int>(i);
     }
   ASSERT_GT(trig, 20) << "the plant's free fall should take ~9 ms";
   m.trigger_index = trig;
@@ -78,9 +72,9 @@ TEST(PlantDropFit, LateTriggerTakesTheStateFromBeforeTheTrigger) {
   o.polish = false;
   o.max_window_s = 0.1;
   o.weights.orbit_window_s = 0.003;  // the approach and the first impact, before the contact law matters
-  const hf::DropFitResult with = hf::fit_drop(m, board(), o);
+  const hf::DropFitResult with = hf::fit_drop(m, bath_board(), o);
   o.state_from_pre_trigger = false;
-  const hf::DropFitResult without = hf::fit_drop(m, board(), o);
+  const hf::DropFitResult without = hf::fit_drop(m, bath_board(), o);
   std::printf("late trigger at sample %d: orbit term %.4f with the pre-trigger state (%d samples, residual %.2f um), "
               "%.4f without\n",
               trig, with.cost.orbit, with.free_fall_samples, with.free_fall_residual_rms_m * 1e6, without.cost.orbit);

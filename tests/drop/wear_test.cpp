@@ -12,18 +12,12 @@
 #include "host-tools/core/wear/wear_update.hpp"
 #include "model/drop/drop_model.hpp"
 #include "model/drop/drop_simulation.hpp"
+#include "tests/support/bath_board.hpp"
+
+using amb::test::bath_board;
 
 namespace md = amb::model::drop;
 namespace hw = amb::host::wear;
-
-namespace {
-
-const amb::board::BoardConfig& board() {
-  static const auto b = amb::board::load_board("bath-amb-rig");
-  return b;
-}
-
-}  // namespace
 
 TEST(LoadMap, BinsFollowTheBoardConvention) {
   EXPECT_EQ(hw::load_bin(0.0), 0);
@@ -33,7 +27,7 @@ TEST(LoadMap, BinsFollowTheBoardConvention) {
 }
 
 TEST(WearRecord, DropEventLoadsTheBottomAndAccumulates) {
-  md::DropModel m(board().plant, board().controller, board().rate_hz, md::DropOptions{});
+  md::DropModel m(bath_board().plant, bath_board().controller, bath_board().rate_hz, md::DropOptions{});
   m.set_friction_coefficient(0.15);
   md::DropScenario sc;
   sc.window_s = 0.3;
@@ -78,12 +72,12 @@ TEST(WearRecord, DropEventLoadsTheBottomAndAccumulates) {
 TEST(DropModelSil, RunsUnderTheFirmware) {
   md::DropOptions o;
   o.internal_controller = false;
-  auto plant = std::make_unique<md::DropModel>(board().plant, board().controller, board().rate_hz, o);
+  auto plant = std::make_unique<md::DropModel>(bath_board().plant, bath_board().controller, bath_board().rate_hz, o);
   const md::DropModel* model = plant.get();
   amb::sil::SilOptions so;
-  amb::sil::SilRig rig(board(), std::move(plant), so);
+  amb::sil::SilRig rig(bath_board(), std::move(plant), so);
   rig.run_for(0.05);
   EXPECT_NEAR(model->state().t_s, 0.05, 1e-3);
   // Resting on the touchdown bearings: the rotor is at the bottom of the clearance.
-  EXPECT_LT(model->aux_position_m(0)[1], -0.9 * board().plant.aux[0].clearance_m);
+  EXPECT_LT(model->aux_position_m(0)[1], -0.9 * bath_board().plant.aux[0].clearance_m);
 }

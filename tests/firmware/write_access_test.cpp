@@ -20,6 +20,7 @@
 #include "firmware/supervisory/register_map.hpp"
 #include "firmware/wear/wear_record.hpp"
 #include "hal/sim/sim_rig.hpp"
+#include "tests/firmware/register_stores.hpp"
 
 namespace {
 
@@ -65,19 +66,16 @@ const std::vector<Op>& ops() {
   return v;
 }
 
-struct Fixture {
+struct Fixture : amb::test::MemoryStores {
   amb::board::BoardConfig board = amb::board::load_board("bath-amb-rig");
   amb::fw::Supervisor sup;
-  amb::hal::sim::MemoryStorage events{1 << 20};
-  amb::hal::sim::MemoryStorage wear_storage{1 << 20};
-  amb::fw::WearStore wear{wear_storage, "bath-amb-rig"};
   std::unique_ptr<amb::fw::RegisterMap> map;
   int64_t t_ns = 1'000'000'000;
   int captures = 0;
   std::vector<uint8_t> event = std::vector<uint8_t>(500, 0x3C);
   std::vector<uint8_t> record;
 
-  explicit Fixture(Where w) {
+  explicit Fixture(Where w) : MemoryStores("bath-amb-rig") {
     std::string err;
     events.write_atomic("event_00000001.ambe", event, err);
     wear.open();
@@ -87,11 +85,7 @@ struct Fixture {
     r.life_model = "write-access-test";
     record = amb::fw::encode_wear_record(r);
     if (w != Where::unconfigured) sup.configure(board);
-    amb::fw::RegisterSources src;
-    src.supervisor = &sup;
-    src.events = &events;
-    src.wear = &wear;
-    src.board_name = board.name;
+    amb::fw::RegisterSources src = amb::test::board_sources(sup, *this, board);
     src.manual_capture = [this] { return ++captures, true; };
     src.now_ns = [this] { return t_ns; };
     src.arm_key = k_key;

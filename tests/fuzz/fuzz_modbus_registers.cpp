@@ -14,6 +14,7 @@
 #include "firmware/persistence/wear_store.hpp"
 #include "firmware/supervisory/register_map.hpp"
 #include "hal/sim/sim_rig.hpp"
+#include "tests/firmware/register_stores.hpp"
 
 namespace {
 
@@ -36,19 +37,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const auto& board = shared_board().board;
   amb::fw::Supervisor& sup = shared_board().sup;
   sup.reset();
-  amb::hal::sim::MemoryStorage events(1u << 20), wear_storage(1u << 20);
+  amb::test::MemoryStores stores(board.name);
   std::string error;
   const std::vector<uint8_t> blob(300, 0xA5);  // an opaque event file to list and download
-  events.write_atomic("event_0001.ambe", blob, error);
-  amb::fw::WearStore wear(wear_storage, board.name);
-  wear.open();
-  amb::fw::RegisterSources src;
-  src.supervisor = &sup;
-  src.events = &events;
-  src.wear = &wear;
-  src.board_name = board.name;
-  src.rate_hz = board.rate_hz;
-  amb::fw::RegisterMap map(src);
+  stores.events.write_atomic("event_0001.ambe", blob, error);
+  stores.wear.open();
+  amb::fw::RegisterMap map(amb::test::board_sources(sup, stores, board));
 
   std::vector<uint16_t> regs(125), values(123);
   size_t i = 0;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "firmware/board/board.hpp"
@@ -132,31 +133,40 @@ class ManualClock final : public amb::hal::Clock {
   int64_t wait_until_ns(int64_t d) override { t = d; return t; }
 };
 
-TEST(FieldBusFrontEnd, SamplesFlowAndMalformedFramesAreCountedNotUsed) {
-  const auto board = test_board();
+/// The board side of the field bus (FieldBusFrontEnd) on a loopback bus whose other end,
+/// `nodes`, stands for the sensor and amplifier nodes; the clock is stepped by hand.
+struct FrontEndRig {
+  amb::board::BoardConfig board = test_board();
   amb::hal::sim::LoopbackCanBus boardside, nodes;
-  amb::hal::sim::LoopbackCanBus::connect(boardside, nodes);
   ManualClock clock;
-  amb::fieldbus::FieldBusFrontEnd fe(boardside, clock, board.comms.can, nullptr);
+  std::optional<amb::fieldbus::FieldBusFrontEnd> fe;
+  explicit FrontEndRig(amb::fw::Supervisor* sup = nullptr) {
+    amb::hal::sim::LoopbackCanBus::connect(boardside, nodes);
+    fe.emplace(boardside, clock, board.comms.can, sup);
+  }
+};
+
+TEST(FieldBusFrontEnd, SamplesFlowAndMalformedFramesAreCountedNotUsed) {
+  FrontEndRig r;
   amb::hal::AnalogInputs in;
-  EXPECT_FALSE(fe.read(in));  // nothing yet
-  nodes.send(fb::encode_position(2, {1e-6, 2e-6, 3e-6, 4e-6}, 0));
+  EXPECT_FALSE(r.fe->read(in));  // nothing yet
+  r.nodes.send(fb::encode_position(2, {1e-6, 2e-6, 3e-6, 4e-6}, 0));
   CanFrame bad = fb::encode_position(2, {9e-6, 9e-6, 9e-6, 9e-6}, 0);
   bad.len = 6;
-  nodes.send(bad);
-  nodes.send(fb::encode_current(3, {0.1, 0.2, 0.3, 0.4}, 0));
-  ASSERT_TRUE(fe.read(in));
+  r.nodes.send(bad);
+  r.nodes.send(fb::encode_current(3, {0.1, 0.2, 0.3, 0.4}, 0));
+  ASSERT_TRUE(r.fe->read(in));
   EXPECT_NEAR(in.displacement_m[3], 4e-6, 1e-7);
   EXPECT_NEAR(in.coil_current_a[2], 0.3, 1e-3);
-  EXPECT_EQ(fe.counters().malformed, 1u);
+  EXPECT_EQ(r.fe->counters().malformed, 1u);
   amb::hal::AnalogOutputs out;
   out.amplifiers_enabled = true;
   out.current_demand_a = {0.5, -0.5, 0.25, 0};
-  fe.write(out);
+  r.fe->write(out);
   CanFrame f;
   fb::Message m;
   int demands = 0, drives = 0, heartbeats = 0;
-  while (nodes.receive(f)) {
+  while (r.nodes.receive(f)) {
     ASSERT_EQ(fb::decode(f, k_ids, fb::Side::nodes, m), fb::DecodeResult::ok);
     demands += m.kind == fb::Kind::demand;
     drives += m.kind == fb::Kind::drive;
@@ -168,25 +178,21 @@ TEST(FieldBusFrontEnd, SamplesFlowAndMalformedFramesAreCountedNotUsed) {
 }
 
 TEST(FieldBusFrontEnd, SilentNodeWhileLevitatedEntersSafeState) {
-  const auto board = test_board();
   amb::fw::Supervisor sup;
-  sup.configure(board);
-  amb::hal::sim::LoopbackCanBus boardside, nodes;
-  amb::hal::sim::LoopbackCanBus::connect(boardside, nodes);
-  ManualClock clock;
-  amb::fieldbus::FieldBusFrontEnd fe(boardside, clock, board.comms.can, &sup);
+  sup.configure(test_board());
+  FrontEndRig r(&sup);
   amb::hal::AnalogInputs in;
   amb::hal::AnalogOutputs out;
   amb::hal::DiscreteOutputs dout;
   auto period = [&] {
-    nodes.send(fb::encode_position(2, {}, 0));
-    nodes.send(fb::encode_current(3, {}, 0));
-    clock.t += 100'000;
-    const bool ok = fe.read(in);
+    r.nodes.send(fb::encode_position(2, {}, 0));
+    r.nodes.send(fb::encode_current(3, {}, 0));
+    r.clock.t += 100'000;
+    const bool ok = r.fe->read(in);
     sup.step(in, ok, {}, out, dout);
-    fe.write(out);
+    r.fe->write(out);
     CanFrame f;
-    while (nodes.receive(f)) {
+    while (r.nodes.receive(f)) {
     }
   };
   period();
@@ -196,41 +202,37 @@ TEST(FieldBusFrontEnd, SilentNodeWhileLevitatedEntersSafeState) {
   // The amplifier node goes silent (the sensor node keeps sampling): after node_timeout_ms
   // (5 ms) the loop must be in the safe state.
   for (int i = 0; i < 70 && sup.state() != amb::fw::State::fault; ++i) {
-    nodes.send(fb::encode_position(2, {}, 0));
-    clock.t += 100'000;
-    const bool ok = fe.read(in);
+    r.nodes.send(fb::encode_position(2, {}, 0));
+    r.clock.t += 100'000;
+    const bool ok = r.fe->read(in);
     sup.step(in, ok, {}, out, dout);
-    fe.write(out);
+    r.fe->write(out);
   }
   EXPECT_EQ(sup.state(), amb::fw::State::fault);
   EXPECT_EQ(sup.status().fault, amb::fw::FaultReason::comm_timeout);
   EXPECT_FALSE(out.amplifiers_enabled);
-  EXPECT_EQ(fe.counters().node_timeouts, 1u);
+  EXPECT_EQ(r.fe->counters().node_timeouts, 1u);
 }
 
 TEST(FieldBusFrontEnd, ReadAndWriteDoNotAllocate) {
-  const auto board = test_board();
-  amb::hal::sim::LoopbackCanBus boardside, nodes;
-  amb::hal::sim::LoopbackCanBus::connect(boardside, nodes);
-  ManualClock clock;
-  amb::fieldbus::FieldBusFrontEnd fe(boardside, clock, board.comms.can, nullptr);
+  FrontEndRig r;
   amb::hal::AnalogInputs in;
   amb::hal::AnalogOutputs out;
   CanFrame bad = fb::encode_position(2, {}, 0);
   bad.len = 3;
   const long before = amb::test::allocations();
   for (int i = 0; i < 1000; ++i) {
-    nodes.send(fb::encode_position(2, {}, 0));
-    nodes.send(bad);
-    clock.t += 100'000;
-    fe.read(in);
-    fe.write(out);
+    r.nodes.send(fb::encode_position(2, {}, 0));
+    r.nodes.send(bad);
+    r.clock.t += 100'000;
+    r.fe->read(in);
+    r.fe->write(out);
     CanFrame f;
-    while (nodes.receive(f)) {
+    while (r.nodes.receive(f)) {
     }
   }
   EXPECT_EQ(amb::test::allocations() - before, 0);
-  EXPECT_EQ(fe.counters().malformed, 1000u);
+  EXPECT_EQ(r.fe->counters().malformed, 1000u);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "firmware/supervisory/register_map.hpp"
 #include "hal/linux/modbus_tcp_server.hpp"
 #include "hal/sim/sim_rig.hpp"
+#include "tests/firmware/register_stores.hpp"
 
 namespace {
 
@@ -27,24 +28,16 @@ using amb::hal::linux_hw::ModbusTcpServer;
 
 constexpr uint32_t k_arm_key = 0x0BADF00D;
 
-struct Fixture {
+struct Fixture : amb::test::MemoryStores {
   amb::board::BoardConfig board = amb::board::load_board("bath-amb-rig");
   amb::fw::Supervisor sup;
-  amb::hal::sim::MemoryStorage events{1 << 20};
-  amb::hal::sim::MemoryStorage wear_storage{1 << 20};
-  amb::fw::WearStore wear{wear_storage, "bath-amb-rig"};
   std::unique_ptr<amb::fw::RegisterMap> map;
   std::unique_ptr<ModbusTcpServer> server;
 
-  Fixture() {
+  Fixture() : MemoryStores("bath-amb-rig") {
     sup.configure(board);
     wear.open();
-    amb::fw::RegisterSources src;
-    src.supervisor = &sup;
-    src.events = &events;
-    src.wear = &wear;
-    src.board_name = board.name;
-    src.rate_hz = board.rate_hz;
+    amb::fw::RegisterSources src = amb::test::board_sources(sup, *this, board);
     src.arm_key = k_arm_key;
     src.link = [this] {
       const auto s = server->stats();

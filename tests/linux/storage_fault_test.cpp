@@ -28,6 +28,7 @@ using lx::FsOp;
 /// Fails one kind of call with one errno (or delays it) while armed.
 class Inject final : public lx::FsFaultHook {
  public:
+  Inject(FsOp o, int err, int delay = 0) : op(o), error(err), delay_ms(delay) {}
   FsOp op = FsOp::fsync;
   int error = 0;        ///< errno to inject (0: none)
   int delay_ms = 0;     ///< sleep before `op`
@@ -74,9 +75,7 @@ TEST(StorageFaults, AFailedWriteLeavesTheOldOrTheNewItemAndNoTemporary) {
     std::string err;
     const std::vector<uint8_t> old_bytes(5000, 0x11), new_bytes(7000, 0x22);
     ASSERT_TRUE(fs.write_atomic("item", old_bytes, err)) << err;
-    Inject inj;
-    inj.op = c.op;
-    inj.error = c.error;
+    Inject inj(c.op, c.error);
     fs.set_fault_hook(&inj);
     EXPECT_FALSE(fs.write_atomic("item", new_bytes, err));
     EXPECT_NE(err.find(std::strerror(c.error)), std::string::npos) << err;
@@ -109,9 +108,7 @@ TEST(StorageFaults, TheWearRecordKeepsItsPreviousGenerationThroughEveryFault) {
       w.open();
       std::string detail;
       ASSERT_EQ(w.accept(amb::fw::encode_wear_record(wear_record(1)), detail), amb::fw::WriteBackResult::accepted);
-      Inject inj;
-      inj.op = c.op;
-      inj.error = c.error;
+      Inject inj(c.op, c.error);
       fs.set_fault_hook(&inj);
       EXPECT_EQ(w.accept(amb::fw::encode_wear_record(wear_record(2)), detail), amb::fw::WriteBackResult::storage_failed);
       EXPECT_EQ(w.record().sequence, 1u) << "the board keeps serving the stored record";
@@ -154,24 +151,32 @@ struct EventSource {
   }
 };
 
-TEST(StorageFaults, EventsAreKeptAndRetriedInOrderWhileTheStorageFails) {
-  const std::string dir = fresh_dir("events");
-  EventSource src;
-  lx::FileStorage fs(dir);
+/// An event writer without diagnosis that retries after 1 ms and holds `max_pending` events.
+amb::fw::WriterOptions retrying_writer(int max_pending) {
   amb::fw::WriterOptions wo;
   wo.run_diagnosis = false;
   wo.retry_initial_ms = 1;
   wo.retry_max_ms = 1;
-  wo.max_pending = 4;
-  amb::fw::EventWriter writer(src.capture, fs, src.board, wo);
-  Inject inj;
-  inj.op = FsOp::create;
-  inj.error = EROFS;
-  fs.set_fault_hook(&inj);
-  for (int i = 0; i < 3; ++i) {
+  wo.max_pending = max_pending;
+  return wo;
+}
+
+/// `n` events frozen one after the other, the writer polled after each.
+void freeze_and_poll(EventSource& src, amb::fw::EventWriter& writer, int n) {
+  for (int i = 0; i < n; ++i) {
     src.one_event();
     writer.poll();
   }
+}
+
+TEST(StorageFaults, EventsAreKeptAndRetriedInOrderWhileTheStorageFails) {
+  const std::string dir = fresh_dir("events");
+  EventSource src;
+  lx::FileStorage fs(dir);
+  amb::fw::EventWriter writer(src.capture, fs, src.board, retrying_writer(4));
+  Inject inj(FsOp::create, EROFS);
+  fs.set_fault_hook(&inj);
+  freeze_and_poll(src, writer, 3);
   auto k = writer.store_counters();
   EXPECT_EQ(k.written, 0u);
   EXPECT_EQ(k.pending, 3u);
@@ -206,20 +211,10 @@ TEST(StorageFaults, AFullRetryQueueIsCountedAsLostPerThePolicy) {
     EventSource src;
     src.board.capture.storage_policy = policy;
     lx::FileStorage fs(dir);
-    amb::fw::WriterOptions wo;
-    wo.run_diagnosis = false;
-    wo.retry_initial_ms = 1;
-    wo.retry_max_ms = 1;
-    wo.max_pending = 2;
-    amb::fw::EventWriter writer(src.capture, fs, src.board, wo);
-    Inject inj;
-    inj.op = FsOp::fsync;
-    inj.error = EIO;
+    amb::fw::EventWriter writer(src.capture, fs, src.board, retrying_writer(2));
+    Inject inj(FsOp::fsync, EIO);
     fs.set_fault_hook(&inj);
-    for (int i = 0; i < 5; ++i) {
-      src.one_event();
-      writer.poll();
-    }
+    freeze_and_poll(src, writer, 5);
     EXPECT_EQ(writer.store_counters().lost, 3u);
     EXPECT_EQ(writer.store_counters().pending, 2u);
     EXPECT_NE(writer.last_error().find("retry queue full"), std::string::npos) << writer.last_error();
@@ -238,9 +233,7 @@ TEST(StorageFaults, AFullRetryQueueIsCountedAsLostPerThePolicy) {
 TEST(StorageFaults, ASlowFsyncDelaysButLosesNothing) {
   const std::string dir = fresh_dir("slow");
   lx::FileStorage fs(dir);
-  Inject inj;
-  inj.op = FsOp::fsync;
-  inj.delay_ms = 50;
+  Inject inj(FsOp::fsync, 0, 50);
   fs.set_fault_hook(&inj);
   std::string err;
   const auto t0 = std::chrono::steady_clock::now();

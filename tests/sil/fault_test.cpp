@@ -72,33 +72,34 @@ TEST(Faults, CanErrorFrames) {
   EXPECT_GT(c(r, "fieldbus.malformed"), 2000u);
 }
 
+// A loop fault: the safe state for `reason`, and the rotor lifted again over Modbus afterwards.
+void expect_safe_state_then_relevitated(const f::RigResult& r, const char* reason) {
+  EXPECT_EQ(r.state_after_fault, "fault");
+  EXPECT_EQ(r.fault_reason_after_fault, reason);
+  EXPECT_TRUE(r.relevitated);
+}
+
 TEST(Faults, CanBabblingNodeEndsInTheSafeState) {
   const auto r = run(f::Fault::can_babble);
-  EXPECT_EQ(r.state_after_fault, "fault");
-  EXPECT_EQ(r.fault_reason_after_fault, "sensor_invalid");
+  expect_safe_state_then_relevitated(r, "sensor_invalid");
   EXPECT_GT(c(r, "can.rx_dropped"), 0u);
   EXPECT_GT(c(r, "faults.read_failures"), 10u);
-  EXPECT_TRUE(r.relevitated);
 }
 
 TEST(Faults, SilentSensorNodeEndsInTheSafeState) {
   const auto r = run(f::Fault::sensor_silent);
-  EXPECT_EQ(r.state_after_fault, "fault");
   // No samples: the supervisor's sample check (10 periods, 1 ms) is the first to act; the node
   // timeout (node_timeout_ms, 50 ms) follows and is counted once.
-  EXPECT_EQ(r.fault_reason_after_fault, "sensor_invalid");
+  expect_safe_state_then_relevitated(r, "sensor_invalid");
   EXPECT_EQ(c(r, "fieldbus.node_timeouts"), 1u);
   EXPECT_EQ(c(r, "faults.safe_state_entries"), 1u);
-  EXPECT_TRUE(r.relevitated);
 }
 
 TEST(Faults, StaleSensorNodeEndsInTheSafeState) {
   const auto r = run(f::Fault::sensor_stale);
-  EXPECT_EQ(r.state_after_fault, "fault");
-  EXPECT_EQ(r.fault_reason_after_fault, "sensor_invalid");
+  expect_safe_state_then_relevitated(r, "sensor_invalid");
   EXPECT_GT(c(r, "fieldbus.stale_periods"), 10u);
   EXPECT_EQ(c(r, "fieldbus.node_timeouts"), 0u) << "it was heard every 2 ms";
-  EXPECT_TRUE(r.relevitated);
 }
 
 TEST(Faults, StorageFull) {
@@ -111,30 +112,34 @@ TEST(Faults, StorageFull) {
   EXPECT_GE(r.wear_sequence, 2u);
 }
 
+// A storage fault during the wear commit: the commit fails once (storage_failed) and the same
+// record is committed again after the fault.
+void expect_commit_failed_then_retried(const f::RigResult& r) {
+  EXPECT_EQ(r.writebacks, (std::vector<std::string>{"accepted", "storage_failed", "accepted"}));
+  EXPECT_EQ(r.wear_sequence, 2u) << "the failed commit's record, committed again after the fault";
+}
+
 TEST(Faults, StorageFullOfOtherFiles) {
   const auto r = run(f::Fault::storage_full_other);
   EXPECT_GT(c(r, "storage.no_space"), 0u) << "counted, kept, retried";
   EXPECT_GT(c(r, "storage.retries"), 0u);
   EXPECT_LE(c(r, "storage.dropped_oldest"), 1u) << "one removal that gave no space back stops the dropping";
   EXPECT_EQ(r.refused, 0u);
-  EXPECT_EQ(r.writebacks, (std::vector<std::string>{"accepted", "storage_failed", "accepted"}));
-  EXPECT_EQ(r.wear_sequence, 2u) << "the failed commit's record, committed again after the fault";
+  expect_commit_failed_then_retried(r);
 }
 
 TEST(Faults, StorageEio) {
   const auto r = run(f::Fault::storage_eio);
   EXPECT_GT(c(r, "storage.write_errors"), 0u);
   EXPECT_GT(c(r, "storage.retries"), 0u);
-  EXPECT_EQ(r.writebacks, (std::vector<std::string>{"accepted", "storage_failed", "accepted"}));
-  EXPECT_EQ(r.wear_sequence, 2u) << "the failed commit's record, committed again after the fault";
+  expect_commit_failed_then_retried(r);
   EXPECT_EQ(r.refused, 0u);
 }
 
 TEST(Faults, StorageReadOnly) {
   const auto r = run(f::Fault::storage_read_only);
   EXPECT_GT(c(r, "storage.write_errors"), 0u);
-  EXPECT_EQ(r.writebacks, (std::vector<std::string>{"accepted", "storage_failed", "accepted"}));
-  EXPECT_EQ(r.wear_sequence, 2u) << "the failed commit's record, committed again after the fault";
+  expect_commit_failed_then_retried(r);
   EXPECT_EQ(r.refused, 0u);
 }
 

@@ -1,12 +1,14 @@
 #include "host-tools/core/report/report_html.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "host-tools/core/io/number_text.hpp"
+#include "host-tools/core/report/page_file.hpp"
 #include "host-tools/core/report/svg_plot.hpp"
 
 namespace amb::host::report {
@@ -61,8 +63,29 @@ std::string table(const std::vector<std::pair<std::string, std::string>>& rows, 
   return s + "</table>\n";
 }
 
+// The two bearings' tables side by side, each headed "<label> A" or "<label> B" (an empty one
+// is left out).
+std::string bearing_tables(const std::array<std::vector<std::pair<std::string, std::string>>, 2>& bearing, const char* label) {
+  std::string s = "<div class=\"row\">\n";
+  for (size_t b = 0; b < 2; ++b)
+    if (!bearing[b].empty()) s += std::string("<div><h3>") + label + (b ? " B" : " A") + "</h3>" + table(bearing[b]) + "</div>\n";
+  return s + "</div>\n";
+}
+
 std::string not_available(const char* id, const std::string& why) {
   return std::string("<div class=\"na\" id=\"") + id + "\"><b>not available:</b> " + escape_xml(why) + "</div>\n";
+}
+
+// A plot over the event's time axis (time from the trigger, s): the rubbing, speed and
+// force sections draw theirs on the same axis.
+LinePlot time_plot(std::string id, std::string title, std::string y_label, int width_px) {
+  LinePlot p;
+  p.id = std::move(id);
+  p.title = std::move(title);
+  p.x_label = "time from trigger (s)";
+  p.y_label = std::move(y_label);
+  p.width_px = width_px;
+  return p;
 }
 
 std::string source_line(const std::string& src) {
@@ -144,23 +167,13 @@ std::string section_rubbing(const ReportData& d) {
     const RubbingTrace& r = (*d.rubbing.data)[i];
     const auto bands = state_intervals(r);
     s += "<div class=\"row\">\n";
-    LinePlot a;
-    a.id = "contact-angle-" + plane_key(i);
-    a.title = "Whirl angle, " + r.name;
-    a.x_label = "time from trigger (s)";
-    a.y_label = "angle, unwrapped (deg)";
+    LinePlot a = time_plot("contact-angle-" + plane_key(i), "Whirl angle, " + r.name, "angle, unwrapped (deg)", 600);
     a.series.push_back({"whirl angle", r.t_s, r.angle_deg, palette(0)});
     a.intervals = bands;
-    a.width_px = 600;
     s += render_line_plot(a);
-    LinePlot b;
-    b.id = "contact-slope-" + plane_key(i);
-    b.title = "Whirl rate, " + r.name;
-    b.x_label = "time from trigger (s)";
-    b.y_label = "slope (rev/s)";
+    LinePlot b = time_plot("contact-slope-" + plane_key(i), "Whirl rate, " + r.name, "slope (rev/s)", 600);
     b.series.push_back({"slope", r.t_s, r.slope_hz, palette(4)});
     b.intervals = bands;
-    b.width_px = 600;
     s += render_line_plot(b);
     s += "</div>\n";
     if (!r.rows.empty()) s += table(r.rows);
@@ -174,12 +187,7 @@ std::string section_rubbing(const ReportData& d) {
 std::string section_speed(const ReportData& d) {
   std::string s = "<section id=\"speed-section\"><h2>Speed</h2>\n";
   if (!d.speed.available()) return s + not_available("speed-na", d.speed.why_not) + "</section>\n";
-  LinePlot p;
-  p.id = "speed";
-  p.title = "Rotor speed";
-  p.x_label = "time from trigger (s)";
-  p.y_label = "speed (Hz)";
-  p.width_px = 900;
+  LinePlot p = time_plot("speed", "Rotor speed", "speed (Hz)", 900);
   p.series.push_back({d.speed.data->speed_label, d.speed.data->t_s, d.speed.data->speed_hz, palette(0)});
   if (!d.speed.data->speed_command_hz.empty())
     p.series.push_back({"drive command", d.speed.data->t_s, d.speed.data->speed_command_hz, palette(3), 1.2, true});
@@ -204,12 +212,7 @@ std::string section_speed(const ReportData& d) {
 std::string section_forces(const ReportData& d) {
   std::string s = "<section id=\"forces\"><h2>Contact forces</h2>\n";
   if (!d.forces.available()) return s + not_available("forces-na", d.forces.why_not) + "</section>\n";
-  LinePlot p;
-  p.id = "contact-forces";
-  p.title = "Contact forces at the auxiliary bearings";
-  p.x_label = "time from trigger (s)";
-  p.y_label = "force (N)";
-  p.width_px = 900;
+  LinePlot p = time_plot("contact-forces", "Contact forces at the auxiliary bearings", "force (N)", 900);
   const ForceTrace& f = *d.forces.data;
   for (size_t b = 0; b < 2; ++b) {
     if (!f.normal_n[b].empty()) p.series.push_back({"normal " + std::string(b ? "B" : "A"), f.t_s, f.normal_n[b], palette(b)});
@@ -295,21 +298,14 @@ std::string section_drop_residual(const ReportData& d) {
   std::string s = "<section id=\"drop-residual\"><h2>Residual loop on a drop event</h2>\n";
   if (!d.drop_residual.available()) return s + not_available("drop-residual-na", d.drop_residual.why_not) + "</section>\n";
   const DropResidualSummary& r = *d.drop_residual.data;
-  s += table(r.rows) + "<div class=\"row\">\n";
-  for (size_t b = 0; b < 2; ++b)
-    if (!r.bearing[b].empty()) s += std::string("<div><h3>Aux bearing ") + (b ? "B" : "A") + "</h3>" + table(r.bearing[b]) + "</div>\n";
-  return s + "</div>\n" + source_line(d.drop_residual.source) + "</section>\n";
+  return s + table(r.rows) + bearing_tables(r.bearing, "Aux bearing") + source_line(d.drop_residual.source) + "</section>\n";
 }
 
 std::string section_wear(const ReportData& d) {
   std::string s = "<section id=\"wear\"><h2>Wear record</h2>\n";
   if (!d.wear.available()) return s + not_available("wear-na", d.wear.why_not) + "</section>\n";
   const WearSummary& w = *d.wear.data;
-  s += table(w.rows);
-  s += "<div class=\"row\">\n";
-  for (size_t b = 0; b < 2; ++b)
-    if (!w.bearing[b].empty()) s += std::string("<div><h3>Bearing ") + (b ? "B" : "A") + "</h3>" + table(w.bearing[b]) + "</div>\n";
-  return s + "</div>\n" + source_line(d.wear.source) + "</section>\n";
+  return s + table(w.rows) + bearing_tables(w.bearing, "Bearing") + source_line(d.wear.source) + "</section>\n";
 }
 
 std::string section_quick_look(const ReportData& d) {
@@ -318,10 +314,7 @@ std::string section_quick_look(const ReportData& d) {
   const QuickLookSummary& q = *d.quick_look.data;
   if (!q.superseded_by.empty())
     s += "<p class=\"src\">Superseded by " + escape_xml(q.superseded_by) + ": the host's fit is the wear estimate of record.</p>\n";
-  s += table(q.rows) + "<div class=\"row\">\n";
-  for (size_t b = 0; b < 2; ++b)
-    if (!q.bearing[b].empty()) s += std::string("<div><h3>Aux bearing ") + (b ? "B" : "A") + "</h3>" + table(q.bearing[b]) + "</div>\n";
-  return s + "</div>\n" + source_line(d.quick_look.source) + "</section>\n";
+  return s + table(q.rows) + bearing_tables(q.bearing, "Aux bearing") + source_line(d.quick_look.source) + "</section>\n";
 }
 
 std::string section_replay(const ReportData& d) {
@@ -351,18 +344,12 @@ std::string render_event_report(const ReportData& d) {
                   "</title>\n<style>" + k_css + "</style>\n</head>\n<body>\n";
   s += "<h1>" + escape_xml(d.title) + "</h1>\n<p class=\"sub\">" + escape_xml(d.subtitle) + "</p>\n";
   s += "<section id=\"facts\"><h2>Event</h2>\n" + table(d.facts.rows) + "</section>\n";
-  s += section_figures(d);
-  s += section_replay(d);
-  s += section_orbit(d);
-  s += section_rubbing(d);
-  s += section_speed(d);
-  s += section_forces(d);
-  s += section_load(d);
-  s += section_fit(d);
-  s += section_residual(d);
-  s += section_drop_residual(d);
-  s += section_wear(d);
-  s += section_quick_look(d);
+  // The sections, in page order.
+  using Section = std::string (*)(const ReportData&);
+  const Section sections[] = {section_figures, section_replay,   section_orbit,         section_rubbing,
+                              section_speed,   section_forces,   section_load,          section_fit,
+                              section_residual, section_drop_residual, section_wear,   section_quick_look};
+  for (const Section section : sections) s += section(d);
   if (!d.notes.empty()) {
     s += "<section id=\"notes\"><h2>Notes</h2>\n<ul>\n";
     for (const auto& n : d.notes) s += "<li>" + escape_xml(n) + "</li>\n";
@@ -373,16 +360,7 @@ std::string render_event_report(const ReportData& d) {
 }
 
 std::string write_event_report(const ReportData& d, const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path p = fs::absolute(path);
-  std::error_code ec;
-  if (p.has_parent_path()) fs::create_directories(p.parent_path(), ec);
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot write the report to '" + p.string() + "' (check the directory exists and is writable, or pass --out FILE)");
-  out << render_event_report(d);
-  out.close();
-  if (!out) throw std::runtime_error("writing the report to '" + p.string() + "' failed (disk full?)");
-  return p.string();
+  return write_page_file(render_event_report(d), path, "report", " (check the directory exists and is writable, or pass --out FILE)");
 }
 
 }  // namespace amb::host::report

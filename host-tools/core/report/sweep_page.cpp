@@ -2,12 +2,11 @@
 
 #include <cmath>
 #include <complex>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 
 #include "host-tools/core/io/number_text.hpp"
+#include "host-tools/core/report/page_file.hpp"
 #include "host-tools/core/report/svg_plot.hpp"
 
 namespace amb::host::report {
@@ -228,16 +227,7 @@ std::string render_sweep_page(const SweepAnalysis& a) {
 }
 
 std::string write_sweep_page(const SweepAnalysis& a, const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path p = fs::absolute(path);
-  std::error_code ec;
-  if (p.has_parent_path()) fs::create_directories(p.parent_path(), ec);
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot write the sweep report to '" + p.string() + "'");
-  out << render_sweep_page(a);
-  out.close();
-  if (!out) throw std::runtime_error("writing the sweep report to '" + p.string() + "' failed (disk full?)");
-  return p.string();
+  return write_page_file(render_sweep_page(a), path, "sweep report");
 }
 
 }  // namespace amb::host::report

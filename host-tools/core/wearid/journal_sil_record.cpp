@@ -140,41 +140,17 @@ JournalSilSummary record_journal_sil(const JournalSilOptions& o, const std::stri
   e.sample_rate_hz = b.rate_hz;
   e.trigger_index = 0;
   e.speed_rpm = o.speed_hz * 60.0;
-  auto pos = [](const char* name, const char* q, const char* u, double ax, double ang, const std::vector<double>* v) {
-    MeasuredColumn c;
-    c.column = name;
-    c.quantity = q;
-    c.unit = u;
-    c.positioned = true;
-    c.axial_m = ax;
-    c.angle_deg = ang;
-    c.values = v;
-    return c;
-  };
-  MeasuredColumn ct;
-  ct.column = "t_s";
-  ct.quantity = "time";
-  ct.unit = "s";
-  ct.values = &t;
-  e.columns.push_back(ct);
-  e.columns.push_back(pos("a1", "displacement", "m", b.plant.sensor[0].axial_m, b.plant.sensor[0].angle_deg, &a1));
-  e.columns.push_back(pos("a2", "displacement", "m", b.plant.sensor[1].axial_m, b.plant.sensor[1].angle_deg, &a2));
-  e.columns.push_back(pos("b1", "displacement", "m", b.plant.sensor[2].axial_m, b.plant.sensor[2].angle_deg, &b1));
-  e.columns.push_back(pos("b2", "displacement", "m", b.plant.sensor[3].axial_m, b.plant.sensor[3].angle_deg, &b2));
-  e.columns.push_back(pos("j1", "displacement", "m", b.journal.axial_m, b.journal.probe_angle_deg[0], &j1));
-  e.columns.push_back(pos("j2", "displacement", "m", b.journal.axial_m, b.journal.probe_angle_deg[1], &j2));
-  MeasuredColumn ck;
-  ck.column = "keyphasor";
-  ck.quantity = "voltage";
-  ck.unit = "V";
-  ck.values = &kp;
-  e.columns.push_back(ck);
-  MeasuredColumn cs;
-  cs.column = "speed";
-  cs.quantity = "speed";
-  cs.unit = "Hz";
-  cs.values = &spd;
-  e.columns.push_back(cs);
+  // One column per channel, as drop_measurement.cpp and steady_record.cpp write theirs.
+  e.columns.push_back({"t_s", "time", "s", false, 0.0, 0.0, &t, true});
+  const char* sensor_names[4] = {"a1", "a2", "b1", "b2"};
+  const std::vector<double>* sensor_values[4] = {&a1, &a2, &b1, &b2};
+  for (size_t k = 0; k < 4; ++k)
+    e.columns.push_back({sensor_names[k], "displacement", "m", true, b.plant.sensor[k].axial_m, b.plant.sensor[k].angle_deg,
+                         sensor_values[k], true});
+  e.columns.push_back({"j1", "displacement", "m", true, b.journal.axial_m, b.journal.probe_angle_deg[0], &j1, true});
+  e.columns.push_back({"j2", "displacement", "m", true, b.journal.axial_m, b.journal.probe_angle_deg[1], &j2, true});
+  e.columns.push_back({"keyphasor", "voltage", "V", false, 0.0, 0.0, &kp, true});
+  e.columns.push_back({"speed", "speed", "Hz", false, 0.0, 0.0, &spd, true});
   e.notes = "SIL steady record of the journal-bearing rig at " + std::to_string(o.speed_hz) + " Hz";
   write_measured_event(stem, e);
   s.ok = true;
