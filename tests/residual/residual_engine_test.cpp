@@ -71,6 +71,19 @@ TEST(ResidualEngine, HigherIsBetterAndFloorsAreHonoured) {
   EXPECT_FALSE(eng::decide(c, eng::Criterion{}).kept);
 }
 
+TEST(ResidualEngine, ARiseInsideItsSignificanceFloorDoesNotVeto) {
+  // An aux-bearing centre the drop part would not call off (its floor, here 33 sigma) that
+  // moves from 0.7 to 4.2 sigma beside a falling contact misfit: not a material rise. The
+  // same rise past the floor, or with no floor, vetoes.
+  eng::CandidateEvidence c = good();
+  c.decision = {{"centre B", "sigma", 0.7, 4.2, false, 3.0, 33.0}, {"contact misfit", "clearance", 0.087, 0.023}};
+  EXPECT_TRUE(eng::decide(c, eng::Criterion{}).kept) << eng::decide(c, eng::Criterion{}).reason;
+  c.decision[0].after = 40.0;
+  EXPECT_FALSE(eng::decide(c, eng::Criterion{}).kept);
+  c.decision[0] = {"centre B", "sigma", 0.7, 4.2, false, 3.0};
+  EXPECT_FALSE(eng::decide(c, eng::Criterion{}).kept);
+}
+
 TEST(ResidualEngine, CriterionSettingsAreChecked) {
   eng::Criterion k;
   EXPECT_TRUE(k.check().empty());

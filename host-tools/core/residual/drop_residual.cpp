@@ -956,8 +956,11 @@ DropResidualOutcome run_drop_residual(const LoadedEvent& r, const board::BoardCo
         ce.not_identified = io::printf_text("the refitted simulation touches aux bearing %.0f too briefly for a circle", static_cast<double>(k));
       }
       ce.effect_sigma = std::max(ce.effect_sigma, z0);
+      // A centre the drop part would not call off (the offset evidence rule: max(4 sigma,
+      // min_offset_fraction of the clearance)) does not veto by rising within that floor.
+      const double floor_sigma = sig0 > 0.0 ? std::max(4.0, o.min_offset_fraction * b.plant.aux[k].clearance_m / sig0) : 0.0;
       ce.decision.push_back({io::printf_text("aux bearing %.0f centre, measured - model", static_cast<double>(k)), "sigma", z0, z1, false,
-                             crit.min_effect_sigma});
+                             crit.min_effect_sigma, floor_sigma});
       for (size_t c = 0; c < 2; ++c)
         if (spec != nullptr && !engine::within_bounds(*spec, pn[2 * k + c], b2.plant.aux[k].centre_offset_x_m * (c == 0) +
                                                                               b2.plant.aux[k].centre_offset_y_m * (c == 1))) {

@@ -51,7 +51,8 @@ Decision decide(const CandidateEvidence& c, const Criterion& k) {
   double best_change = 0.0;
   for (const auto& f : c.decision) {
     const double r = relative_change(f);
-    if (r > k.feature_tolerance) fail(f.name + " rises (" + num(f.before) + " -> " + num(f.after) + " " + f.unit + ")");
+    if (r > k.feature_tolerance && !(f.rises_above > 0.0 && std::abs(f.after) <= f.rises_above))
+      fail(f.name + " rises (" + num(f.before) + " -> " + num(f.after) + " " + f.unit + ")");
     const bool counts = std::abs(f.before) > f.counts_above;
     if (counts && r <= -need) one_falls = true;
     if (counts && r < best_change) {

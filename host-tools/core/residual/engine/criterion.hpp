@@ -37,6 +37,11 @@ struct Feature {
   /// The feature only counts towards "one falls" when `before` exceeds this (a figure already
   /// at its noise floor cannot fall materially), in its unit.
   double counts_above = 0.0;
+  /// A rise only vetoes when `after` exceeds this, in its unit (0: every rise counts): a
+  /// feature that stays inside the record kind's own significance floor (e.g. an aux-bearing
+  /// centre closer to the model's than the smallest offset the drop part claims) has not
+  /// risen materially.
+  double rises_above = 0.0;
 };
 
 /// What a record kind hands the engine for one candidate.
