@@ -101,14 +101,11 @@ double Hertz4DofModel::choose_step_s(double max_shaft_speed_hz, double fs_hz) co
   const double w2 = std::max({(p_.shaft_stiffness_n_per_m + kc) / p_.shaft_mass_kg,
                               (p_.housing_stiffness_n_per_m + kc) / p_.housing_mass_kg});
   double h = 0.05 * 2.0 * M_PI / std::sqrt(w2);
-  const double speed = std::abs(max_shaft_speed_hz);
-  if (law_.defect_half_angle_rad() > 0 && speed > 0) {
-    // Angular speed of the balls relative to the defect: cage for outer, shaft - cage for inner.
-    const double rel = p_.defect.location == DefectLocation::outer_race ? law_.cage_ratio()
-                                                                        : 1.0 - law_.cage_ratio();
-    const double transit_s = 2.0 * law_.defect_half_angle_rad() / (2.0 * M_PI * speed * rel);
-    h = std::min(h, 0.25 * transit_s);
-  }
+  // Defect transit (groove under a ball, or a ball's spot past a race) in 4 steps at least;
+  // no bound without a defect or with zero applied depth (then the model is the healthy one,
+  // step for step).
+  const double transit_s = law_.defect_transit_time_s(max_shaft_speed_hz);
+  if (std::isfinite(transit_s)) h = std::min(h, 0.25 * transit_s);
   if (p_.max_step_s > 0) h = std::min(h, p_.max_step_s);
   const double period = 1.0 / fs_hz;
   const double n = std::ceil(period / h - 1e-9);

@@ -69,7 +69,8 @@ class Hertz4DofModel {
   /// Integration step rule: the largest h <= max_shaft_speed-dependent bounds
   ///   h <= 0.05 * 2 pi / w_max  (w_max: fastest linearised mode, contact linearised at the
   ///                              Stribeck peak ball load 5 W / Z),
-  ///   h <= defect transit time / 4 (time a ball needs to cross the groove at max speed),
+  ///   h <= defect transit time / 4 (a ball crossing the groove, or a ball's spot crossing a
+  ///        race, at max speed; no bound when the applied depth is 0),
   ///   h <= max_step_s if set,
   /// then shrunk so that an integer number of steps fits one output period 1/fs_hz.
   double choose_step_s(double max_shaft_speed_hz, double fs_hz) const;

@@ -1,6 +1,8 @@
 #include "model/bearing/hertz_contact.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace amb::model::bearing {
 
@@ -17,11 +19,16 @@ bool HertzContactLaw::configure(const ContactLawParams& p) {
   if (!p.geometry.valid() || p.geometry.ball_count > k_max_balls) return false;
   if (!(p.hertz_constant_n_per_m1p5 >= 0.0) || !(p.radial_clearance_m >= 0.0)) return false;
   if (p.defect.location != DefectLocation::none &&
-      (!(p.defect.width_m > 0.0) || !(p.defect.depth_m >= 0.0)))
+      (!(p.defect.width_m > 0.0) || !(p.defect.depth_m >= 0.0) || !std::isfinite(p.defect.angle_rad)))
+    return false;
+  if (p.defect.location == DefectLocation::ball &&
+      (p.defect.ball_index < 0 || p.defect.ball_index >= p.geometry.ball_count))
     return false;
   p_ = p;
   z_ = p.geometry.ball_count;
-  cage_ratio_ = defect_orders(p.geometry).ftf;
+  const DefectOrders orders = defect_orders(p.geometry);
+  cage_ratio_ = orders.ftf;
+  spin_ratio_ = orders.bsf;
   for (int j = 0; j < z_; ++j) {
     const double a = 2.0 * M_PI * j / z_;
     cos_pitch_[static_cast<size_t>(j)] = std::cos(a);
@@ -29,7 +36,25 @@ bool HertzContactLaw::configure(const ContactLawParams& p) {
   }
   defect_half_angle_rad_ = 0.0;
   defect_depth_m_ = 0.0;
-  if (p.defect.location != DefectLocation::none) {
+  spot_depth_outer_m_ = 0.0;
+  spot_depth_inner_m_ = 0.0;
+  if (p.defect.location == DefectLocation::ball) {
+    // The ball is the curved body the spot is cut in: arcsin(L / r), r the ball radius.
+    const double r = 0.5 * p.geometry.ball_diameter_m;
+    defect_half_angle_rad_ = 0.5 * std::asin(std::min(1.0, p.defect.width_m / r));
+    spot_depth_outer_m_ = p.defect.depth_m;
+    spot_depth_inner_m_ = p.defect.depth_m;
+    if (p.defect.limit_depth_to_ball) {
+      // Gap between the intact ball and the race L/2 from the contact (the race bridges the
+      // pit): ball sagitta minus (concave outer) / plus (convex inner) the race's sagitta.
+      const double half = std::min(r, 0.5 * p.defect.width_m);
+      auto sagitta = [half](double radius) { return radius - std::sqrt(radius * radius - half * half); };
+      spot_depth_outer_m_ = std::min(spot_depth_outer_m_,
+                                     std::max(0.0, sagitta(r) - sagitta(p.geometry.outer_raceway_radius_m())));
+      spot_depth_inner_m_ = std::min(spot_depth_inner_m_, sagitta(r) + sagitta(p.geometry.inner_raceway_radius_m()));
+    }
+    defect_depth_m_ = std::max(spot_depth_outer_m_, spot_depth_inner_m_);
+  } else if (p.defect.location != DefectLocation::none) {
     // Seed 003: theta_d = arcsin(L / R_race), R_race the raceway radius the groove is cut in.
     const double r_race = p.defect.location == DefectLocation::outer_race
                               ? p.geometry.outer_raceway_radius_m()
@@ -47,11 +72,31 @@ bool HertzContactLaw::configure(const ContactLawParams& p) {
   return true;
 }
 
+double HertzContactLaw::profile_fraction(double theta_rel_rad) const noexcept {
+  const double a = std::abs(wrap_angle_rad(theta_rel_rad));
+  if (a > defect_half_angle_rad_) return 0.0;
+  if (p_.defect.profile == DefectProfile::rectangular) return 1.0;
+  return std::cos(a * M_PI / (2.0 * defect_half_angle_rad_));
+}
+
 double HertzContactLaw::defect_depth(double theta_rel_rad) const noexcept {
   const double a = std::abs(wrap_angle_rad(theta_rel_rad));
   if (a > defect_half_angle_rad_) return 0.0;
   if (p_.defect.profile == DefectProfile::rectangular) return defect_depth_m_;
   return defect_depth_m_ * std::cos(a * M_PI / (2.0 * defect_half_angle_rad_));
+}
+
+double HertzContactLaw::defect_transit_time_s(double shaft_speed_hz) const noexcept {
+  const double speed = std::abs(shaft_speed_hz);
+  if (!ok_ || !(defect_half_angle_rad_ > 0) || !(defect_depth_m_ > 0) || !(speed > 0))
+    return std::numeric_limits<double>::infinity();
+  // Angular speed of the defect past the contact: the cage over a fixed outer race, the shaft
+  // minus the cage over an inner-race groove, the ball's spin (relative to the cage) for a spot.
+  const DefectLocation loc = p_.defect.location;
+  const double rel = loc == DefectLocation::outer_race   ? cage_ratio_
+                     : loc == DefectLocation::inner_race ? 1.0 - cage_ratio_
+                                                         : spin_ratio_;
+  return 2.0 * defect_half_angle_rad_ / (2.0 * M_PI * speed * rel);
 }
 
 SupportForce HertzContactLaw::force(double dx_m, double dy_m, double shaft_angle_rad) const noexcept {
@@ -65,6 +110,7 @@ SupportForce HertzContactLaw::force_at_cage_angle(double dx_m, double dy_m, doub
   const double cc = std::cos(cage_angle_rad);
   const double sc = std::sin(cage_angle_rad);
   const DefectLocation loc = p_.defect.location;
+  if (loc == DefectLocation::ball) return ball_spot_force(dx_m, dy_m, cc, sc, shaft_angle_rad);
   // Defect centre in the same frame as theta_j (inner-race defect turns with the shaft).
   const double defect_centre = loc == DefectLocation::inner_race
                                    ? p_.defect.angle_rad + shaft_angle_rad
@@ -78,6 +124,31 @@ SupportForce HertzContactLaw::force_at_cage_angle(double dx_m, double dy_m, doub
     if (loc != DefectLocation::none && delta > -defect_depth_m_) {
       const double theta_j = cage_angle_rad + 2.0 * M_PI * j / z_;
       delta -= defect_depth(theta_j - defect_centre);
+    }
+    if (delta > 0.0) {
+      const double q = p_.hertz_constant_n_per_m1p5 * delta * std::sqrt(delta);
+      out.fx_n += q * cj;
+      out.fy_n += q * sj;
+      ++out.balls_loaded;
+    }
+  }
+  return out;
+}
+
+SupportForce HertzContactLaw::ball_spot_force(double dx_m, double dy_m, double cc, double sc,
+                                              double shaft_angle_rad) const noexcept {
+  SupportForce out;
+  const auto spot_ball = static_cast<size_t>(p_.defect.ball_index);
+  for (int j = 0; j < z_; ++j) {
+    const auto k = static_cast<size_t>(j);
+    const double cj = cc * cos_pitch_[k] - sc * sin_pitch_[k];
+    const double sj = sc * cos_pitch_[k] + cc * sin_pitch_[k];
+    double delta = dx_m * cj + dy_m * sj - p_.radial_clearance_m;
+    if (k == spot_ball && delta > -defect_depth_m_) {
+      // Spin angle of the spot (relative to the cage; outer race fixed): 0 faces the outer
+      // race, pi the inner race. Both faces cannot be reached at once (half width < pi / 2).
+      const double phi = spin_ratio_ * shaft_angle_rad + p_.defect.angle_rad;
+      delta -= spot_depth_outer_m_ * profile_fraction(phi) + spot_depth_inner_m_ * profile_fraction(phi - M_PI);
     }
     if (delta > 0.0) {
       const double q = p_.hertz_constant_n_per_m1p5 * delta * std::sqrt(delta);
