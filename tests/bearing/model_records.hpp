@@ -2,6 +2,7 @@
 // Labelled records made with the project's own bearing models, for bearing-check's calibration
 // (healthy records only) and validation (tables in docs/bearing.md):
 //  - seed 003's 4-DOF Hertzian model (hertz_4dof.hpp): housing acceleration;
+//  (faults: an outer- or inner-race groove, or a spot on one ball - hertz_contact.hpp)
 //  - seed 001's 8-DOF rotor (rotor_8dof.hpp, two SKF 6200): bearing B's support force, the
 //    signal a stiff housing's accelerometer would see up to scale;
 // seen through a transfer path (none, or one/two housing resonances in parallel with a weak
@@ -79,7 +80,10 @@ struct RecordSpec {
   std::string model = "4dof";        ///< "4dof" (seed 003) or "8dof" (seed 001)
   std::string bearing = "6206";      ///< catalogue name
   mb::DefectLocation defect = mb::DefectLocation::none;
-  double width_mm = 0.5;             ///< groove width, mm (depth: 0.6 x width, capped by the model)
+  double width_mm = 0.5;             ///< groove / ball-spot width, mm (depth: 0.6 x width, capped by the model)
+  /// Radial load relative to the race records': 4-DOF W_y = 500 N x load_scale (seed 003's
+  /// load); 8-DOF: both discs' masses x load_scale (the bearings carry the rotor's weight).
+  double load_scale = 1.0;
   double speed_hz = 30.0;            ///< true shaft speed, Hz
   double fs_hz = 12000.0;            ///< sample rate, Hz
   double duration_s = 10.0;          ///< record length, s
@@ -91,8 +95,10 @@ struct RecordSpec {
   /// lines, which no real bearing produces (rolling elements slip 1-2 %, Smith & Randall 2015).
   double speed_fluctuation = 0.002;
   std::string label() const {
-    return defect == mb::DefectLocation::outer_race ? "outer_race"
-           : defect == mb::DefectLocation::inner_race ? "inner_race" : "healthy";
+    return defect == mb::DefectLocation::outer_race   ? "outer_race"
+           : defect == mb::DefectLocation::inner_race ? "inner_race"
+           : defect == mb::DefectLocation::ball       ? "ball"
+                                                      : "healthy";
   }
 };
 
@@ -119,7 +125,8 @@ inline std::vector<double> make_record(const RecordSpec& s) {
     p.defect.location = s.defect;
     p.defect.width_m = s.width_mm * 1e-3;
     p.defect.depth_m = 0.6 * s.width_mm * 1e-3;
-    p.defect.angle_rad = M_PI / 2;  // in the load zone
+    p.defect.angle_rad = M_PI / 2;  // race groove: in the load zone (ball spot: its spin phase)
+    p.load_y_n *= s.load_scale;
     clean = mb::simulate_housing_acceleration(p, speed, s.fs_hz, s.duration_s, 0.0, 1);
   } else {
     mb::Rotor8DofParams p;
@@ -132,8 +139,10 @@ inline std::vector<double> make_record(const RecordSpec& s) {
     cp.defect.profile = mb::DefectProfile::cosine;
     cp.defect.width_m = s.width_mm * 1e-3;
     cp.defect.depth_m = 0.6 * s.width_mm * 1e-3;
-    cp.defect.angle_rad = -M_PI / 2;  // load zone under gravity
+    cp.defect.angle_rad = -M_PI / 2;  // race groove: load zone under gravity (ball spot: spin phase)
     p.bearing_b = cp;
+    p.m2_kg *= s.load_scale;
+    p.m3_kg *= s.load_scale;
     p.step_s = 1.0 / (s.fs_hz * std::ceil(1.0 / (s.fs_hz * 2e-6)));  // <= 2 us, integer steps per sample
     mb::Rotor8DofModel m;
     if (!m.configure(p)) return {};

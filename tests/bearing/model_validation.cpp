@@ -22,6 +22,85 @@ namespace {
 struct Tally {
   int n = 0, right = 0, wrong_fault = 0, unclear = 0;
 };
+
+struct Tables {
+  std::map<std::string, Tally> by_row;  // "<model> <bearing> <label>"
+  std::map<std::string, Tally> by_label, by_noise, by_path, by_width, by_load, by_speed;
+  std::map<std::string, std::map<std::string, int>> confusion;  // truth -> verdict -> count
+};
+
+// Runs bearing-check on every record, prints one line per record and the tables.
+Tables evaluate(const std::vector<tb::RecordSpec>& specs) {
+  Tables out;
+  auto& [by_row, by_label, by_noise, by_path, by_width, by_load, by_speed, confusion] = out;
+  int k = 0;
+  for (const auto& s : specs) {
+    const auto x = tb::make_record(s);
+    EXPECT_FALSE(x.empty());
+    if (x.empty()) continue;
+    const double nominal = s.speed_hz * (k++ % 2 ? 1.004 : 0.996);
+    const auto r = hb::check_bearing(x, s.fs_hz, nominal, *mb::find_bearing(s.bearing));
+    const std::string truth = s.label();
+    const bool right = r.verdict == truth;
+    const bool wrong_fault = !right && r.verdict != "healthy" && r.verdict != "unclear";
+    ++confusion[truth][r.verdict];
+    auto add = [&](Tally& t) {
+      ++t.n;
+      t.right += right;
+      t.wrong_fault += wrong_fault;
+      t.unclear += r.verdict == "unclear";
+    };
+    add(by_row[s.model + " " + s.bearing + " " + truth]);
+    add(by_label[truth]);
+    if (truth != "healthy") {
+      char key[64];
+      std::snprintf(key, sizeof key, "%s noise %.1f", truth.c_str(), s.noise_rel);
+      add(by_noise[key]);
+      std::snprintf(key, sizeof key, "%s path %d", truth.c_str(), s.path);
+      add(by_path[key]);
+      std::snprintf(key, sizeof key, "%s width %.1f mm", truth.c_str(), s.width_mm);
+      add(by_width[key]);
+      std::snprintf(key, sizeof key, "%s load x %.1f", truth.c_str(), s.load_scale);
+      add(by_load[key]);
+      std::snprintf(key, sizeof key, "%s %s %2.0f Hz", truth.c_str(), s.model.c_str(), s.speed_hz);
+      add(by_speed[key]);
+    } else {
+      char key[64];
+      std::snprintf(key, sizeof key, "healthy noise %.1f", s.noise_rel);
+      add(by_noise[key]);
+    }
+    // The named family's score and each other family's score / threshold (the misses' reasons).
+    std::string scores;
+    for (const auto& f : r.families) {
+      char b[64];
+      std::snprintf(b, sizeof b, " %s %.1f/%.1f", f.name.c_str(), f.score, f.threshold_score);
+      scores += b;
+    }
+    std::printf("model %s %s %-10s w %.1f mm load x %.1f %4.0f Hz fs %5.0f noise %.1f path %d: %-10s%s %s\n",
+                s.model.c_str(), s.bearing.c_str(), truth.c_str(), s.width_mm, s.load_scale, s.speed_hz, s.fs_hz,
+                s.noise_rel, s.path, r.verdict.c_str(), scores.c_str(), right ? "" : r.reason.substr(0, 110).c_str());
+    if (!right && truth != "healthy") {
+      const std::string fam = truth == "outer_race" ? "bpfo" : truth == "inner_race" ? "bpfi" : "ball";
+      std::printf("    %s: %s\n", fam.c_str(), r.family(fam).reason.substr(0, 200).c_str());
+    }
+  }
+  auto table = [](const char* title, const std::map<std::string, Tally>& m) {
+    std::printf("| %s | records | right | unclear | wrong fault named |\n| --- | --- | --- | --- | --- |\n", title);
+    for (const auto& [key, t] : m) std::printf("| %s | %d | %d | %d | %d |\n", key.c_str(), t.n, t.right, t.unclear, t.wrong_fault);
+  };
+  table("model bearing truth", by_row);
+  table("truth", by_label);
+  table("truth, noise/signal", by_noise);
+  table("truth, transfer path", by_path);
+  table("truth, width", by_width);
+  table("truth, load", by_load);
+  table("truth, model, speed", by_speed);
+  std::printf("| truth \\ verdict | outer_race | inner_race | ball | unclear | healthy |\n| --- | --- | --- | --- | --- | --- |\n");
+  for (auto& [truth, row] : confusion)
+    std::printf("| %s | %d | %d | %d | %d | %d |\n", truth.c_str(), row["outer_race"], row["inner_race"], row["ball"],
+                row["unclear"], row["healthy"]);
+  return out;
+}
 }  // namespace
 
 TEST(BearingModelValidation, DetectionAndFalseAlarmRates) {
@@ -68,51 +147,8 @@ TEST(BearingModelValidation, DetectionAndFalseAlarmRates) {
           specs.push_back(s);
         }
   }
-  std::map<std::string, Tally> by_row;  // "<model> <bearing> <label>"
-  std::map<std::string, Tally> by_label, by_noise, by_path, by_width;
-  int k = 0;
-  for (const auto& s : specs) {
-    const auto x = tb::make_record(s);
-    ASSERT_FALSE(x.empty());
-    const double nominal = s.speed_hz * (k++ % 2 ? 1.004 : 0.996);
-    const auto r = hb::check_bearing(x, s.fs_hz, nominal, *mb::find_bearing(s.bearing));
-    const std::string truth = s.label();
-    const bool right = r.verdict == truth;
-    const bool wrong_fault = !right && r.verdict != "healthy" && r.verdict != "unclear";
-    auto add = [&](Tally& t) {
-      ++t.n;
-      t.right += right;
-      t.wrong_fault += wrong_fault;
-      t.unclear += r.verdict == "unclear";
-    };
-    add(by_row[s.model + " " + s.bearing + " " + truth]);
-    add(by_label[truth]);
-    if (truth != "healthy") {
-      char key[64];
-      std::snprintf(key, sizeof key, "%s noise %.1f", truth.c_str(), s.noise_rel);
-      add(by_noise[key]);
-      std::snprintf(key, sizeof key, "%s path %d", truth.c_str(), s.path);
-      add(by_path[key]);
-      std::snprintf(key, sizeof key, "%s width %.1f mm", truth.c_str(), s.width_mm);
-      add(by_width[key]);
-    } else {
-      char key[64];
-      std::snprintf(key, sizeof key, "healthy noise %.1f", s.noise_rel);
-      add(by_noise[key]);
-    }
-    std::printf("model %s %s %-10s w %.1f mm %4.0f Hz fs %5.0f noise %.1f path %d: %-10s %s\n", s.model.c_str(),
-                s.bearing.c_str(), truth.c_str(), s.width_mm, s.speed_hz, s.fs_hz, s.noise_rel, s.path,
-                r.verdict.c_str(), right ? "" : r.reason.substr(0, 110).c_str());
-  }
-  auto table = [](const char* title, const std::map<std::string, Tally>& m) {
-    std::printf("| %s | records | right | unclear | wrong fault named |\n| --- | --- | --- | --- | --- |\n", title);
-    for (const auto& [key, t] : m) std::printf("| %s | %d | %d | %d | %d |\n", key.c_str(), t.n, t.right, t.unclear, t.wrong_fault);
-  };
-  table("model bearing truth", by_row);
-  table("truth", by_label);
-  table("truth, noise/signal", by_noise);
-  table("truth, transfer path", by_path);
-  table("truth, groove width", by_width);
+  auto tables = evaluate(specs);
+  auto& by_label = tables.by_label;
   const auto& h = by_label["healthy"];
   const int false_alarms = h.n - h.right - h.unclear;
   std::printf("healthy: %d records, %d false alarms (a fault named), %d unclear\n", h.n, false_alarms, h.unclear);
@@ -130,4 +166,47 @@ TEST(BearingModelValidation, DetectionAndFalseAlarmRates) {
   // Issue 32's targets: race-fault detection >= 95 %, false alarms on healthy records <= 2 %.
   EXPECT_GE(100 * race_right, 95 * race_n);
   EXPECT_LE(100 * false_alarms, 2 * h.n) << "false-alarm rate above 2 %";
+}
+
+// Ball (rolling-element spot) records: same bearings, spot widths, speeds, noise levels and
+// paths as the race records, at their load and at twice it (4-DOF: W_y 500 and 1000 N, of which the
+// shaft support k1 takes the first ~370 N before the 5 um clearance closes; 8-DOF: discs x 1, x 2). Nothing of the chain
+// is tuned on these (the null is the healthy records'). Prints the same tables and the
+// confusion; asserts what the chain must never do: name a ball fault as a race fault.
+TEST(BearingModelValidation, BallRecords) {
+  std::vector<tb::RecordSpec> specs;
+  uint64_t seed = 5000;
+  struct B {
+    const char* model;
+    const char* bearing;
+    double duration_s;
+    std::vector<double> speeds;
+  };
+  for (const B& b : {B{"4dof", "6206", 10, {20, 45}}, B{"4dof", "6205", 10, {20, 45}}, B{"4dof", "6203", 10, {20, 45}},
+                     B{"8dof", "6200", 5, {25, 40}}})
+    for (double w : {0.5, 1.0})
+      for (double load : {1.0, 2.0})
+        for (double sp : b.speeds)
+          for (double noise : {0.5, 1.0})
+            for (int path : {0, 2}) {
+              tb::RecordSpec s;
+              s.model = b.model;
+              s.bearing = b.bearing;
+              s.defect = mb::DefectLocation::ball;
+              s.width_mm = w;
+              s.load_scale = load;
+              s.speed_hz = sp;
+              s.fs_hz = path == 0 ? 12000 : 48000;
+              s.duration_s = b.duration_s;
+              s.noise_rel = noise;
+              s.path = path;
+              s.seed = ++seed;
+              specs.push_back(s);
+            }
+  auto t = evaluate(specs);
+  const auto& ball = t.by_label["ball"];
+  std::printf("ball: detected %d of %d (%.1f %%), unclear %d, named a race fault %d\n", ball.right, ball.n,
+              100.0 * ball.right / ball.n, ball.unclear, ball.wrong_fault);
+  EXPECT_EQ(ball.n, 128);
+  EXPECT_EQ(ball.wrong_fault, 0) << "ball faults named as race faults";
 }

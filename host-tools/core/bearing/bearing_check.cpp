@@ -375,9 +375,14 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
       fr.unique_log10_p = fr.log10_p;
     }
   }
+  // A detected ball family carries the cage modulation (BearingCheckOptions::cage_as_ball_modulation).
+  const bool cage_is_ball_modulation = o.cage_as_ball_modulation && r.families[kBall].detected &&
+                                       r.families[kBall].unique_log10_p < r.threshold_log10_p &&
+                                       r.families[kCage].detected;
   int best = -1;
   for (int f = 0; f < kFamilies; ++f) {
     const auto& fr = r.families[static_cast<size_t>(f)];
+    if (f == kCage && cage_is_ball_modulation) continue;
     if (fr.detected && fr.unique_log10_p < r.threshold_log10_p &&
         (best < 0 || fr.unique_log10_p < r.families[static_cast<size_t>(best)].unique_log10_p))
       best = f;
@@ -414,6 +419,10 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     if (f == best) {
       fr.reason = "named: strongest detected family (log10 P_null " + fmt_p(fr.log10_p) + ", score " + fmt_p(fr.score) +
                   ", band " + r.bands[fr.band_index].name + ")";
+    } else if (f == kCage && cage_is_ball_modulation) {
+      fr.reason = "detected (log10 P_null " + fmt_p(fr.log10_p) +
+                  "): taken as the ball family's cage modulation (a ball fault's impacts are modulated at FTF), "
+                  "not a verdict of its own";
     } else if (fr.detected) {
       fr.reason = std::string("detected but weaker than ") + k_names[best] + " on lines of its own (log10 P_null " +
                   fmt_p(fr.unique_log10_p) + " vs " + fmt_p(w.unique_log10_p) + ")";
