@@ -167,7 +167,15 @@ TEST(BallSpot, ZeroDepthIsTheHealthyModelBitForBit) {
   mb::Hertz4DofParams healthy;
   healthy.bearing = *mb::find_bearing("6205");
   const auto a = mb::simulate_housing_acceleration(healthy, speed, 12000.0, 0.3, 0.01, 7);
-  const auto b = mb::simulate_housing_acceleration(ball_spot_6205(0.5e-3, 0.0), speed, 12000.0, 0.3, 0.01, 7);
+  // A narrow spot, whose transit would bound the step if it had depth (so the step rule is
+  // part of what is compared).
+  mb::Hertz4DofModel deep, flat, none;
+  ASSERT_TRUE(deep.configure(ball_spot_6205(0.1e-3, 0.05e-3)));
+  ASSERT_TRUE(flat.configure(ball_spot_6205(0.1e-3, 0.0)));
+  ASSERT_TRUE(none.configure(healthy));
+  ASSERT_LT(deep.choose_step_s(31.0, 12000.0), none.choose_step_s(31.0, 12000.0));
+  EXPECT_EQ(flat.choose_step_s(31.0, 12000.0), none.choose_step_s(31.0, 12000.0));
+  const auto b = mb::simulate_housing_acceleration(ball_spot_6205(0.1e-3, 0.0), speed, 12000.0, 0.3, 0.01, 7);
   ASSERT_EQ(a.size(), b.size());
   EXPECT_TRUE(a == b) << "a zero-depth ball spot changed the 4-DOF record";
   // 8-DOF (fixed step): same.
