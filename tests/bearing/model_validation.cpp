@@ -54,7 +54,7 @@ Tables evaluate(const std::vector<tb::RecordSpec>& specs) {
     add(by_label[truth]);
     if (truth != "healthy") {
       char key[64];
-      std::snprintf(key, sizeof key, "%s noise %.1f", truth.c_str(), s.noise_rel);
+      std::snprintf(key, sizeof key, "%s noise %g", truth.c_str(), s.noise_rel);
       add(by_noise[key]);
       std::snprintf(key, sizeof key, "%s path %d", truth.c_str(), s.path);
       add(by_path[key]);
@@ -66,7 +66,7 @@ Tables evaluate(const std::vector<tb::RecordSpec>& specs) {
       add(by_speed[key]);
     } else {
       char key[64];
-      std::snprintf(key, sizeof key, "healthy noise %.1f", s.noise_rel);
+      std::snprintf(key, sizeof key, "healthy noise %g", s.noise_rel);
       add(by_noise[key]);
     }
     // The named family's score and each other family's score / threshold (the misses' reasons).
@@ -76,7 +76,7 @@ Tables evaluate(const std::vector<tb::RecordSpec>& specs) {
       std::snprintf(b, sizeof b, " %s %.1f/%.1f", f.name.c_str(), f.score, f.threshold_score);
       scores += b;
     }
-    std::printf("model %s %s %-10s w %.1f mm load x %.1f %4.0f Hz fs %5.0f noise %.1f path %d: %-10s%s %s\n",
+    std::printf("model %s %s %-10s w %.1f mm load x %.1f %4.0f Hz fs %5.0f noise %.2f path %d: %-10s%s %s\n",
                 s.model.c_str(), s.bearing.c_str(), truth.c_str(), s.width_mm, s.load_scale, s.speed_hz, s.fs_hz,
                 s.noise_rel, s.path, r.verdict.c_str(), scores.c_str(), right ? "" : r.reason.substr(0, 110).c_str());
     if (!right && truth != "healthy") {
