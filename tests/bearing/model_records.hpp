@@ -146,6 +146,10 @@ inline std::vector<double> make_record(const RecordSpec& s) {
     p.step_s = 1.0 / (s.fs_hz * std::ceil(1.0 / (s.fs_hz * 2e-6)));  // <= 2 us, integer steps per sample
     mb::Rotor8DofModel m;
     if (!m.configure(p)) return {};
+    // The fixed step must resolve the defect's transit (4 steps), as the 4-DOF step rule does;
+    // the speed fluctuation stays well inside +5 %.
+    mb::HertzContactLaw law;
+    if (!law.configure(cp) || p.step_s > 0.25 * law.defect_transit_time_s(1.05 * s.speed_hz)) return {};
     mb::Rotor8DofState y = mb::Rotor8DofState::Zero();
     std::function<double(double)> sp = speed;
     const int per = static_cast<int>(std::lround(1.0 / (s.fs_hz * p.step_s)));
