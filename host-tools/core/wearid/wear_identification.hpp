@@ -146,11 +146,16 @@ struct WearIdResult {
   /// Global stage: the valleys found (best first), how many the records cannot reject, and
   /// the level: chi2 of a valley minus the best's <= chi2_scale * chi2_level, where chi2_level
   /// is the chi-square quantile (n parameters, WearIdOptions::confidence) and chi2_scale =
-  /// max(1, chi2_min / chi2_dof) (the best fit's misfit beyond the noise, Birge ratio).
+  /// max(1, chi2_min / chi2_dof) (the best fit's misfit beyond the noise, Birge ratio) from 8
+  /// degrees of freedom, 1 below (one record: dof 1; two: dof 5).
   std::vector<WearValley> valleys;
   int acceptable_valleys = 0;
   double chi2_min = NAN, chi2_level = NAN, chi2_scale = 1.0;
   int chi2_dof = 0;  ///< residuals minus parameters
+  /// Relative K/C error of the film in the chi-square (the refined grid's tolerance; 0 on the
+  /// board's grid): propagated to each residual and added in quadrature to its noise sigma.
+  double chi2_film_error = 0.0;
+  int profile_restarts = 0;     ///< profile points that beat the best valley: polished from, verdict redone
   int profile_points = 0;       ///< points of the profile likelihood (only when not identified)
   double profile_wall_s = 0.0;  ///< its time, s
   /// Union (hull) of the acceptable valleys' intervals: where the wear can be, at `confidence`.
