@@ -22,19 +22,23 @@ constexpr double k_deg = M_PI / 180.0;
 /// this (the box is [0, 1] per parameter: 7 % of d0 on its log scale, 1.8 deg of gamma, 2.4 deg
 /// of beta with the default bounds).
 constexpr double k_valley_separation = 0.02;
-/// Profile likelihood: step of the depth (in its log-scaled box, 0.025 = 8.9 % of d0 with the
-/// default bounds) and the most steps from a valley in each direction.
-constexpr double k_profile_step = 0.025;
+/// Profile likelihood: largest step of the depth (in its log-scaled box, 0.05 = 18.5 % of d0 with
+/// the default bounds: far inside the level) and the most points from a valley in each direction.
+constexpr double k_profile_step = 0.05;
 /// Smallest depth step of the profile (near a valley, and where it crosses the level): 2.2 % of d0.
 constexpr double k_profile_min_step = 0.00625;
 constexpr int k_profile_max_points = 80;
 /// Profile: the other parameters at each depth are also polished from the best point of a grid
 /// of this many points per parameter over their box (global in the nuisance parameters).
-constexpr int k_slice_grid = 7;
+constexpr int k_slice_grid = 5;
+/// ... polished from at most this many of that grid's local minima, and the candidates whose
+/// board-grid cost is within this factor of the lowest compared on the refined grid.
+constexpr int k_slice_starts = 2;
+constexpr double k_slice_rerank = 1.5;
 /// A profile point beats the best valley when its cost is lower by more than this fraction.
 constexpr double k_better_fraction = 1e-3;
 /// Rounds of "polish from a better profile point, redo the verdict".
-constexpr int k_max_valley_rounds = 3;
+constexpr int k_max_valley_rounds = 2;
 /// Birge scaling of the chi-square (chi2_min / dof) only from this many degrees of freedom:
 /// the ratio's relative standard deviation is sqrt(2 / dof), 0.5 at 8.
 constexpr int k_min_birge_dof = 8;
@@ -364,6 +368,15 @@ double wear_cost(const board::BoardConfig& board, const std::vector<JournalMeasu
   if (const std::string why = o.check(); !why.empty()) throw std::invalid_argument("wear-id: " + why);
   Evaluator e(board, meas, o);
   return e.cost_of(wear);
+}
+
+std::vector<double> film_error_sigma(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas,
+                                     const WearIdOptions& o, const mj::WearParams& wear, double relative_error) {
+  if (meas.empty()) throw std::invalid_argument("wear-id: no measurement");
+  if (const std::string why = o.check(); !why.empty()) throw std::invalid_argument("wear-id: " + why);
+  if (!(relative_error >= 0.0)) throw std::invalid_argument("wear-id: relative_error must be >= 0");
+  Evaluator e(board, meas, o);
+  return e.film_error_sigma(wear, relative_error);
 }
 
 WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasurement& meas, const WearIdOptions& o) {
@@ -1042,52 +1055,97 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
         u = last_u;
         u[0] = std::clamp(last_u[0] + job.dir * step, 0.0, 1.0);
         fixed.u = u;
-        // The other parameters at this depth, globally: BOBYQA from the previous point's and from
-        // the best point of a k_slice_grid^(n-1) grid over their box at this depth; the lower
-        // wins (a profile that only follows its own valley can miss a lower one at this depth).
-        std::vector<double> y(u.begin() + 1, u.end());
-        double fy = polish_slice(y);
+        // The other parameters at this depth, globally: BOBYQA from the previous point's values
+        // and from the best local minima (up to k_slice_starts) of a k_slice_grid^(n-1) grid over
+        // their box at this depth (a profile that only follows its own valley can miss a lower
+        // one at this depth). The board grid's cost (with the previous point's correction) ranks
+        // them; the distinct polished candidates within k_slice_rerank of the lowest are compared
+        // on the refined grid (the correction renewed at each), the lowest kept.
+        std::vector<std::vector<double>> cands;
+        cands.emplace_back(u.begin() + 1, u.end());
         {
-          std::vector<double> yg(static_cast<size_t>(n - 1), 0.5), best_g;
-          double best_gf = INFINITY;
+          const int m = n - 1;
           int cells = 1;
-          for (int i = 1; i < n; ++i) cells *= k_slice_grid;
+          for (int i = 0; i < m; ++i) cells *= k_slice_grid;
+          std::vector<double> gf(static_cast<size_t>(cells), INFINITY);
+          auto cell_point = [&](int c) {
+            std::vector<double> yg(static_cast<size_t>(m));
+            for (int i = 0; i < m; ++i, c /= k_slice_grid) yg[static_cast<size_t>(i)] = (0.5 + c % k_slice_grid) / k_slice_grid;
+            return yg;
+          };
           for (int c = 0; c < cells; ++c) {
-            int rest = c;
-            for (int i = 0; i < n - 1; ++i) {
-              yg[static_cast<size_t>(i)] = (0.5 + rest % k_slice_grid) / k_slice_grid;
-              rest /= k_slice_grid;
-            }
+            const std::vector<double> yg = cell_point(c);
             std::vector<double> full_u = u;
             for (int i = 1; i < n; ++i) full_u[static_cast<size_t>(i)] = yg[static_cast<size_t>(i - 1)];
-            const double f = ce.cost(full_u);
-            if (f < best_gf) {
-              best_gf = f;
-              best_g = yg;
-            }
+            gf[static_cast<size_t>(c)] = ce.cost(full_u);
           }
-          if (!best_g.empty()) {
-            const double fg = polish_slice(best_g);
-            if (fg < fy) {
-              fy = fg;
-              y = best_g;
+          std::vector<int> minima;
+          for (int c = 0; c < cells; ++c) {
+            bool low = true;
+            for (int q = 0; q < cells && low; ++q) {
+              if (q == c) continue;
+              bool adjacent = true;
+              for (int i = 0, cc = c, qq = q; i < m; ++i, cc /= k_slice_grid, qq /= k_slice_grid)
+                adjacent = adjacent && std::abs(cc % k_slice_grid - qq % k_slice_grid) <= 1;
+              low = !adjacent || gf[static_cast<size_t>(c)] <= gf[static_cast<size_t>(q)];
             }
+            if (low && gf[static_cast<size_t>(c)] < 1e2) minima.push_back(c);
           }
+          std::sort(minima.begin(), minima.end(), [&](int x1, int x2) { return gf[static_cast<size_t>(x1)] < gf[static_cast<size_t>(x2)]; });
+          for (size_t k = 0; k < minima.size() && static_cast<int>(k) < k_slice_starts; ++k) cands.push_back(cell_point(minima[k]));
         }
-        for (int i = 1; i < n; ++i) u[static_cast<size_t>(i)] = y[static_cast<size_t>(i - 1)];
-        if (refine && !full) {
+        std::vector<double> cf;
+        for (std::vector<double>& y : cands) cf.push_back(polish_slice(y));
+        const double lowest = *std::min_element(cf.begin(), cf.end());
+        std::vector<size_t> keep;
+        for (size_t k = 0; k < cands.size(); ++k) {
+          if (!(cf[k] <= k_slice_rerank * lowest)) continue;
+          bool seen = false;
+          for (size_t q : keep) {
+            bool same = true;
+            for (size_t i = 0; i < cands[k].size(); ++i) same = same && std::abs(cands[k][i] - cands[q][i]) <= k_valley_separation;
+            seen = seen || same;
+          }
+          if (!seen) keep.push_back(k);
+        }
+        std::sort(keep.begin(), keep.end(), [&](size_t k1, size_t k2) { return cf[k1] < cf[k2]; });
+        if (keep.size() > 2) keep.resize(2);
+        auto correction_at = [&](const std::vector<double>& uc) {
           std::vector<mj::DynamicCoefficients> corr(meas.size());
+          ce.set_correction({});
           for (size_t rec = 0; rec < meas.size(); ++rec) {
-            const mj::DynamicCoefficients f = fe.coefficients(fe.wear_of(u), rec);
-            ce.set_correction({});
-            const mj::DynamicCoefficients g = ce.coefficients(ce.wear_of(u), rec);
+            const mj::DynamicCoefficients f = fe.coefficients(fe.wear_of(uc), rec);
+            const mj::DynamicCoefficients g = ce.coefficients(ce.wear_of(uc), rec);
             corr[rec].fx0_n = f.fx0_n - g.fx0_n;
             corr[rec].fy0_n = f.fy0_n - g.fy0_n;
             corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - g.stiffness_n_per_m;
             corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - g.damping_n_s_per_m;
             job.fine_evaluations += 2;
           }
-          ce.set_correction(corr);
+          return corr;
+        };
+        {
+          size_t chosen = keep.front();
+          for (size_t k : keep)
+            if (cf[k] < cf[chosen]) chosen = k;
+          std::vector<mj::DynamicCoefficients> chosen_corr;
+          if (refine && !full) {
+            double chosen_f = INFINITY;
+            for (size_t k : keep) {
+              std::vector<double> uc = u;
+              for (int i = 1; i < n; ++i) uc[static_cast<size_t>(i)] = cands[k][static_cast<size_t>(i - 1)];
+              std::vector<mj::DynamicCoefficients> corr = correction_at(uc);
+              ce.set_correction(corr);
+              const double f = ce.cost(uc);
+              if (f < chosen_f) {
+                chosen_f = f;
+                chosen = k;
+                chosen_corr = std::move(corr);
+              }
+            }
+            ce.set_correction(chosen_corr);
+          }
+          for (int i = 1; i < n; ++i) u[static_cast<size_t>(i)] = cands[chosen][static_cast<size_t>(i - 1)];
         }
         TracePoint p;
         p.x = u;
@@ -1138,6 +1196,15 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
         }
         job.points.push_back(p);
         if (!p.inside) break;
+        // Reached another acceptable valley: its own profile goes on from there.
+        bool joined = false;
+        for (size_t k = 0; k < valleys.size() && !joined; ++k) {
+          if (k == job.valley || !r.valleys[k].acceptable) continue;
+          bool near = std::abs(valleys[k].x[0] - u[0]) <= step;
+          for (int i = 1; i < n; ++i) near = near && std::abs(valleys[k].x[static_cast<size_t>(i)] - u[static_cast<size_t>(i)]) <= 0.05;
+          joined = near;
+        }
+        if (joined) break;
         last_u = u;
         step = std::min(k_profile_step, 2.0 * step);
       }

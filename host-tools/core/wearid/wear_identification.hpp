@@ -189,6 +189,16 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
 double wear_cost(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas, const WearIdOptions& o,
                  const model::journal::WearParams& wear);
 
+/// The film's relative K/C error `relative_error` propagated to the identification's residuals
+/// at one wear (what identify_wear adds in quadrature to each residual's noise sigma in its
+/// chi-square, with the refinement tolerance, issue 33 third round): each of the 8 entries of K
+/// and C gets an independent error of standard deviation relative_error ||K||_F / 2 (||C||_F / 2).
+/// One value per residual, in identify_wear's order (per record: +1x re, im, -1x re, im at the
+/// journal probes, ...) and units (each record's measured spectrum norm), on the film grid of
+/// `board` (no refinement here). Linear film only: zeros with o.full_film or relative_error 0.
+std::vector<double> film_error_sigma(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas,
+                                     const WearIdOptions& o, const model::journal::WearParams& wear, double relative_error);
+
 /// Forward model for one wear (for sweeps, reports and tests): full spectrum at the journal
 /// probes with the journal at `state` and the speed given.
 FullSpectrum predict_spectrum(const board::BoardConfig& board, const model::journal::WearParams& wear,
