@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -92,8 +93,9 @@ bool truth_in_an_acceptable_valley(const Wear& w, const wi::WearIdResult& r) {
   return false;
 }
 
-// For the record only (the identification is never told): the chi2 the truth would have on the
-// result's refined grid, from the cost ratio (one record: every residual has the same sigma).
+// For the record only (the identification is never told): the chi2 the truth has on the
+// result's refined grid, with the result's sigma (noise and the film's K/C error at the best,
+// as identify_wear computes it; one record). Printed beside the level.
 void print_truth_chi2(const board::BoardConfig& b, const std::vector<wi::JournalMeasurement>& ms, const Wear& w,
                       const wi::WearIdResult& r) {
   board::BoardConfig fine = b;
@@ -104,8 +106,17 @@ void print_truth_chi2(const board::BoardConfig& b, const std::vector<wi::Journal
   const mj::WearParams truth{mj::WearModel::elliptical, w.d0_um * 1e-6, w.gamma_deg * k_deg, w.beta_deg * k_deg};
   const mj::WearParams best{mj::WearModel::elliptical, r.d0_um * 1e-6, r.gamma_deg * k_deg, r.beta_deg * k_deg};
   const double ct = wi::wear_cost(fine, ms, o, truth), cb = wi::wear_cost(fine, ms, o, best);
-  std::printf("  truth on the %d x %d grid: cost %.3g (best %.3g): chi2 ~ %.3g against the level %.3g\n", r.grid_theta,
-              r.grid_axial, ct, cb, r.chi2_min * ct / cb, r.chi2_min + r.chi2_scale * r.chi2_level);
+  const wi::JournalMeasurement& m = ms.front();
+  const std::vector<double> film = wi::film_error_sigma(fine, ms, o, best, r.chi2_film_error);
+  const double scale = std::sqrt(std::norm(m.spectrum.forward_m) + std::norm(m.spectrum.backward_m));
+  const wi::FullSpectrum z = wi::predict_spectrum(fine, truth, m.journal, m.speed_hz);
+  const std::complex<double> f = (z.forward_m - m.spectrum.forward_m) / scale, g = (z.backward_m - m.spectrum.backward_m) / scale;
+  const double res[4] = {f.real(), f.imag(), g.real(), g.imag()};
+  const double sn = m.noise_m / std::sqrt(2.0) / scale;
+  double chi2 = 0.0;
+  for (int k = 0; k < 4; ++k) chi2 += res[k] * res[k] / (sn * sn + film[static_cast<size_t>(k)] * film[static_cast<size_t>(k)]);
+  std::printf("  truth on the %d x %d grid: cost %.3g (best %.3g): chi2 %.3g against the level %.3g\n", r.grid_theta,
+              r.grid_axial, ct, cb, chi2, r.chi2_min + r.chi2_scale * r.chi2_level);
 }
 
 void print_valleys(const wi::WearIdResult& r) {
