@@ -31,10 +31,8 @@ constexpr int k_profile_max_points = 80;
 /// Profile: the other parameters at each depth are also polished from the best point of a grid
 /// of this many points per parameter over their box (global in the nuisance parameters).
 constexpr int k_slice_grid = 5;
-/// ... polished from at most this many of that grid's local minima, and the candidates whose
-/// board-grid cost is within this factor of the lowest compared on the refined grid.
+/// ... polished from at most this many of that grid's local minima.
 constexpr int k_slice_starts = 2;
-constexpr double k_slice_rerank = 1.5;
 /// A profile point beats the best valley when its cost is lower by more than this fraction.
 constexpr double k_better_fraction = 1e-3;
 /// Rounds of "polish from a better profile point, redo the verdict".
@@ -1058,9 +1056,8 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
         // The other parameters at this depth, globally: BOBYQA from the previous point's values
         // and from the best local minima (up to k_slice_starts) of a k_slice_grid^(n-1) grid over
         // their box at this depth (a profile that only follows its own valley can miss a lower
-        // one at this depth). The board grid's cost (with the previous point's correction) ranks
-        // them; the distinct polished candidates within k_slice_rerank of the lowest are compared
-        // on the refined grid (the correction renewed at each), the lowest kept.
+        // one at this depth); the lowest on the board grid with the previous point's defect
+        // correction is kept.
         std::vector<std::vector<double>> cands;
         cands.emplace_back(u.begin() + 1, u.end());
         {
@@ -1096,56 +1093,22 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
         }
         std::vector<double> cf;
         for (std::vector<double>& y : cands) cf.push_back(polish_slice(y));
-        const double lowest = *std::min_element(cf.begin(), cf.end());
-        std::vector<size_t> keep;
-        for (size_t k = 0; k < cands.size(); ++k) {
-          if (!(cf[k] <= k_slice_rerank * lowest)) continue;
-          bool seen = false;
-          for (size_t q : keep) {
-            bool same = true;
-            for (size_t i = 0; i < cands[k].size(); ++i) same = same && std::abs(cands[k][i] - cands[q][i]) <= k_valley_separation;
-            seen = seen || same;
-          }
-          if (!seen) keep.push_back(k);
-        }
-        std::sort(keep.begin(), keep.end(), [&](size_t k1, size_t k2) { return cf[k1] < cf[k2]; });
-        if (keep.size() > 2) keep.resize(2);
-        auto correction_at = [&](const std::vector<double>& uc) {
+        const size_t chosen = static_cast<size_t>(std::min_element(cf.begin(), cf.end()) - cf.begin());
+        for (int i = 1; i < n; ++i) u[static_cast<size_t>(i)] = cands[chosen][static_cast<size_t>(i - 1)];
+        if (refine && !full) {
+          // The point's chi2 on the refined grid: the defect correction renewed at it.
           std::vector<mj::DynamicCoefficients> corr(meas.size());
           ce.set_correction({});
           for (size_t rec = 0; rec < meas.size(); ++rec) {
-            const mj::DynamicCoefficients f = fe.coefficients(fe.wear_of(uc), rec);
-            const mj::DynamicCoefficients g = ce.coefficients(ce.wear_of(uc), rec);
+            const mj::DynamicCoefficients f = fe.coefficients(fe.wear_of(u), rec);
+            const mj::DynamicCoefficients g = ce.coefficients(ce.wear_of(u), rec);
             corr[rec].fx0_n = f.fx0_n - g.fx0_n;
             corr[rec].fy0_n = f.fy0_n - g.fy0_n;
             corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - g.stiffness_n_per_m;
             corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - g.damping_n_s_per_m;
             job.fine_evaluations += 2;
           }
-          return corr;
-        };
-        {
-          size_t chosen = keep.front();
-          for (size_t k : keep)
-            if (cf[k] < cf[chosen]) chosen = k;
-          std::vector<mj::DynamicCoefficients> chosen_corr;
-          if (refine && !full) {
-            double chosen_f = INFINITY;
-            for (size_t k : keep) {
-              std::vector<double> uc = u;
-              for (int i = 1; i < n; ++i) uc[static_cast<size_t>(i)] = cands[k][static_cast<size_t>(i - 1)];
-              std::vector<mj::DynamicCoefficients> corr = correction_at(uc);
-              ce.set_correction(corr);
-              const double f = ce.cost(uc);
-              if (f < chosen_f) {
-                chosen_f = f;
-                chosen = k;
-                chosen_corr = std::move(corr);
-              }
-            }
-            ce.set_correction(chosen_corr);
-          }
-          for (int i = 1; i < n; ++i) u[static_cast<size_t>(i)] = cands[chosen][static_cast<size_t>(i - 1)];
+          ce.set_correction(corr);
         }
         TracePoint p;
         p.x = u;
