@@ -158,6 +158,9 @@ int run(const Args& a) {
       for (const wi::WearValley& v : r.valleys)
         std::fprintf(stderr, "wear-id:   valley d0 %.2f um, gamma %.2f deg, beta %.2f deg: chi2 %.3g%s\n", v.d0_um, v.gamma_deg,
                      v.beta_deg, v.chi2, v.acceptable ? " (acceptable)" : " (rejected)");
+      if (r.profile_restarts > 0)
+        std::fprintf(stderr, "wear-id: %d profile point%s beat the best valley: polished from, valleys and verdict redone\n",
+                     r.profile_restarts, r.profile_restarts == 1 ? "" : "s");
       if (r.records == 1)
         std::fprintf(stderr, "wear-id: fit it together with a record of the same bearing at another static eccentricity: --with EVENT2\n");
     }
@@ -208,7 +211,13 @@ int run(const Args& a) {
           {"beta_deg", interval(r.beta_interval_deg)},
           {"confidence", o.confidence}}},
         {"ambiguous", r.ambiguous},
-        {"chi2", {{"min", r.chi2_min}, {"dof", r.chi2_dof}, {"level", r.chi2_level}, {"scale", r.chi2_scale}}},
+        {"chi2",
+         {{"min", r.chi2_min},
+          {"dof", r.chi2_dof},
+          {"level", r.chi2_level},
+          {"scale", r.chi2_scale},
+          {"film_error", r.chi2_film_error}}},
+        {"profile_restarts", r.profile_restarts},
         {"wear_measurable", r.wear_measurable},
         {"verdict", r.wear_measurable ? "wear" : "no measurable wear"},
         {"model_comparison",

@@ -46,6 +46,10 @@ void BM_WearIdConverged(benchmark::State& state) {
   state.counters["fine_evaluations"] = r.fine_evaluations;
   state.counters["grid_theta"] = r.grid_theta;
   state.counters["grid_axial"] = r.grid_axial;
+  state.counters["profile_points"] = r.profile_points;
+  state.counters["profile_s"] = r.profile_wall_s;
+  state.counters["profile_restarts"] = r.profile_restarts;
+  state.counters["identified"] = r.identified ? 1 : 0;
   state.counters["d0_err_pct"] = 100.0 * (r.d0_um / 46.5 - 1.0);
   state.counters["gamma_err_deg"] = r.gamma_deg - 23.0;
   state.counters["beta_err_pct"] = 100.0 * (r.beta_deg / 77.0 - 1.0);

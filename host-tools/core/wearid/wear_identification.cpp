@@ -22,10 +22,24 @@ constexpr double k_deg = M_PI / 180.0;
 /// this (the box is [0, 1] per parameter: 7 % of d0 on its log scale, 1.8 deg of gamma, 2.4 deg
 /// of beta with the default bounds).
 constexpr double k_valley_separation = 0.02;
-/// Profile likelihood: step of the depth (in its log-scaled box, 0.025 = 8.9 % of d0 with the
-/// default bounds) and the most steps from a valley in each direction.
-constexpr double k_profile_step = 0.025;
-constexpr int k_profile_max_steps = 41;
+/// Profile likelihood: largest step of the depth (in its log-scaled box, 0.05 = 18.5 % of d0 with
+/// the default bounds: far inside the level) and the most points from a valley in each direction.
+constexpr double k_profile_step = 0.05;
+/// Smallest depth step of the profile (near a valley, and where it crosses the level): 2.2 % of d0.
+constexpr double k_profile_min_step = 0.00625;
+constexpr int k_profile_max_points = 80;
+/// Profile: the other parameters at each depth are also polished from the best point of a grid
+/// of this many points per parameter over their box (global in the nuisance parameters).
+constexpr int k_slice_grid = 5;
+/// ... polished from at most this many of that grid's local minima.
+constexpr int k_slice_starts = 2;
+/// A profile point beats the best valley when its cost is lower by more than this fraction.
+constexpr double k_better_fraction = 1e-3;
+/// Rounds of "polish from a better profile point, redo the verdict".
+constexpr int k_max_valley_rounds = 2;
+/// Birge scaling of the chi-square (chi2_min / dof) only from this many degrees of freedom:
+/// the ratio's relative standard deviation is sqrt(2 / dof), 0.5 at 8.
+constexpr int k_min_birge_dof = 8;
 
 /// Chi-square distribution function with k = 1, 2 or 3 degrees of freedom (closed forms).
 double chi_square_cdf(int k, double x) {
@@ -183,13 +197,74 @@ class Evaluator {
     }
     return 0.5 * s;
   }
-  /// Chi-square of the records at a point: sum over residuals of (residual / its noise sigma)^2.
+  /// Chi-square of the records at a point: sum over residuals of (residual / its sigma)^2,
+  /// sigma = chi_sigma(k) (noise, model-error floor and the film's discretisation error).
   /// Throws std::invalid_argument where the model cannot represent the wear.
-  double chi2(const std::vector<double>& u) {
+  double chi2(const std::vector<double>& u) { return cost_and_chi2(u)[1]; }
+  /// {cost, chi2} at a point from one evaluation. Throws std::invalid_argument as chi2().
+  std::array<double, 2> cost_and_chi2(const std::vector<double>& u) {
     const std::vector<double> r = residual(u);
-    double s = 0.0;
-    for (size_t k = 0; k < r.size(); ++k) s += (r[k] / sigma_[k]) * (r[k] / sigma_[k]);
-    return s;
+    double c = 0.0, s = 0.0;
+    for (size_t k = 0; k < r.size(); ++k) {
+      c += r[k] * r[k];
+      const double q = r[k] / chi_sigma(static_cast<int>(k));
+      s += q * q;
+    }
+    return {0.5 * c, s};
+  }
+  /// Standard deviation of (weighted) residual k in the chi-square: the noise (with the
+  /// model-error floor, through the weight) and, in quadrature, the film's discretisation
+  /// error propagated to the residual (set_film_sigma; 0 when not set).
+  double chi_sigma(int k) const {
+    const size_t i = static_cast<size_t>(k);
+    const double g = film_sigma_.empty() ? 0.0 : film_sigma_[i] * weight_[i];
+    return std::sqrt(sigma_[i] * sigma_[i] + g * g);
+  }
+  void set_film_sigma(std::vector<double> s) { film_sigma_ = std::move(s); }
+  /// The film's K/C error propagated to each residual (issue 33, third round), in the units of
+  /// the unweighted residuals: each of the 8 entries of K and C carries an independent error of
+  /// standard deviation rel ||K||_F / 2 (rel ||C||_F / 2), so that the expected relative Frobenius
+  /// error of each matrix is `rel`; the residuals' changes (linear in the small errors) are
+  /// added in quadrature. At wear w (with this evaluator's grid and defect correction). Linear
+  /// film only: zeros with the full film or rel = 0.
+  std::vector<double> film_error_sigma(const mj::WearParams& w, double rel) {
+    std::vector<double> out(sigma_.size(), 0.0);
+    if (full_ || !(rel > 0.0)) return out;
+    size_t base = 0;
+    for (size_t rec = 0; rec < ms_.size(); ++rec) {
+      mj::ReynoldsSolver s(b_.journal.geometry, w, grid_);
+      const JournalMeasurement& m = ms_[rec];
+      mj::DynamicCoefficients d = mj::perturbation_coefficients(s, m.journal, 2.0 * M_PI * m.speed_hz);
+      if (!correction_.empty()) {
+        const mj::DynamicCoefficients& c = correction_[rec];
+        d.fx0_n += c.fx0_n;
+        d.fy0_n += c.fy0_n;
+        d.stiffness_n_per_m += c.stiffness_n_per_m;
+        d.damping_n_s_per_m += c.damping_n_s_per_m;
+      }
+      rigs_[rec].set_static_film_force({d.fx0_n, d.fy0_n});
+      const auto z0 = rigs_[rec].all_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
+      const double hk = 0.5 * rel * d.stiffness_n_per_m.norm(), hc = 0.5 * rel * d.damping_n_s_per_m.norm();
+      for (int j = 0; j < 8; ++j) {
+        Eigen::Matrix2d k = d.stiffness_n_per_m, c = d.damping_n_s_per_m;
+        (j < 4 ? k : c)(j % 4 / 2, j % 2) += j < 4 ? hk : hc;
+        const auto z = rigs_[rec].all_probes(k, c);
+        size_t at = base;
+        auto add = [&](const FullSpectrum& a, const FullSpectrum& b) {
+          const cplx f = (a.forward_m - b.forward_m) / scales_[rec], g = (a.backward_m - b.backward_m) / scales_[rec];
+          for (double v : {f.real(), f.imag(), g.real(), g.imag()}) out[at++] += v * v;
+        };
+        add(z[0], z0[0]);
+        if (second_) at += 4;  // the 2x: no linear-film term
+        if (planes_) {
+          add(z[1], z0[1]);
+          add(z[2], z0[2]);
+        }
+      }
+      base += 4 + (second_ ? 4 : 0) + (planes_ ? 8 : 0);
+    }
+    for (double& v : out) v = std::sqrt(v);
+    return out;
   }
   int evaluations = 0;
 
@@ -203,6 +278,7 @@ class Evaluator {
   std::vector<FullSpectrum> second_z_;
   mj::ReynoldsOptions grid_;
   std::vector<mj::DynamicCoefficients> correction_;
+  std::vector<double> film_sigma_;
   int n_ = 3;
   bool planes_ = false, full_ = false, second_ = false;
 };
@@ -290,6 +366,15 @@ double wear_cost(const board::BoardConfig& board, const std::vector<JournalMeasu
   if (const std::string why = o.check(); !why.empty()) throw std::invalid_argument("wear-id: " + why);
   Evaluator e(board, meas, o);
   return e.cost_of(wear);
+}
+
+std::vector<double> film_error_sigma(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas,
+                                     const WearIdOptions& o, const mj::WearParams& wear, double relative_error) {
+  if (meas.empty()) throw std::invalid_argument("wear-id: no measurement");
+  if (const std::string why = o.check(); !why.empty()) throw std::invalid_argument("wear-id: " + why);
+  if (!(relative_error >= 0.0)) throw std::invalid_argument("wear-id: relative_error must be >= 0");
+  Evaluator e(board, meas, o);
+  return e.film_error_sigma(wear, relative_error);
 }
 
 WearIdResult identify_wear(const board::BoardConfig& board, const JournalMeasurement& meas, const WearIdOptions& o) {
@@ -578,11 +663,91 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   };
   // An evaluator set up as a valley's result is evaluated: the refined grid (full film) or the
   // board's grid with the valley's defect correction (linear film).
+  // The film's discretisation error in the chi-square (issue 33, third round): the refined
+  // grid's K/C are accurate to the tolerance (estimate below it); that error, propagated to the
+  // residuals at the best valley, is added in quadrature to each residual's noise sigma
+  // (Evaluator::film_error_sigma). Board grid only (grid_tolerance 0): not set.
+  std::vector<double> film_sigma;
   auto evaluator_for = [&](const Valley& v) {
     auto ev = std::make_unique<Evaluator>(board, meas, o);
     if (refine && full) ev->set_grid(fine);
     if (refine && !full) ev->set_correction(v.correction);
+    ev->set_film_sigma(film_sigma);
     return ev;
+  };
+  struct Counts {
+    int evaluations = 0, fine_evaluations = 0, rounds = 0;
+  };
+  auto refine_valley = [&](Valley& v, Counts& c) {
+    std::vector<double> xv = v.x;
+    Evaluator fe(board, meas, o);
+    fe.set_grid(fine);
+    if (full) {
+      v.cost = polish(fe, xv, o.max_evaluations);
+      v.x = xv;
+      c.fine_evaluations += fe.evaluations;
+      return;
+    }
+    Evaluator ce(board, meas, o);
+    auto correction_at = [&](const std::vector<double>& xs) {
+      std::vector<mj::DynamicCoefficients> corr(meas.size());
+      for (size_t rec = 0; rec < meas.size(); ++rec) {
+        const mj::DynamicCoefficients f = fe.coefficients(fe.wear_of(xs), rec), g = ce.coefficients(ce.wear_of(xs), rec);
+        corr[rec].fx0_n = f.fx0_n - g.fx0_n;
+        corr[rec].fy0_n = f.fy0_n - g.fy0_n;
+        corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - g.stiffness_n_per_m;
+        corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - g.damping_n_s_per_m;
+        c.fine_evaluations += 2;
+      }
+      return corr;
+    };
+    // Each round: the correction at x makes the corrected cost at x the refined grid's cost
+    // there; the best such point is kept. A round whose new point is worse than the best on
+    // the refined grid steps back halfway towards the best (the board grid's cost is rough,
+    // so an undamped iteration can cycle between valleys: seen on an FD-film record).
+    std::vector<double> fine_best = xv;
+    std::vector<mj::DynamicCoefficients> best_corr;
+    double fine_best_f = INFINITY;
+    for (int it = 0; it < 10; ++it) {
+      const std::vector<mj::DynamicCoefficients> corr = correction_at(xv);
+      ce.set_correction(corr);
+      const double fx = ce.cost(xv);
+      ++c.rounds;
+      if (fx < fine_best_f) {
+        fine_best_f = fx;
+        fine_best = xv;
+        best_corr = corr;
+      } else {
+        double gap = 0.0;
+        for (int i = 0; i < n; ++i) {
+          xv[static_cast<size_t>(i)] = 0.5 * (xv[static_cast<size_t>(i)] + fine_best[static_cast<size_t>(i)]);
+          gap = std::max(gap, std::abs(xv[static_cast<size_t>(i)] - fine_best[static_cast<size_t>(i)]));
+        }
+        if (gap < 1e-4) break;
+        continue;
+      }
+      std::vector<double> xn = xv;
+      polish(ce, xn, o.max_evaluations);
+      double moved = 0.0;
+      for (int i = 0; i < n; ++i) moved = std::max(moved, std::abs(xn[static_cast<size_t>(i)] - xv[static_cast<size_t>(i)]));
+      xv = xn;
+      if (moved < 1e-4) break;
+    }
+    c.evaluations += ce.evaluations;
+    v.x = fine_best;
+    v.correction = best_corr;
+    v.cost = fine_best_f;
+  };
+  // Valleys best first (cost); two that polished into the same valley: the better kept.
+  auto merge_valleys = [&] {
+    std::stable_sort(valleys.begin(), valleys.end(), [](const Valley& a, const Valley& b) { return a.cost < b.cost; });
+    std::vector<Valley> merged;
+    for (Valley& v : valleys) {
+      bool seen = false;
+      for (const Valley& m : merged) seen = seen || same_valley(m.x, v.x);
+      if (!seen) merged.push_back(std::move(v));
+    }
+    valleys = std::move(merged);
   };
   if (refine) {
     const auto tg = std::chrono::steady_clock::now();
@@ -611,70 +776,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
                  " (estimated K/C error " + std::to_string(100.0 * r.grid_error_estimate) + " %; the board's " +
                  std::to_string(board.journal.grid.cells_theta) + " x " + std::to_string(board.journal.grid.cells_axial) +
                  " grid is " + std::to_string(100.0 * r.coarse_grid_error) + " % off it)");
-    struct Counts {
-      int evaluations = 0, fine_evaluations = 0, rounds = 0;
-    };
     std::vector<Counts> counts(valleys.size());
-    auto refine_valley = [&](Valley& v, Counts& c) {
-      std::vector<double> xv = v.x;
-      Evaluator fe(board, meas, o);
-      fe.set_grid(fine);
-      if (full) {
-        v.cost = polish(fe, xv, o.max_evaluations);
-        v.x = xv;
-        c.fine_evaluations += fe.evaluations;
-        return;
-      }
-      Evaluator ce(board, meas, o);
-      auto correction_at = [&](const std::vector<double>& xs) {
-        std::vector<mj::DynamicCoefficients> corr(meas.size());
-        for (size_t rec = 0; rec < meas.size(); ++rec) {
-          const mj::DynamicCoefficients f = fe.coefficients(fe.wear_of(xs), rec), g = ce.coefficients(ce.wear_of(xs), rec);
-          corr[rec].fx0_n = f.fx0_n - g.fx0_n;
-          corr[rec].fy0_n = f.fy0_n - g.fy0_n;
-          corr[rec].stiffness_n_per_m = f.stiffness_n_per_m - g.stiffness_n_per_m;
-          corr[rec].damping_n_s_per_m = f.damping_n_s_per_m - g.damping_n_s_per_m;
-          c.fine_evaluations += 2;
-        }
-        return corr;
-      };
-      // Each round: the correction at x makes the corrected cost at x the refined grid's cost
-      // there; the best such point is kept. A round whose new point is worse than the best on
-      // the refined grid steps back halfway towards the best (the board grid's cost is rough,
-      // so an undamped iteration can cycle between valleys: seen on an FD-film record).
-      std::vector<double> fine_best = xv;
-      std::vector<mj::DynamicCoefficients> best_corr;
-      double fine_best_f = INFINITY;
-      for (int it = 0; it < 10; ++it) {
-        const std::vector<mj::DynamicCoefficients> corr = correction_at(xv);
-        ce.set_correction(corr);
-        const double fx = ce.cost(xv);
-        ++c.rounds;
-        if (fx < fine_best_f) {
-          fine_best_f = fx;
-          fine_best = xv;
-          best_corr = corr;
-        } else {
-          double gap = 0.0;
-          for (int i = 0; i < n; ++i) {
-            xv[static_cast<size_t>(i)] = 0.5 * (xv[static_cast<size_t>(i)] + fine_best[static_cast<size_t>(i)]);
-            gap = std::max(gap, std::abs(xv[static_cast<size_t>(i)] - fine_best[static_cast<size_t>(i)]));
-          }
-          if (gap < 1e-4) break;
-          continue;
-        }
-        std::vector<double> xn = xv;
-        polish(ce, xn, o.max_evaluations);
-        double moved = 0.0;
-        for (int i = 0; i < n; ++i) moved = std::max(moved, std::abs(xn[static_cast<size_t>(i)] - xv[static_cast<size_t>(i)]));
-        xv = xn;
-        if (moved < 1e-4) break;
-      }
-      c.evaluations += ce.evaluations;
-      v.x = fine_best;
-      v.correction = best_corr;
-      v.cost = fine_best_f;
-    };
     {
       std::vector<std::thread> pool;
       const int np = std::min(o.threads, static_cast<int>(valleys.size()));
@@ -691,19 +793,35 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
     }
     r.grid_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tg).count();
     // Polishes on the refined grid may end in the same valley: keep the better.
-    std::stable_sort(valleys.begin(), valleys.end(), [](const Valley& a, const Valley& b) { return a.cost < b.cost; });
-    std::vector<Valley> merged;
-    for (Valley& v : valleys) {
-      bool seen = false;
-      for (const Valley& m : merged) seen = seen || same_valley(m.x, v.x);
-      if (!seen) merged.push_back(std::move(v));
-    }
-    valleys = std::move(merged);
+    merge_valleys();
   }
 
-  // Each valley: chi-square with the stated noise model (each residual's noise sigma: the
-  // record's off-bin noise, with the model-error floor when set) and the Gauss-Newton
-  // covariance at its optimum.
+  // The result may not be worse than a point the global stage evaluated (issue 33, third
+  // round): when a profile-likelihood point below has a lower cost than the best valley, a
+  // polish starts from it (on the refined grid, as the valleys were), it joins the valleys and
+  // the chi-square levels, intervals and verdict are redone. At most k_max_valley_rounds.
+  mj::WearParams w;
+  bool local_identified = false;
+  auto span_of_depth_deg = [&](double d0_um) {
+    return mj::two_parameter_span_rad(d0_um * 1e-6, board.journal.geometry.clearance_m) / k_deg;
+  };
+  const double c_um = board.journal.geometry.clearance_m * 1e6;
+  r.profile_points = 0;
+  r.profile_wall_s = 0.0;
+  for (int round = 0;; ++round) {
+  std::vector<double> better_x;
+  double better_cost = valleys.front().cost * (1.0 - k_better_fraction);
+  r.valleys.clear();
+  r.ambiguous.clear();
+  {
+    auto ev = evaluator_for(valleys.front());
+    r.chi2_film_error = refine && !full ? o.grid_tolerance : 0.0;
+    film_sigma = ev->film_error_sigma(ev->wear_of(valleys.front().x), r.chi2_film_error);
+  }
+  // Each valley: chi-square with the stated noise model (each residual's sigma: the record's
+  // off-bin noise, with the model-error floor when set, and the film's discretisation error)
+  // and the Gauss-Newton covariance at its optimum (two: with the noise alone, for the reported
+  // 1-sigma and the local identifiability as before; with the chi-square's sigma, for the intervals).
   const auto physical_of = [&](const Evaluator& ev, int i, const std::vector<double>& u) {
     const mj::WearParams p = ev.wear_of(u);
     return i == 0 ? p.depth_m * 1e6 : (i == 1 ? p.position_rad : p.span_rad) / k_deg;
@@ -711,7 +829,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   struct Local {
     bool ok = false;
     double chi2 = INFINITY;
-    Eigen::MatrixXd jtj, cov;
+    Eigen::MatrixXd jtj, cov, cov_chi;
   };
   auto local_of = [&](Evaluator& ev, const std::vector<double>& x) {
     Local l;
@@ -722,7 +840,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
     }
     // Uncertainty: noise of each real residual component = noise_m / sqrt(2) (complex noise
     // split evenly), Jacobian by central differences in physical units (um, deg).
-    Eigen::MatrixXd jac(ev.residual_count(), n);
+    Eigen::MatrixXd jac(ev.residual_count(), n), jac_chi(ev.residual_count(), n);
     l.ok = true;
     for (int i = 0; i < n; ++i) {
       const double h = 2e-3;
@@ -732,8 +850,10 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       try {
         const auto rp = ev.residual(xp), rm = ev.residual(xm);
         const double du = physical_of(ev, i, xp) - physical_of(ev, i, xm);
-        for (int k = 0; k < ev.residual_count(); ++k)
+        for (int k = 0; k < ev.residual_count(); ++k) {
           jac(k, i) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * ev.sigma(k));
+          jac_chi(k, i) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * ev.chi_sigma(k));
+        }
       } catch (const std::invalid_argument&) {
         l.ok = false;
       }
@@ -741,6 +861,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
     if (l.ok) {
       l.jtj = jac.transpose() * jac;
       l.cov = l.jtj.completeOrthogonalDecomposition().pseudoInverse();
+      l.cov_chi = (jac_chi.transpose() * jac_chi).completeOrthogonalDecomposition().pseudoInverse();
     }
     return l;
   };
@@ -756,13 +877,9 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   Evaluator& e = *e_ptr;
   for (double v : x) r.bound_active = r.bound_active || v < 0.005 || v > 0.995;
 
-  const mj::WearParams w = e.wear_of(x);
+  w = e.wear_of(x);
   r.d0_um = w.depth_m * 1e6;
   r.gamma_deg = w.position_rad / k_deg;
-  const double c_um = board.journal.geometry.clearance_m * 1e6;
-  auto span_of_depth_deg = [&](double d0_um) {
-    return mj::two_parameter_span_rad(d0_um * 1e-6, board.journal.geometry.clearance_m) / k_deg;
-  };
   r.beta_deg = n == 3 ? w.span_rad / k_deg : span_of_depth_deg(r.d0_um);
   r.fitted = e.spectrum(w);
   r.used_full_film = e.full_film();
@@ -794,7 +911,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   }
   // Locally identifiable: every parameter's 1-sigma within a quarter of its bound range (the
   // residual loop's rule, host-tools/core/residual/journal_residual.hpp) and none on a bound.
-  const bool local_identified =
+  local_identified =
       ok && r.d0_uncertainty_um <= 0.25 * (o.depth_um[1] - o.depth_um[0]) &&
       r.gamma_uncertainty_deg <= 0.25 * (o.position_deg[1] - o.position_deg[0]) &&
       (n == 2 || r.beta_uncertainty_deg <= 0.25 * (o.span_deg[1] - o.span_deg[0])) && !r.bound_active;
@@ -810,7 +927,9 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   double chi2_min = INFINITY;
   for (const Local& l : locals) chi2_min = std::min(chi2_min, l.chi2);
   r.chi2_min = chi2_min;
-  r.chi2_scale = r.chi2_dof > 0 && std::isfinite(chi2_min) ? std::max(1.0, chi2_min / r.chi2_dof) : 1.0;
+  // Birge scaling only from k_min_birge_dof degrees of freedom (issue 33, third round): below,
+  // chi2_min / dof is no estimate of the model error (one dof: its 95 % range spans 0.001-5.0).
+  r.chi2_scale = r.chi2_dof >= k_min_birge_dof && std::isfinite(chi2_min) ? std::max(1.0, chi2_min / r.chi2_dof) : 1.0;
   r.chi2_level = chi_square_quantile(n, o.confidence);
   const double allowed = r.chi2_scale * r.chi2_level;  // in chi2 units
   const double lo[3] = {o.depth_um[0], o.position_deg[0], n == 3 ? o.span_deg[0] : span_of_depth_deg(o.depth_um[0])};
@@ -838,7 +957,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       const double centre[3] = {v.d0_um, v.gamma_deg, v.beta_deg};
       for (int i = 0; i < 3; ++i) {
         double half = INFINITY;
-        if (l.ok && i < n) half = reach * std::sqrt(std::max(0.0, l.cov(i, i)));
+        if (l.ok && i < n) half = reach * std::sqrt(std::max(0.0, l.cov_chi(i, i)));
         std::array<double, 2> iv{std::max(lo[i], centre[i] - half), std::min(hi[i], centre[i] + half)};
         if (n == 2 && i == 2) iv = {span_of_depth_deg(v.d0_interval_um[0]), span_of_depth_deg(v.d0_interval_um[1])};
         (i == 0 ? v.d0_interval_um : i == 1 ? v.gamma_interval_deg : v.beta_interval_deg) = iv;
@@ -865,7 +984,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
     const double level = chi2_min + allowed;
     struct TracePoint {
       std::vector<double> x;
-      double chi2 = INFINITY;
+      double chi2 = INFINITY, cost = INFINITY;
       bool inside = false;
       std::array<double, 2> half{NAN, NAN};  // slice half-widths of gamma and beta, deg
     };
@@ -874,17 +993,20 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       int dir;
       std::vector<TracePoint> points;
       int evaluations = 0, fine_evaluations = 0;
+      double best_cost = INFINITY;  // the lowest cost of any point evaluated (taken or not), and where
+      std::vector<double> best_x;
     };
     std::vector<Job> jobs;
     for (size_t k = 0; k < valleys.size(); ++k)
       if (r.valleys[k].acceptable)
-        for (int dir : {-1, 1}) jobs.push_back({k, dir, {}, 0, 0});
+        for (int dir : {-1, 1}) jobs.push_back({k, dir, {}, 0, 0, INFINITY, {}});
     auto trace = [&](Job& job) {
       const Valley& v = valleys[job.valley];
       Evaluator ce(board, meas, o), fe(board, meas, o);
       fe.set_grid(fine);
       if (refine && full) ce.set_grid(fine);
       if (refine && !full) ce.set_correction(v.correction);
+      ce.set_film_sigma(film_sigma);
       std::vector<double> u = v.x;
       struct Fixed {
         Evaluator* ev;
@@ -897,11 +1019,8 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
         for (unsigned i = 0; i < m; ++i) full_u[i + 1] = y[i];
         return f->ev->cost(full_u);
       };
-      for (int step = 0; step < k_profile_max_steps; ++step) {
-        if ((job.dir < 0 && u[0] <= 0.0) || (job.dir > 0 && u[0] >= 1.0)) break;
-        u[0] = std::clamp(u[0] + job.dir * k_profile_step, 0.0, 1.0);
-        // The other parameters at this depth: BOBYQA from the previous point's.
-        fixed.u = u;
+      // The other parameters at depth u[0]: BOBYQA from `start` (in place); returns the cost.
+      auto polish_slice = [&](std::vector<double>& y) {
         nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n - 1));
         opt.set_lower_bounds(std::vector<double>(static_cast<size_t>(n - 1), 0.0));
         opt.set_upper_bounds(std::vector<double>(static_cast<size_t>(n - 1), 1.0));
@@ -910,19 +1029,78 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
         opt.set_ftol_abs(1e-14);
         opt.set_maxeval(o.max_evaluations);
         opt.set_initial_step(0.02);
-        std::vector<double> y(u.begin() + 1, u.end());
         for (double& c : y) c = std::clamp(c, 0.021, 0.979);
         double fy = 1e300;
         try {
           opt.optimize(y, fy);
         } catch (const std::exception&) {
+          fixed.u = u;
+          std::vector<double> full_u = u;
+          for (int i = 1; i < n; ++i) full_u[static_cast<size_t>(i)] = y[static_cast<size_t>(i - 1)];
+          fy = ce.cost(full_u);
         }
-        for (int i = 1; i < n; ++i) u[static_cast<size_t>(i)] = y[static_cast<size_t>(i - 1)];
+        return fy;
+      };
+      // Depth steps: k_profile_min_step near the valley, doubled after each point inside the
+      // level up to k_profile_step; a point outside after a step larger than the smallest is
+      // not taken: the step is halved from the last point inside (the crossing located to
+      // k_profile_min_step, 2.2 % of d0 with the default bounds). The profile goes on as long as
+      // chi2 stays inside the level, across the gap to another valley included.
+      double step = k_profile_min_step;
+      std::vector<double> last_u = u;
+      for (int pt = 0; pt < k_profile_max_points; ++pt) {
+        if ((job.dir < 0 && last_u[0] <= 0.0) || (job.dir > 0 && last_u[0] >= 1.0)) break;
+        u = last_u;
+        u[0] = std::clamp(last_u[0] + job.dir * step, 0.0, 1.0);
+        fixed.u = u;
+        // The other parameters at this depth, globally: BOBYQA from the previous point's values
+        // and from the best local minima (up to k_slice_starts) of a k_slice_grid^(n-1) grid over
+        // their box at this depth (a profile that only follows its own valley can miss a lower
+        // one at this depth); the lowest on the board grid with the previous point's defect
+        // correction is kept.
+        std::vector<std::vector<double>> cands;
+        cands.emplace_back(u.begin() + 1, u.end());
+        {
+          const int m = n - 1;
+          int cells = 1;
+          for (int i = 0; i < m; ++i) cells *= k_slice_grid;
+          std::vector<double> gf(static_cast<size_t>(cells), INFINITY);
+          auto cell_point = [&](int c) {
+            std::vector<double> yg(static_cast<size_t>(m));
+            for (int i = 0; i < m; ++i, c /= k_slice_grid) yg[static_cast<size_t>(i)] = (0.5 + c % k_slice_grid) / k_slice_grid;
+            return yg;
+          };
+          for (int c = 0; c < cells; ++c) {
+            const std::vector<double> yg = cell_point(c);
+            std::vector<double> full_u = u;
+            for (int i = 1; i < n; ++i) full_u[static_cast<size_t>(i)] = yg[static_cast<size_t>(i - 1)];
+            gf[static_cast<size_t>(c)] = ce.cost(full_u);
+          }
+          std::vector<int> minima;
+          for (int c = 0; c < cells; ++c) {
+            bool low = true;
+            for (int q = 0; q < cells && low; ++q) {
+              if (q == c) continue;
+              bool adjacent = true;
+              for (int i = 0, cc = c, qq = q; i < m; ++i, cc /= k_slice_grid, qq /= k_slice_grid)
+                adjacent = adjacent && std::abs(cc % k_slice_grid - qq % k_slice_grid) <= 1;
+              low = !adjacent || gf[static_cast<size_t>(c)] <= gf[static_cast<size_t>(q)];
+            }
+            if (low && gf[static_cast<size_t>(c)] < 1e2) minima.push_back(c);
+          }
+          std::sort(minima.begin(), minima.end(), [&](int x1, int x2) { return gf[static_cast<size_t>(x1)] < gf[static_cast<size_t>(x2)]; });
+          for (size_t k = 0; k < minima.size() && static_cast<int>(k) < k_slice_starts; ++k) cands.push_back(cell_point(minima[k]));
+        }
+        std::vector<double> cf;
+        for (std::vector<double>& y : cands) cf.push_back(polish_slice(y));
+        const size_t chosen = static_cast<size_t>(std::min_element(cf.begin(), cf.end()) - cf.begin());
+        for (int i = 1; i < n; ++i) u[static_cast<size_t>(i)] = cands[chosen][static_cast<size_t>(i - 1)];
         if (refine && !full) {
+          // The point's chi2 on the refined grid: the defect correction renewed at it.
           std::vector<mj::DynamicCoefficients> corr(meas.size());
+          ce.set_correction({});
           for (size_t rec = 0; rec < meas.size(); ++rec) {
             const mj::DynamicCoefficients f = fe.coefficients(fe.wear_of(u), rec);
-            ce.set_correction({});
             const mj::DynamicCoefficients g = ce.coefficients(ce.wear_of(u), rec);
             corr[rec].fx0_n = f.fx0_n - g.fx0_n;
             corr[rec].fy0_n = f.fy0_n - g.fy0_n;
@@ -935,12 +1113,22 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
         TracePoint p;
         p.x = u;
         try {
-          p.chi2 = ce.chi2(u);
+          const std::array<double, 2> cc = ce.cost_and_chi2(u);
+          p.cost = cc[0];
+          p.chi2 = cc[1];
         } catch (const std::invalid_argument&) {
         }
         p.inside = p.chi2 <= level;
+        if (!p.inside && step > k_profile_min_step * 1.5) {
+          step *= 0.5;  // not taken: closer to the last point inside (its cost still counts below)
+          if (p.cost < job.best_cost) {
+            job.best_cost = p.cost;
+            job.best_x = p.x;
+          }
+          continue;
+        }
         if (p.inside) {
-          // Slice at this depth: Jacobian in the other parameters (physical units, noise-normalised).
+          // Slice at this depth: Jacobian in the other parameters (physical units, chi-square sigma).
           Eigen::MatrixXd jac(ce.residual_count(), n - 1);
           bool jok = true;
           for (int i = 1; i < n; ++i) {
@@ -951,7 +1139,7 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
               const auto rp = ce.residual(xp), rm = ce.residual(xm);
               const double du = physical_of(ce, i, xp) - physical_of(ce, i, xm);
               for (int k = 0; k < ce.residual_count(); ++k)
-                jac(k, i - 1) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * ce.sigma(k));
+                jac(k, i - 1) = (rp[static_cast<size_t>(k)] - rm[static_cast<size_t>(k)]) / (du * ce.chi_sigma(k));
             } catch (const std::invalid_argument&) {
               jok = false;
             }
@@ -965,8 +1153,23 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
             p.half = {INFINITY, INFINITY};
           }
         }
+        if (p.cost < job.best_cost) {
+          job.best_cost = p.cost;
+          job.best_x = p.x;
+        }
         job.points.push_back(p);
         if (!p.inside) break;
+        // Reached another acceptable valley: its own profile goes on from there.
+        bool joined = false;
+        for (size_t k = 0; k < valleys.size() && !joined; ++k) {
+          if (k == job.valley || !r.valleys[k].acceptable) continue;
+          bool near = std::abs(valleys[k].x[0] - u[0]) <= step;
+          for (int i = 1; i < n; ++i) near = near && std::abs(valleys[k].x[static_cast<size_t>(i)] - u[static_cast<size_t>(i)]) <= 0.05;
+          joined = near;
+        }
+        if (joined) break;
+        last_u = u;
+        step = std::min(k_profile_step, 2.0 * step);
       }
       job.evaluations += ce.evaluations;
     };
@@ -1023,7 +1226,12 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
         (*hull[i])[1] = std::max((*hull[i])[1], (*ivs[i])[1]);
       }
     }
-    r.profile_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
+    r.profile_wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
+    for (const Job& job : jobs)
+      if (job.best_cost < better_cost) {
+        better_cost = job.best_cost;
+        better_x = job.best_x;
+      }
   }
   r.identified = local_identified && r.acceptable_valleys == 1;
   // A parameter is ambiguous when its interval reaches beyond the identification targets
@@ -1036,6 +1244,29 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       if ((*hull[i])[0] < centre[i] - half_target[i] || (*hull[i])[1] > centre[i] + half_target[i])
         r.ambiguous.push_back(names[i]);
   }
+
+  if (better_x.empty() || round >= k_max_valley_rounds) break;
+  // A point of the profile beats the best valley: polish from it and redo the verdict.
+  {
+    Valley nv{better_x, better_cost, "polished from a profile point", {}};
+    Counts c;
+    if (refine) {
+      refine_valley(nv, c);
+    } else {
+      Evaluator ev(board, meas, o);
+      nv.cost = polish(ev, nv.x, o.max_evaluations);
+      c.evaluations += ev.evaluations;
+    }
+    r.evaluations += c.evaluations;
+    r.fine_evaluations += c.fine_evaluations;
+    ++r.profile_restarts;
+    if (o.progress) o.progress("a profile point beats the best valley: polished from it, valleys re-evaluated");
+    valleys.push_back(std::move(nv));
+    merge_valleys();
+    if (static_cast<int>(valleys.size()) > o.max_valleys + k_max_valley_rounds) valleys.resize(static_cast<size_t>(o.max_valleys + k_max_valley_rounds));
+  }
+  }  // rounds
+  r.stop_reason = valleys.front().reason;
 
   // Is there a measurable wear? Model comparison of the unworn bore against the fitted wear on
   // the same forward model (the refined grid when refined), decided by the residual loop's

@@ -146,11 +146,16 @@ struct WearIdResult {
   /// Global stage: the valleys found (best first), how many the records cannot reject, and
   /// the level: chi2 of a valley minus the best's <= chi2_scale * chi2_level, where chi2_level
   /// is the chi-square quantile (n parameters, WearIdOptions::confidence) and chi2_scale =
-  /// max(1, chi2_min / chi2_dof) (the best fit's misfit beyond the noise, Birge ratio).
+  /// max(1, chi2_min / chi2_dof) (the best fit's misfit beyond the noise, Birge ratio) from 8
+  /// degrees of freedom, 1 below (one record: dof 1; two: dof 5).
   std::vector<WearValley> valleys;
   int acceptable_valleys = 0;
   double chi2_min = NAN, chi2_level = NAN, chi2_scale = 1.0;
   int chi2_dof = 0;  ///< residuals minus parameters
+  /// Relative K/C error of the film in the chi-square (the refined grid's tolerance; 0 on the
+  /// board's grid): propagated to each residual and added in quadrature to its noise sigma.
+  double chi2_film_error = 0.0;
+  int profile_restarts = 0;     ///< profile points that beat the best valley: polished from, verdict redone
   int profile_points = 0;       ///< points of the profile likelihood (only when not identified)
   double profile_wall_s = 0.0;  ///< its time, s
   /// Union (hull) of the acceptable valleys' intervals: where the wear can be, at `confidence`.
@@ -183,6 +188,16 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
 /// another wear. 1e3 where the model cannot represent the wear.
 double wear_cost(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas, const WearIdOptions& o,
                  const model::journal::WearParams& wear);
+
+/// The film's relative K/C error `relative_error` propagated to the identification's residuals
+/// at one wear (what identify_wear adds in quadrature to each residual's noise sigma in its
+/// chi-square, with the refinement tolerance, issue 33 third round): each of the 8 entries of K
+/// and C gets an independent error of standard deviation relative_error ||K||_F / 2 (||C||_F / 2).
+/// One value per residual, in identify_wear's order (per record: +1x re, im, -1x re, im at the
+/// journal probes, ...) and units (each record's measured spectrum norm), on the film grid of
+/// `board` (no refinement here). Linear film only: zeros with o.full_film or relative_error 0.
+std::vector<double> film_error_sigma(const board::BoardConfig& board, const std::vector<JournalMeasurement>& meas,
+                                     const WearIdOptions& o, const model::journal::WearParams& wear, double relative_error);
 
 /// Forward model for one wear (for sweeps, reports and tests): full spectrum at the journal
 /// probes with the journal at `state` and the speed given.
