@@ -99,32 +99,16 @@ double HertzContactLaw::defect_transit_time_s(double shaft_speed_hz) const noexc
   return 2.0 * defect_half_angle_rad_ / (2.0 * M_PI * speed * rel);
 }
 
-SupportForce HertzContactLaw::force(double dx_m, double dy_m, double shaft_angle_rad) const noexcept {
-  return force_at_cage_angle(dx_m, dy_m, cage_ratio_ * shaft_angle_rad, shaft_angle_rad);
-}
-
-SupportForce HertzContactLaw::force_at_cage_angle(double dx_m, double dy_m, double cage_angle_rad,
-                                                  double shaft_angle_rad) const noexcept {
+template <class Loss>
+SupportForce HertzContactLaw::ball_loads(double dx_m, double dy_m, double cc, double sc, Loss&& loss) const noexcept {
   SupportForce out;
-  if (!ok_) return out;
-  const double cc = std::cos(cage_angle_rad);
-  const double sc = std::sin(cage_angle_rad);
-  const DefectLocation loc = p_.defect.location;
-  if (loc == DefectLocation::ball) return ball_spot_force(dx_m, dy_m, cc, sc, shaft_angle_rad);
-  // Defect centre in the same frame as theta_j (inner-race defect turns with the shaft).
-  const double defect_centre = loc == DefectLocation::inner_race
-                                   ? p_.defect.angle_rad + shaft_angle_rad
-                                   : p_.defect.angle_rad;
   for (int j = 0; j < z_; ++j) {
     const auto k = static_cast<size_t>(j);
     // cos/sin(theta_cage + 2 pi j/Z) by the addition theorem: 2 trig calls per evaluation.
     const double cj = cc * cos_pitch_[k] - sc * sin_pitch_[k];
     const double sj = sc * cos_pitch_[k] + cc * sin_pitch_[k];
     double delta = dx_m * cj + dy_m * sj - p_.radial_clearance_m;
-    if (loc != DefectLocation::none && delta > -defect_depth_m_) {
-      const double theta_j = cage_angle_rad + 2.0 * M_PI * j / z_;
-      delta -= defect_depth(theta_j - defect_centre);
-    }
+    if (delta > -defect_depth_m_) delta -= loss(j, delta);
     if (delta > 0.0) {
       const double q = p_.hertz_constant_n_per_m1p5 * delta * std::sqrt(delta);
       out.fx_n += q * cj;
@@ -135,29 +119,30 @@ SupportForce HertzContactLaw::force_at_cage_angle(double dx_m, double dy_m, doub
   return out;
 }
 
-SupportForce HertzContactLaw::ball_spot_force(double dx_m, double dy_m, double cc, double sc,
-                                              double shaft_angle_rad) const noexcept {
-  SupportForce out;
-  const auto spot_ball = static_cast<size_t>(p_.defect.ball_index);
-  for (int j = 0; j < z_; ++j) {
-    const auto k = static_cast<size_t>(j);
-    const double cj = cc * cos_pitch_[k] - sc * sin_pitch_[k];
-    const double sj = sc * cos_pitch_[k] + cc * sin_pitch_[k];
-    double delta = dx_m * cj + dy_m * sj - p_.radial_clearance_m;
-    if (k == spot_ball && delta > -defect_depth_m_) {
-      // Spin angle of the spot (relative to the cage; outer race fixed): 0 faces the outer
-      // race, pi the inner race. Both faces cannot be reached at once (half width < pi / 2).
-      const double phi = spin_ratio_ * shaft_angle_rad + p_.defect.angle_rad;
-      delta -= spot_depth_outer_m_ * profile_fraction(phi) + spot_depth_inner_m_ * profile_fraction(phi - M_PI);
-    }
-    if (delta > 0.0) {
-      const double q = p_.hertz_constant_n_per_m1p5 * delta * std::sqrt(delta);
-      out.fx_n += q * cj;
-      out.fy_n += q * sj;
-      ++out.balls_loaded;
-    }
+SupportForce HertzContactLaw::force(double dx_m, double dy_m, double shaft_angle_rad) const noexcept {
+  return force_at_cage_angle(dx_m, dy_m, cage_ratio_ * shaft_angle_rad, shaft_angle_rad);
+}
+
+SupportForce HertzContactLaw::force_at_cage_angle(double dx_m, double dy_m, double cage_angle_rad,
+                                                  double shaft_angle_rad) const noexcept {
+  if (!ok_) return SupportForce{};
+  const double cc = std::cos(cage_angle_rad);
+  const double sc = std::sin(cage_angle_rad);
+  const DefectLocation loc = p_.defect.location;
+  if (loc == DefectLocation::none) return ball_loads(dx_m, dy_m, cc, sc, [](int, double) { return 0.0; });
+  if (loc == DefectLocation::ball) {
+    const int spot_ball = p_.defect.ball_index;
+    // Spin angle of the spot (relative to the cage; outer race fixed): 0 faces the outer race,
+    // pi the inner race. Both faces cannot be reached at once (half width < pi / 2).
+    const double phi = spin_ratio_ * shaft_angle_rad + p_.defect.angle_rad;
+    const double spot_m = spot_depth_outer_m_ * profile_fraction(phi) + spot_depth_inner_m_ * profile_fraction(phi - M_PI);
+    return ball_loads(dx_m, dy_m, cc, sc, [&](int j, double) { return j == spot_ball ? spot_m : 0.0; });
   }
-  return out;
+  // Defect centre in the same frame as theta_j (inner-race defect turns with the shaft).
+  const double defect_centre = loc == DefectLocation::inner_race ? p_.defect.angle_rad + shaft_angle_rad : p_.defect.angle_rad;
+  return ball_loads(dx_m, dy_m, cc, sc, [&](int j, double) {
+    return defect_depth(cage_angle_rad + 2.0 * M_PI * j / z_ - defect_centre);
+  });
 }
 
 double nominal_hertz_constant(const BearingGeometry& g, double fi, double fo, double e_pa, double nu) {

@@ -121,8 +121,10 @@ class HertzContactLaw {
  private:
   double defect_depth(double theta_rel_rad) const noexcept;
   double profile_fraction(double theta_rel_rad) const noexcept;
-  SupportForce ball_spot_force(double dx_m, double dy_m, double cos_cage, double sin_cage,
-                               double shaft_angle_rad) const noexcept;
+  // Sum of the Z ball loads at cage angle (cos_cage, sin_cage); loss(j, delta) is the depth a
+  // defect takes off ball j's deflection delta (m; only called where delta > -defect depth).
+  template <class Loss>
+  SupportForce ball_loads(double dx_m, double dy_m, double cos_cage, double sin_cage, Loss&& loss) const noexcept;
 
   ContactLawParams p_{};
   bool ok_ = false;

@@ -181,27 +181,30 @@ void check_ball(Tables t, int records) {
   EXPECT_LE(100 * ball.wrong_fault, 2 * ball.n) << "ball faults named as race faults above 2 %";
 }
 
-// Ball (rolling-element spot) records: same bearings, spot widths, speeds, noise levels and
-// paths as the race records, at their load and at twice it (4-DOF: W_y 500 and 1000 N, of which the
-// shaft support k1 takes the first ~370 N before the 5 um clearance closes; 8-DOF: discs x 1, x 2). Nothing of the chain
-// is tuned on these (the null is the healthy records'). Prints the same tables and the
-// confusion; asserts what the chain must never do: name a ball fault as a race fault.
-TEST(BearingModelValidation, BallRecords) {
-  std::vector<tb::RecordSpec> specs;
-  uint64_t seed = 5000;
-  struct B {
+// A grid of ball-spot records: every bearing x spot width x load x speed x noise x path, in
+// that order, seeds counting up from first_seed. Paths 0 / 1 / 2 are sampled at 12 / 20 / 48 kHz.
+struct BallGrid {
+  struct Bearing {
     const char* model;
     const char* bearing;
     double duration_s;
-    std::vector<double> speeds;
+    std::vector<double> speeds_hz;
   };
-  for (const B& b : {B{"4dof", "6206", 10, {20, 45}}, B{"4dof", "6205", 10, {20, 45}}, B{"4dof", "6203", 10, {20, 45}},
-                     B{"8dof", "6200", 5, {25, 40}}})
-    for (double w : {0.5, 1.0})
-      for (double load : {1.0, 2.0})
-        for (double sp : b.speeds)
-          for (double noise : {0.5, 1.0})
-            for (int path : {0, 2}) {
+  std::vector<Bearing> bearings;
+  std::vector<double> widths_mm, loads, noises;
+  std::vector<int> paths;
+  uint64_t first_seed = 0;
+};
+
+std::vector<tb::RecordSpec> ball_specs(const BallGrid& g) {
+  std::vector<tb::RecordSpec> specs;
+  uint64_t seed = g.first_seed;
+  for (const auto& b : g.bearings)
+    for (double w : g.widths_mm)
+      for (double load : g.loads)
+        for (double sp : b.speeds_hz)
+          for (double noise : g.noises)
+            for (int path : g.paths) {
               tb::RecordSpec s;
               s.model = b.model;
               s.bearing = b.bearing;
@@ -209,47 +212,44 @@ TEST(BearingModelValidation, BallRecords) {
               s.width_mm = w;
               s.load_scale = load;
               s.speed_hz = sp;
-              s.fs_hz = path == 0 ? 12000 : 48000;
+              s.fs_hz = path == 0 ? 12000 : path == 1 ? 20000 : 48000;
               s.duration_s = b.duration_s;
               s.noise_rel = noise;
               s.path = path;
-              s.seed = ++seed;
+              s.seed = seed++;
               specs.push_back(s);
             }
-  check_ball(evaluate(specs), 128);
+  return specs;
+}
+
+// Ball (rolling-element spot) records: same bearings, spot widths, speeds, noise levels and
+// paths as the race records, at their load and at twice it (4-DOF: W_y 500 and 1000 N, of which the
+// shaft support k1 takes the first ~370 N before the 5 um clearance closes; 8-DOF: discs x 1, x 2). Nothing of the chain
+// is tuned on these (the null is the healthy records'). Prints the same tables and the
+// confusion; asserts what the chain must never do: name a ball fault as a race fault.
+TEST(BearingModelValidation, BallRecords) {
+  BallGrid g;
+  g.bearings = {{"4dof", "6206", 10, {20, 45}}, {"4dof", "6205", 10, {20, 45}}, {"4dof", "6203", 10, {20, 45}},
+                {"8dof", "6200", 5, {25, 40}}};
+  g.widths_mm = {0.5, 1.0};
+  g.loads = {1.0, 2.0};
+  g.noises = {0.5, 1.0};
+  g.paths = {0, 2};
+  g.first_seed = 5001;
+  check_ball(evaluate(ball_specs(g)), 128);
 }
 
 // Ball records at settings neither the race records nor BallRecords use (spot widths 0.3 and
 // 0.7 mm, load x 1.5, 4-DOF 30/40 Hz, 8-DOF 30/35 Hz, noise 0.75/1.5, paths 1 and 2), run once
 // after the chain was settled on BallRecords: the held-out figure for the ball family.
 TEST(BearingModelValidation, BallRecordsHeldOut) {
-  std::vector<tb::RecordSpec> specs;
-  uint64_t seed = 9000;
-  struct B {
-    const char* model;
-    const char* bearing;
-    double duration_s;
-    std::vector<double> speeds;
-  };
-  for (const B& b : {B{"4dof", "6206", 10, {30, 40}}, B{"4dof", "6205", 10, {30, 40}}, B{"4dof", "6203", 10, {30, 40}},
-                     B{"8dof", "6200", 5, {30, 35}}})
-    for (double w : {0.3, 0.7})
-      for (double sp : b.speeds)
-        for (double noise : {0.75, 1.5})
-          for (int path : {1, 2}) {
-            tb::RecordSpec s;
-            s.model = b.model;
-            s.bearing = b.bearing;
-            s.defect = mb::DefectLocation::ball;
-            s.width_mm = w;
-            s.load_scale = 1.5;
-            s.speed_hz = sp;
-            s.fs_hz = path == 1 ? 20000 : 48000;
-            s.duration_s = b.duration_s;
-            s.noise_rel = noise;
-            s.path = path;
-            s.seed = ++seed;
-            specs.push_back(s);
-          }
-  check_ball(evaluate(specs), 64);
+  BallGrid g;
+  g.bearings = {{"4dof", "6206", 10, {30, 40}}, {"4dof", "6205", 10, {30, 40}}, {"4dof", "6203", 10, {30, 40}},
+                {"8dof", "6200", 5, {30, 35}}};
+  g.widths_mm = {0.3, 0.7};
+  g.loads = {1.5};
+  g.noises = {0.75, 1.5};
+  g.paths = {1, 2};
+  g.first_seed = 9001;
+  check_ball(evaluate(ball_specs(g)), 64);
 }

@@ -130,18 +130,23 @@ class Evaluator {
     return mj::perturbation_coefficients(s, ms_[rec].journal, 2.0 * M_PI * ms_[rec].speed_hz);
   }
 
+  // The defect correction (refined grid minus board grid, renewed at the polish points) added
+  // to record rec's board-grid coefficients; none before the first renewal.
+  void add_correction(mj::DynamicCoefficients& d, size_t rec) const {
+    if (correction_.empty()) return;
+    const mj::DynamicCoefficients& c = correction_[rec];
+    d.fx0_n += c.fx0_n;
+    d.fy0_n += c.fy0_n;
+    d.stiffness_n_per_m += c.stiffness_n_per_m;
+    d.damping_n_s_per_m += c.damping_n_s_per_m;
+  }
+
   std::array<FullSpectrum, 3> spectra(const mj::WearParams& w, size_t rec = 0) {
     mj::ReynoldsSolver s(b_.journal.geometry, w, grid_);
     const JournalMeasurement& m = ms_[rec];
     const double spin = 2.0 * M_PI * m.speed_hz;
     mj::DynamicCoefficients d = mj::perturbation_coefficients(s, m.journal, spin);
-    if (!correction_.empty() && !full_) {
-      const mj::DynamicCoefficients& c = correction_[rec];
-      d.fx0_n += c.fx0_n;
-      d.fy0_n += c.fy0_n;
-      d.stiffness_n_per_m += c.stiffness_n_per_m;
-      d.damping_n_s_per_m += c.damping_n_s_per_m;
-    }
+    if (!full_) add_correction(d, rec);
     rigs_[rec].set_static_film_force({d.fx0_n, d.fy0_n});
     if (!full_) return rigs_[rec].all_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
     // Full film: harmonic balance, started from the previous wear's orbit (the optimiser's
@@ -235,13 +240,7 @@ class Evaluator {
       mj::ReynoldsSolver s(b_.journal.geometry, w, grid_);
       const JournalMeasurement& m = ms_[rec];
       mj::DynamicCoefficients d = mj::perturbation_coefficients(s, m.journal, 2.0 * M_PI * m.speed_hz);
-      if (!correction_.empty()) {
-        const mj::DynamicCoefficients& c = correction_[rec];
-        d.fx0_n += c.fx0_n;
-        d.fy0_n += c.fy0_n;
-        d.stiffness_n_per_m += c.stiffness_n_per_m;
-        d.damping_n_s_per_m += c.damping_n_s_per_m;
-      }
+      add_correction(d, rec);
       rigs_[rec].set_static_film_force({d.fx0_n, d.fy0_n});
       const auto z0 = rigs_[rec].all_probes(d.stiffness_n_per_m, d.damping_n_s_per_m);
       const double hk = 0.5 * rel * d.stiffness_n_per_m.norm(), hc = 0.5 * rel * d.damping_n_s_per_m.norm();
