@@ -106,7 +106,10 @@ TEST(CliContract, TheManPageIsTheOneTheCommandTableGeneratesAndListsEverySubComm
   EXPECT_EQ(amb::test::read_text(page), r.out)
       << "packaging/man/amb-host.1 is not what the command table generates; regenerate it with "
          "'build/host-tools/amb-host --man > packaging/man/amb-host.1'";
-  for (const auto& cmd : table()["commands"]) {
+  // The table is held here: a range-for over table()["commands"] iterates a member of a
+  // temporary destroyed before the loop body (heap-use-after-free under ASan).
+  const auto commands = table()["commands"];
+  for (const auto& cmd : commands) {
     std::string roff;
     for (char c : cmd["path"].get<std::string>()) roff += c == '-' ? std::string("\\-") : std::string(1, c);
     EXPECT_NE(r.out.find(".SS " + roff + "\n"), std::string::npos) << "the man page lacks " << cmd["path"];
