@@ -66,8 +66,18 @@ T1=$(date +%s)
 # The tests that passed on this source state (commit + uncommitted changes), for --resume.
 STATE=$(git rev-parse --short HEAD 2>/dev/null || echo nogit)-$( (git diff HEAD 2>/dev/null || true) | sha256sum | cut -c1-12)
 PASSED="$BUILD/sanitizer-passed-$STATE.txt"
-[ $RESUME = 1 ] || rm -f "$BUILD"/sanitizer-passed-*.txt
+[ $RESUME = 1 ] || rm -f "$BUILD"/sanitizer-passed-*.txt "$BUILD"/sanitizer-ctest-*.log
 touch "$PASSED"
+# A run stopped part-way (the session's end, a kill) still counts what passed: every run's
+# log is kept per source state and its "Passed" lines are read before the list is made.
+passed_from_logs() {
+  for log in "$BUILD"/sanitizer-ctest-"$STATE"-*.log; do
+    [ -e "$log" ] || continue
+    # ctest's result lines: " 12/80 Test #34: Suite.Case ......   Passed    1.23 sec".
+    sed -n 's/^ *[0-9]*\/[0-9]* Test *#[0-9]*: \([^ ]*\) .*  Passed .*/\1/p' "$log"
+  done
+}
+passed_from_logs >> "$PASSED"
 LISTED=$(ctest --test-dir "$BUILD" -N -LE long "${FILTER[@]}" | sed -n 's/^ *Test *#\([0-9]*\): \(.*\)$/\1 \2/p')
 ALL=$(echo "$LISTED" | cut -d' ' -f2- | sort -u)
 TODO=$(comm -23 <(echo "$ALL") <(sort -u "$PASSED") | sed '/^$/d')
@@ -77,7 +87,7 @@ if [ -n "$TODO" ]; then
   # The tests to run by number (ctest -I 0,0,0,N,N,...), not as a regex of a few hundred names.
   NUMBERS=$(awk 'NR == FNR { todo[$0] = 1; next } { n = $1; $1 = ""; sub(/^ /, ""); if ($0 in todo) print n }' \
               <(echo "$TODO") <(echo "$LISTED") | paste -sd,)
-  LOG="$BUILD/sanitizer-ctest.log"
+  LOG="$BUILD/sanitizer-ctest-$STATE-$(date +%Y%m%dT%H%M%S).log"
   # Longest first: without a cost record of its own, ctest is given the plain build's (same test
   # names, each roughly 5-15x faster there), so the slow fits start first and -j2 stays full.
   COSTS="$BUILD/Testing/Temporary/CTestCostData.txt"
@@ -89,8 +99,7 @@ if [ -n "$TODO" ]; then
     -I "0,0,0,$NUMBERS" 2>&1 | tee "$LOG"
   STATUS=${PIPESTATUS[0]}
   set -e
-  # ctest's result lines: " 12/80 Test #34: Suite.Case ......   Passed    1.23 sec".
-  sed -n 's/^ *[0-9]*\/[0-9]* Test *#[0-9]*: \([^ ]*\) .*  Passed .*/\1/p' "$LOG" >> "$PASSED"
+  passed_from_logs >> "$PASSED"
 fi
 T2=$(date +%s)
 echo "sanitizers $KIND$([ $SMOKE = 1 ] && echo ' --smoke')$([ $RESUME = 1 ] && echo ' --resume'): build $((T1 - T0)) s, tests $((T2 - T1)) s (DIRS: ${DIRS:-all}); passed so far on this source state: $(sort -u "$PASSED" | sed '/^$/d' | wc -l) of $(echo "$ALL" | sed '/^$/d' | wc -l)$([ $STATUS = 0 ] || echo ': FAILED')"
