@@ -191,6 +191,23 @@ int run(Args a) {
                       {"lines", lines}};
     }
     j["families"] = fams;
+    const auto& rc = r.raw_cage;
+    if (rc.run) {
+      nlohmann::json lines = nlohmann::json::array();
+      for (const auto& l : rc.lines.lines) json_line(lines, l);
+      j["raw_cage_scan"] = {{"bands", rc.bands},
+                            {"low_hz", rc.band.low_hz},
+                            {"high_hz", rc.band.high_hz},
+                            {"score", rc.score},
+                            {"log10_p", rc.log10_p},
+                            {"threshold_log10_p", rc.threshold_log10_p},
+                            {"threshold_score", rc.threshold_score},
+                            {"detected", rc.detected},
+                            {"null", {{"surrogates", rc.null.samples}, {"median", rc.null.median}, {"q99", rc.null.q99}, {"scale", rc.null.scale}}},
+                            {"lines", lines}};
+    } else {
+      j["raw_cage_scan"] = nullptr;
+    }
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -211,6 +228,12 @@ int run(Args a) {
     std::printf("  %-5s %10.2f %10s %8.1f %10.1f %-13s %s\n", f.name.c_str(), f.predicted_hz,
                 f.found_hz ? printf_text("%.6g", std::round(*f.found_hz * 100) / 100).c_str() : "-", f.score, f.log10_p,
                 r.bands[f.band_index].name.c_str(), f.reason.c_str());
+  const auto& rc = r.raw_cage;
+  if (rc.run)
+    std::printf("6 raw cage scan (nothing detected in the whitened bands): %zu raw bands, best %.0f-%.0f Hz score %.1f, "
+                "threshold %.1f (log10 P %.1f vs %.1f; null: the record's own %d surrogates, median %.2f, q99 %.2f): %s\n",
+                rc.bands, rc.band.low_hz, rc.band.high_hz, rc.score, rc.threshold_score, rc.log10_p, rc.threshold_log10_p,
+                rc.null.samples, rc.null.median, rc.null.q99, rc.detected ? "detected" : "not detected");
   std::printf("verdict: %s (%s)\n", r.verdict.c_str(), r.reason.c_str());
   return 0;
 }

@@ -29,9 +29,11 @@ TEST(BallCheck, CageLinesAreTheBallsModulationNotAVerdict) {
   EXPECT_EQ(r.verdict, "ball") << r.reason;
   EXPECT_TRUE(r.family("ftf").detected);
   EXPECT_NE(r.family("ftf").reason.find("cage modulation"), std::string::npos) << r.family("ftf").reason;
-  // Without the rule the stronger cage family takes the verdict: "unclear" (only the cage).
+  // Without the rule the stronger cage family takes the verdict: "unclear" (only the cage; with
+  // cage_modulation_as_ball off too, which would otherwise read the cage alone as a ball fault).
   hb::BearingCheckOptions o;
   o.cage_as_ball_modulation = false;
+  o.cage_modulation_as_ball = false;
   const auto r0 = hb::check_bearing(x, s.fs_hz, s.speed_hz * 1.004, g, o);
   EXPECT_EQ(r0.verdict, "unclear") << r0.reason;
   EXPECT_TRUE(r0.family("ball").detected);

@@ -55,6 +55,32 @@ TEST_P(CwruBearingCheck, Verdict) {
   for (const auto& f : r.families) EXPECT_FALSE(f.reason.empty()) << f.name;  // every family says why
 }
 
+// Ball faults seen through the cage (BearingCheckOptions::cage_modulation_as_ball): 1730_B's
+// whitened envelope holds the cage family alone (rule a), 1750_B's holds nothing and its raw
+// envelope holds the cage comb far above the record's own surrogates (rule b). With the option
+// off neither is named ball. 1797_B's raw cage score (19.9) stays below its own null's threshold
+// (43): not diagnosed (docs/bearing.md).
+TEST(CwruBallThroughTheCage, NamedBallAndNotWithoutTheRule) {
+  for (const char* file : {"1730_B_7_DE12", "1750_B_7_DE12"}) {
+    const std::string path = cwru(file);
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "measured data not found: " << path;
+    const auto x = amb::host::read_mat_vector(path, "DE_time");
+    const double fs = amb::host::read_mat_scalar(path, "fs"), speed = amb::host::read_mat_scalar(path, "RPM") / 60.0;
+    const auto g = *mb::find_bearing("SKF 6205");
+    const auto r = hb::check_bearing(x, fs, speed, g);
+    EXPECT_EQ(r.verdict, "ball") << file << ": " << r.reason;
+    if (std::string(file) == "1750_B_7_DE12") {
+      EXPECT_TRUE(r.raw_cage.run && r.raw_cage.detected) << r.raw_cage.score << " vs " << r.raw_cage.threshold_score;
+      EXPECT_GE(r.raw_cage.null.samples, 200);
+    }
+    hb::BearingCheckOptions off;
+    off.cage_modulation_as_ball = false;
+    const auto r0 = hb::check_bearing(x, fs, speed, g, off);
+    EXPECT_NE(r0.verdict, "ball") << file;
+    EXPECT_FALSE(r0.raw_cage.run);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Measured, CwruBearingCheck,
     ::testing::Values(Case{"1730_IR_7_DE12", 12000, 1730, "inner_race"}, Case{"1750_IR_7_DE12", 12000, 1750, "inner_race"},

@@ -37,6 +37,12 @@ TEST(BearingWindTurbine, InnerRaceGrowthIsSeen) {
     std::printf("%s: shaft %.2f Hz, bpfi score %.1f (threshold %.1f), found %.2f / predicted %.2f Hz, verdict %s\n",
                 f.substr(f.rfind('/') + 1).c_str(), shaft, bpfi.score, bpfi.threshold_score,
                 bpfi.found_hz.value_or(0.0), bpfi.predicted_hz, r.verdict.c_str());
+    if (r.raw_cage.run)
+      std::printf("  raw cage scan: %zu bands, best %.0f-%.0f Hz, score %.1f vs threshold %.1f (own null: %d draws, q99 %.2f)%s\n",
+                  r.raw_cage.bands, r.raw_cage.band.low_hz, r.raw_cage.band.high_hz, r.raw_cage.score,
+                  r.raw_cage.threshold_score, r.raw_cage.null.samples, r.raw_cage.null.q99,
+                  r.raw_cage.detected ? ": detected (the pseudo-bearing's FTF order is invented)" : "");
+    for (const auto& l : r.raw_cage.lines.lines) std::printf("    %s %.2f Hz ratio %.1f p %.2g\n", l.label.c_str(), l.hz, l.ratio, l.p_value);
     score.push_back(bpfi.score);
     detected.push_back(bpfi.detected);
   }

@@ -14,7 +14,8 @@ bool BearingCheckOptions::valid() const {
          record_false_alarm > 0 && record_false_alarm < 1 && line_p > 0 && line_p < 1 && floor_halfwidth_hz > 0 &&
          shaft_exclude_bins >= 0 && comb_dominance >= 1 && false_alarm_probability > 0 && false_alarm_probability < 1 && band.valid() &&
          discrete_halfwidth_hz > 0 && discrete_false_alarm > 0 && discrete_false_alarm < 1 &&
-         std::all_of(null.begin(), null.end(), [](const NullFit& f) { return f.scale > 0 && std::isfinite(f.median); });
+         std::all_of(null.begin(), null.end(), [](const NullFit& f) { return f.scale > 0 && std::isfinite(f.median); }) &&
+         raw_cage_min_surrogates >= 8;
 }
 
 std::array<NullFit, 4> BearingCheckOptions::default_nulls() {
@@ -114,6 +115,44 @@ std::vector<double> kinematic_lines(const model::bearing::DefectFrequencies& p) 
   for (int h = 1; h <= 2; ++h)
     for (int k = -3; k <= 3; ++k) out.push_back(2.0 * h * p.bsf_hz + k * p.ftf_hz);
   return out;
+}
+
+// The cage family in the raw signal's envelope over the two narrowest levels of the kurtogram
+// grid (BearingCheckOptions::cage_modulation_as_ball (b)). Tonal bands are kept: a discrete
+// carrier modulated at FTF is what is looked for. Raw envelopes hold the beats of the record's
+// own tones, which no calibration record shares, so the null is the record's own: the cage
+// template at surrogate bases in every scanned band, its tail fitted (fit_null).
+void scan_raw_cage(const BandAnalyser& raw, BandSelectionOptions bo, const Template& t, double f_max, double shaft_hz,
+                   double tol, const std::vector<double>& forbidden, const BearingCheckOptions& o, RawCageScan& out) {
+  bo.tonal_sigmas = 0.0;
+  const auto grid = raw.band_grid(bo);
+  int finest = -1;
+  for (const auto& b : grid) finest = std::max(finest, b.level);
+  out.run = true;
+  std::vector<TemplateScore> scores;
+  std::vector<Band> bands;
+  for (const auto& b : grid) {
+    if (b.level < finest - 1) continue;
+    const NormalisedSpectrum ns =
+        normalise_spectrum(raw.envelope_spectrum(b), f_max, o.floor_halfwidth_hz, shaft_hz, o.shaft_exclude_bins);
+    scores.push_back(score_template(ns, t.base_hz, t.lines, tol, o.line_p));
+    bands.push_back(b);
+    const auto d = surrogate_scores(ns, t.base_hz, t.lines, tol, forbidden, true);
+    out.surrogates.insert(out.surrogates.end(), d.begin(), d.end());
+  }
+  out.bands = bands.size();
+  out.null = fit_null(out.surrogates);
+  if (out.bands == 0 || out.null.samples < o.raw_cage_min_surrogates) return;
+  size_t best = 0;
+  for (size_t i = 1; i < scores.size(); ++i)
+    if (scores[i].score > scores[best].score) best = i;
+  out.score = scores[best].score;
+  out.band = bands[best];
+  out.lines = std::move(scores[best]);
+  out.log10_p = out.null.log10_p(out.score);
+  out.threshold_log10_p = std::log10(o.record_false_alarm / static_cast<double>(out.bands));
+  out.threshold_score = out.null.score_at(out.threshold_log10_p);
+  out.detected = out.log10_p < out.threshold_log10_p && out.lines.fundamental_present;
 }
 
 char buf[512];
@@ -397,6 +436,29 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
       }
     return r;
   }
+  // Nothing named in the whitened bands: look for the cage-rate modulation in the raw signal
+  // (BearingCheckOptions::cage_modulation_as_ball (b)).
+  if (o.cage_modulation_as_ball && best < 0)
+    scan_raw_cage(raw, bo, tmpl[kCage], f_max, shaft_for_exclusion, tol, forbidden, o, r.raw_cage);
+  if (best < 0 && r.raw_cage.detected) {
+    const auto& rc = r.raw_cage;
+    const double ftf_hz = rc.lines.lines.empty() ? p.ftf_hz : rc.lines.lines[0].hz;
+    std::snprintf(buf, sizeof buf,
+                  "not significant in the whitened bands; detected in the raw signal's %.0f-%.0f Hz band (score %.1f > "
+                  "%.1f, log10 P_null %.1f < %.1f over %zu raw bands)",
+                  rc.band.low_hz, rc.band.high_hz, rc.score, rc.threshold_score, rc.log10_p, rc.threshold_log10_p, rc.bands);
+    r.families[kCage].reason = buf;
+    r.verdict = "ball";
+    std::snprintf(buf, sizeof buf,
+                  "cage-rate modulation: the cage family (FTF %.2f Hz) in the raw signal's envelope, %.0f-%.0f Hz "
+                  "(log10 P_null %.1f < %.1f, null: the record's own surrogates), and no race or ball-spin "
+                  "line family: a ball defect going round with the cage through the load zone (a cage fault gives the "
+                  "same lines)%s",
+                  ftf_hz, rc.band.low_hz, rc.band.high_hz, rc.log10_p, rc.threshold_log10_p,
+                  fo.reason.rfind("significant, but a tooth", 0) == 0 ? "; the BPFO line is a tooth of its comb" : "");
+    r.reason = buf;
+    return r;
+  }
   if (best < 0 && fo.reason.rfind("significant, but a tooth", 0) == 0) {
     r.verdict = "unclear";
     r.reason = "bpfo " + fo.reason;
@@ -413,7 +475,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
   }
   const auto& w = r.families[static_cast<size_t>(best)];
   r.verdict_band = w.band_index;
-  r.verdict = k_verdicts[best];
+  r.verdict = best == kCage && o.cage_modulation_as_ball ? "ball" : k_verdicts[best];
   for (int f = 0; f < kFamilies; ++f) {
     auto& fr = r.families[static_cast<size_t>(f)];
     if (f == best) {
@@ -432,8 +494,10 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
   if (best == kCage) {
     std::snprintf(buf, sizeof buf,
                   "only the cage family (FTF %.2f Hz) is detected (log10 P_null %.1f in %s %.0f-%.0f Hz): cage "
-                  "modulation without a race or ball line family of its own%s",
+                  "modulation without a race or ball line family of its own%s%s",
                   w.found_hz.value_or(w.predicted_hz), w.log10_p, band.name.c_str(), band.band.low_hz, band.band.high_hz,
+                  o.cage_modulation_as_ball ? ": a ball defect going round with the cage through the load zone (a cage "
+                                              "fault gives the same lines)" : "",
                   r.cage_teeth_ratio > 0 && !fo.detected ? "; the BPFO line is a tooth of its comb" : "");
   } else {
     std::snprintf(buf, sizeof buf,

@@ -19,7 +19,9 @@
 //      docs/bearing.md "Calibration"); detected if P_null < record_false_alarm / (bands x
 //      families) and its fundamental is present on its own; of several detected families the
 //      one with the smallest P_null on lines no other detected family found is named; the
-//      others carry the reason they were not.
+//      others carry the reason they were not; the cage family alone is a ball fault seen through
+//      its cage modulation, and a record with nothing detected is scanned for that modulation in
+//      the raw signal with the record's own surrogate null (cage_modulation_as_ball).
 #include <array>
 #include <optional>
 #include <string>
@@ -56,6 +58,25 @@ struct BearingCheckOptions {
   /// does not compete for the verdict (without it such records are `unclear`: "only the cage
   /// family"). docs/bearing.md, model-made ball records.
   bool cage_as_ball_modulation = true;
+  /// Cage-rate modulation alone read as a ball fault (issue 32; docs/bearing.md "Ball faults seen
+  /// through the cage"). A ball defect goes round with the cage through the load zone, so its
+  /// impacts are amplitude-modulated at FTF; where its own 2 x BSF lines are weak (the ball's spin
+  /// axis wanders, so the spot does not strike at every spin) the envelope holds the cage family
+  /// alone. When on:
+  ///  (a) the cage family detected without a race or ball family of its own names `ball`
+  ///      (off: `unclear`);
+  ///  (b) a record with no family detected is scanned for the cage family in the RAW signal's
+  ///      envelope over the two narrowest levels of the kurtogram grid, tonal bands included: the
+  ///      modulation of a discrete carrier is itself discrete, so CPW flattens it and discrete
+  ///      removal edits it out. Raw envelopes hold the beats of the record's own tones (the
+  ///      CWRU healthy record: surrogate scores up to 70 in its tonal 3-5 kHz bands, none in the
+  ///      model-made records), so the scan's null is the record's own: the cage template at
+  ///      surrogate bases in every scanned band, tail fitted as for the calibrated nulls. Its
+  ///      record-wise false-alarm budget is its own (record_false_alarm split over the bands
+  ///      scanned), so a healthy record's chance of any verdict is at most 2 x record_false_alarm.
+  /// A cage fault gives the same lines: the checker does not tell it from a ball fault.
+  bool cage_modulation_as_ball = true;
+  int raw_cage_min_surrogates = 200;  ///< fewer surrogate draws in the scan: no raw verdict (>= 8)
   double false_alarm_probability = 1e-3;  ///< per search window of find_line (display lines)
   BandSelectionOptions band;       ///< kurtogram grid; min_bandwidth_hz raised to (harmonics + 2) x BPFI
   /// Also analyse the raw signal's kurtogram band (S&R's un-whitened baseline). Off: in the raw
@@ -115,6 +136,21 @@ struct FamilyResult {
   std::string reason;              ///< why it is named, or why it is not
 };
 
+/// The raw-signal cage scan of BearingCheckOptions::cage_modulation_as_ball (b).
+struct RawCageScan {
+  bool run = false;                 ///< made (no family detected in the whitened bands, or calibration)
+  size_t bands = 0;                 ///< bands scanned
+  Band band;                        ///< band of the smallest P_null
+  double score = 0.0;               ///< cage template's score there (-log10 Fisher p)
+  double log10_p = 0.0;             ///< log10 P_null of that score under the record's own null
+  double threshold_log10_p = 0.0;   ///< log10(record_false_alarm / bands)
+  double threshold_score = 0.0;     ///< score at which log10 P_null reaches the threshold
+  bool detected = false;            ///< P_null below the threshold and the FTF line present on its own
+  TemplateScore lines;              ///< per line, in that band
+  std::vector<double> surrogates;   ///< surrogate scores of every scanned band: the scan's null
+  NullFit null;                     ///< fitted to surrogates (the record's own null)
+};
+
 /// Everything bearing-check computed.
 struct BearingCheckResult {
   model::bearing::DefectFrequencies predicted;  ///< kinematic frequencies at the nominal speed
@@ -126,6 +162,7 @@ struct BearingCheckResult {
   std::array<FamilyResult, 4> families;         ///< bpfo, bpfi, ball, ftf
   double threshold_log10_p = 0.0;               ///< log10(record_false_alarm / (bands x families))
   double cage_teeth_ratio = 0.0;                ///< strongest cage tooth next to BPFO over its floor (0: not checked)
+  RawCageScan raw_cage;                         ///< step 6's raw cage scan (cage_modulation_as_ball)
   size_t verdict_band = 0;                      ///< band of the named family (or the first)
   std::string verdict;                          ///< outer_race, inner_race, ball, healthy, unclear
   std::string reason;                           ///< one sentence saying why

@@ -140,11 +140,11 @@ NullFit fit_null(std::vector<double> draws) {
 }
 
 std::vector<double> surrogate_scores(const NormalisedSpectrum& s, double base_hz, const std::vector<TemplateLine>& lines,
-                                     double tolerance, const std::vector<double>& forbidden_hz) {
+                                     double tolerance, const std::vector<double>& forbidden_hz, bool every_line) {
   std::vector<double> scores;
   auto hits_forbidden = [&](double pseudo_base) {
     for (const auto& l : lines) {
-      if (!l.fundamental) continue;
+      if (!l.fundamental && !every_line) continue;
       const double pos = l.multiple * pseudo_base + l.offset_hz;
       for (double q : forbidden_hz)
         if (std::abs(pos - q) < tolerance * std::max(pos, q) + 2.0 * s.df_hz) return true;

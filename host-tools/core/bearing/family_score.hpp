@@ -95,7 +95,11 @@ NullFit fit_null(std::vector<double> draws);
 /// Scores of `lines` at surrogate bases around `base_hz` (see above).
 /// @param forbidden_hz  kinematic lines and sidebands: a surrogate base whose fundamental lies
 ///                      within tolerance (+ 2 bins) of one of them is skipped
+/// @param every_line    skip a surrogate base when any of its lines (not only the fundamental)
+///                      lies on a forbidden line: for a null measured on the record under test,
+///                      whose defect lines must not enter it (a strong cage comb puts 3 FTF under
+///                      the 2x line of the surrogate at 1.5 FTF)
 std::vector<double> surrogate_scores(const NormalisedSpectrum& s, double base_hz, const std::vector<TemplateLine>& lines,
-                                     double tolerance, const std::vector<double>& forbidden_hz);
+                                     double tolerance, const std::vector<double>& forbidden_hz, bool every_line = false);
 
 }  // namespace amb::host::bearing
