@@ -73,6 +73,7 @@ ReynoldsSolver::ReynoldsSolver(const BearingGeometry& g, const WearParams& wear,
   rhs_ = Eigen::VectorXd::Zero(n);
   p_ = Eigen::VectorXd::Zero(n);
   w_ = Eigen::VectorXd::Zero(n);
+  b_ = Eigen::VectorXd::Zero(n);
   active_.assign(static_cast<size_t>(n), 0);
 
   // Five-point pattern, periodic in theta: row k = i * nz + j.
@@ -90,6 +91,11 @@ ReynoldsSolver::ReynoldsSolver(const BearingGeometry& g, const WearParams& wear,
   a_.resize(n, n);
   a_.setFromTriplets(t.begin(), t.end());
   a_.makeCompressed();
+}
+
+void ReynoldsSolver::set_wear(const WearParams& wear) {
+  wear_ = WearShape(wear, g_.bore_radius_m, g_.clearance_m);
+  factored_valid_ = false;  // the matrix depends on the film, so on the wear
 }
 
 double ReynoldsSolver::theta_rad(int i) const { return (i + 0.5) * dtheta_; }
@@ -145,32 +151,68 @@ void ReynoldsSolver::assemble(const JournalState& s, double spin_rad_s) {
   }
 }
 
+double ReynoldsSolver::axial(int i) const {
+  const double rl2 = (g_.bore_radius_m / g_.length_m) * (g_.bore_radius_m / g_.length_m);
+  return rl2 * h_cell_(i) * h_cell_(i) * h_cell_(i) * dtheta_ / dzeta_;
+}
+
+void ReynoldsSolver::base_matvec(const Eigen::VectorXd& p, Eigen::VectorXd& out) const {
+  for (int i = 0; i < nt_; ++i) {
+    const int im = (i + nt_ - 1) % nt_, ip = (i + 1) % nt_;
+    const double az = axial(i);
+    const double upper_end = half_ ? 0.0 : 2.0 * az;
+    for (int j = 0; j < nz_; ++j) {
+      const int k = i * nz_ + j;
+      double d = cond_theta_(i) + cond_theta_(im);
+      double v = -cond_theta_(im) * p(im * nz_ + j) - cond_theta_(i) * p(ip * nz_ + j);
+      d += (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : upper_end);
+      if (j > 0) v -= az * p(k - 1);
+      if (j + 1 < nz_) v -= az * p(k + 1);
+      out(k) = d * p(k) + v;
+    }
+  }
+}
+
+void ReynoldsSolver::fill_matrix() {
+  const int n = nt_ * nz_;
+  for (int col = 0; col < n; ++col) {
+    for (Eigen::SparseMatrix<double>::InnerIterator e(a_, col); e; ++e) {
+      const int row = static_cast<int>(e.row());
+      const bool act = active_[static_cast<size_t>(row)] || active_[static_cast<size_t>(col)];
+      const int i = row / nz_, j = row % nz_;
+      if (row == col) {
+        if (active_[static_cast<size_t>(row)]) {
+          e.valueRef() = 1.0;
+        } else {
+          const double az = axial(i);
+          e.valueRef() = cond_theta_(i) + cond_theta_((i + nt_ - 1) % nt_) + (j > 0 ? az : 2.0 * az) +
+                         (j + 1 < nz_ ? az : (half_ ? 0.0 : 2.0 * az));
+        }
+        continue;
+      }
+      if (act) {
+        e.valueRef() = 0.0;
+        continue;
+      }
+      const int ic = col / nz_;
+      if (ic == i) {
+        e.valueRef() = -axial(i);
+      } else if (ic == (i + 1) % nt_) {
+        e.valueRef() = -cond_theta_(i);
+      } else {
+        e.valueRef() = -cond_theta_(ic);
+      }
+    }
+  }
+}
+
 FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
   if (!(spin_rad_s > 0.0)) throw std::invalid_argument("journal bearing: spin speed must be > 0 rad/s");
   if (!std::isfinite(s.x_m) || !std::isfinite(s.y_m) || !std::isfinite(s.vx_m_s) || !std::isfinite(s.vy_m_s))
     throw std::invalid_argument("journal bearing: journal state is not finite");
   assemble(s, spin_rad_s);
-  const double rl2 = (g_.bore_radius_m / g_.length_m) * (g_.bore_radius_m / g_.length_m);
+  ++counters_.solves;
   const int n = nt_ * nz_;
-
-  // Base (unconstrained) matrix entry for (row k, col m); also used for w = A p - b.
-  auto axial = [&](int i) { return rl2 * h_cell_(i) * h_cell_(i) * h_cell_(i) * dtheta_ / dzeta_; };
-  auto base_matvec = [&](const Eigen::VectorXd& p, Eigen::VectorXd& out) {
-    for (int i = 0; i < nt_; ++i) {
-      const int im = (i + nt_ - 1) % nt_, ip = (i + 1) % nt_;
-      const double az = axial(i);
-      const double upper_end = half_ ? 0.0 : 2.0 * az;
-      for (int j = 0; j < nz_; ++j) {
-        const int k = i * nz_ + j;
-        double d = cond_theta_(i) + cond_theta_(im);
-        double v = -cond_theta_(im) * p(im * nz_ + j) - cond_theta_(i) * p(ip * nz_ + j);
-        d += (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : upper_end);
-        if (j > 0) v -= az * p(k - 1);
-        if (j + 1 < nz_) v -= az * p(k + 1);
-        out(k) = d * p(k) + v;
-      }
-    }
-  };
 
   const bool lcp = o_.cavitation == Cavitation::reynolds;
   if (!lcp) std::fill(active_.begin(), active_.end(), 0);
@@ -182,49 +224,36 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
     pinned_row = static_cast<int>(imax);
     for (int j = 0; j < nz_; ++j) active_[static_cast<size_t>(pinned_row * nz_ + j)] = 1;
   }
+  // With reuse_factorisation, an iteration whose active set and journal position are those
+  // of the latest factorisation solves with it instead of factorising the same matrix again
+  // (a velocity step from the linearisation point's active set: only the right-hand side
+  // differs). The factorisation is a function of the matrix alone, so the result is the same.
+  const bool reuse = lcp && o_.reuse_factorisation;
   FilmForces f;
   int it = 0;
+  Eigen::VectorXd& b = b_;
   for (;;) {
     ++it;
-    // Fill the matrix: rows/columns of active cells become identity (p = 0 there).
-    for (int col = 0; col < n; ++col) {
-      for (Eigen::SparseMatrix<double>::InnerIterator e(a_, col); e; ++e) {
-        const int row = static_cast<int>(e.row());
-        const bool act = active_[static_cast<size_t>(row)] || active_[static_cast<size_t>(col)];
-        const int i = row / nz_, j = row % nz_;
-        if (row == col) {
-          if (active_[static_cast<size_t>(row)]) {
-            e.valueRef() = 1.0;
-          } else {
-            const double az = axial(i);
-            e.valueRef() = cond_theta_(i) + cond_theta_((i + nt_ - 1) % nt_) + (j > 0 ? az : 2.0 * az) +
-                           (j + 1 < nz_ ? az : (half_ ? 0.0 : 2.0 * az));
-          }
-          continue;
-        }
-        if (act) {
-          e.valueRef() = 0.0;
-          continue;
-        }
-        const int ic = col / nz_;
-        if (ic == i) {
-          e.valueRef() = -axial(i);
-        } else if (ic == (i + 1) % nt_) {
-          e.valueRef() = -cond_theta_(i);
-        } else {
-          e.valueRef() = -cond_theta_(ic);
-        }
-      }
-    }
-    Eigen::VectorXd b = rhs_;
+    ++counters_.iterations;
+    b = rhs_;
     for (int k = 0; k < n; ++k)
       if (active_[static_cast<size_t>(k)]) b(k) = 0.0;
-    if (!pattern_analysed_) {
-      ldlt_.analyzePattern(a_);
-      pattern_analysed_ = true;
+    const bool have = reuse && factored_valid_ && factored_x_m_ == s.x_m && factored_y_m_ == s.y_m &&
+                      factored_active_ == active_;
+    if (!have) {
+      fill_matrix();
+      if (!pattern_analysed_) {
+        ldlt_.analyzePattern(a_);
+        pattern_analysed_ = true;
+      }
+      ldlt_.factorize(a_);
+      ++counters_.factorisations;
+      if (ldlt_.info() != Eigen::Success) throw std::runtime_error("journal bearing: factorisation failed");
+      factored_valid_ = true;
+      factored_x_m_ = s.x_m;
+      factored_y_m_ = s.y_m;
+      factored_active_ = active_;
     }
-    ldlt_.factorize(a_);
-    if (ldlt_.info() != Eigen::Success) throw std::runtime_error("journal bearing: factorisation failed");
     p_ = ldlt_.solve(b);
     if (!lcp) break;
     // Primal-dual active set update with the multiplier w = A p - b.
@@ -286,7 +315,17 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
   d.fy0_n = f0.fy_n;
   const double dq = relative_step * solver.geometry().clearance_m;
   const double dv = dq * spin_rad_s;
-  for (int j = 0; j < 4; ++j) {
+  // With reuse_factorisation: the velocity steps first (the matrix is the linearisation
+  // point's, only the right-hand side changes), each step started from the linearisation
+  // point's active set, and the solver's state restored at the end instead of solved again.
+  // The forces are the same as in the plain order (each solve's result does not depend on
+  // its start).
+  const bool reuse = solver.o_.reuse_factorisation && solver.o_.cavitation == Cavitation::reynolds;
+  const std::vector<char> active0 = solver.active_;
+  const Eigen::VectorXd p0 = solver.p_;
+  const double scale0 = solver.pressure_scale_pa_;
+  const std::array<int, 4> order = reuse ? std::array<int, 4>{2, 3, 0, 1} : std::array<int, 4>{0, 1, 2, 3};
+  for (const int j : order) {
     JournalState sp = s, sm = s;
     double step = 0.0;
     switch (j) {
@@ -295,7 +334,9 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
       case 2: sp.vx_m_s += dv; sm.vx_m_s -= dv; step = dv; break;
       default: sp.vy_m_s += dv; sm.vy_m_s -= dv; step = dv; break;
     }
+    if (reuse) solver.active_ = active0;
     const FilmForces fp = solver.solve(sp, spin_rad_s);
+    if (reuse) solver.active_ = active0;
     const FilmForces fm = solver.solve(sm, spin_rad_s);
     const double gx = -(fp.fx_n - fm.fx_n) / (2.0 * step), gy = -(fp.fy_n - fm.fy_n) / (2.0 * step);
     if (j < 2) {
@@ -306,7 +347,14 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
       d.damping_n_s_per_m(1, j - 2) = gy;
     }
   }
-  solver.solve(s, spin_rad_s);  // leave the solver at the linearisation point
+  if (reuse) {
+    // Leave the solver at the linearisation point: its pressure and active set.
+    solver.active_ = active0;
+    solver.p_ = p0;
+    solver.pressure_scale_pa_ = scale0;
+  } else {
+    solver.solve(s, spin_rad_s);  // leave the solver at the linearisation point
+  }
   return d;
 }
 
