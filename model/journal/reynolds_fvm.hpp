@@ -67,15 +67,21 @@ struct ReynoldsOptions {
   /// mid-plane): the film of an untilted journal is symmetric, so the discrete solution is the
   /// full grid's at half the unknowns (2-4x faster). false: the full width (for the check).
   bool midplane_symmetry = true;
-  /// Speed (reynolds cavitation only; the result does not change): an active-set iteration
-  /// whose set and journal position are those of the solver's latest factorisation solves
-  /// with it instead of factorising the same matrix again, and perturbation_coefficients
-  /// takes the velocity steps first, each step from the linearisation point's active set,
-  /// and restores the solver's state at the end instead of solving the point again. The
-  /// matrix is a function of the position and the active set, the factorisation a function
-  /// of the matrix, and the complementarity problem's solution is unique: the result is the
-  /// one of false bit for bit (tests/journal/reynolds_test.cpp). false: every iteration
-  /// factorises, the plain order (the reference).
+  /// Speed (reynolds cavitation only; the result does not change, tests/journal/
+  /// reynolds_reuse_test.cpp):
+  ///  - after an active-set iteration that changed the set, the next set is guessed by
+  ///    projected Gauss-Seidel sweeps from the latest iterate (up to 100, alternately along
+  ///    and against the spin, until two sweeps move no cell across p = 0): the full film
+  ///    grows by one cell per plain iteration, a sweep carries it along the circumference;
+  ///  - an iteration whose set and journal position are those of the latest factorisation
+  ///    solves with it instead of factorising the same matrix again;
+  ///  - perturbation_coefficients takes the velocity steps first, each step from the
+  ///    linearisation point's active set, and restores the solver's state at the end
+  ///    instead of solving the point again.
+  /// Every solve still ends with an exact factorisation whose set is self-consistent; the
+  /// matrix is a function of the position and the active set, the factorisation of the
+  /// matrix, and the complementarity problem's solution is unique: the result is that of
+  /// false bit for bit. false: every iteration factorises, plain order (the reference).
   bool reuse_factorisation = true;
   /// Empty when valid, else the reason.
   const char* check() const;
@@ -135,6 +141,8 @@ class ReynoldsSolver {
   void assemble(const JournalState& s, double spin_rad_s);
   // Fill a_ for the current active set (rows/columns of active cells become identity).
   void fill_matrix();
+  // Guess the next active set from projected Gauss-Seidel sweeps (reuse_factorisation).
+  void predict_active_set(int pinned_row);
   // (A p) with the unconstrained matrix (used for the multiplier w = A p - b).
   void base_matvec(const Eigen::VectorXd& p, Eigen::VectorXd& out) const;
   double axial(int i) const;
