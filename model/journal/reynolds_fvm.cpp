@@ -9,6 +9,7 @@
 namespace amb::model::journal {
 namespace {
 constexpr double k_two_pi = 2.0 * M_PI;
+constexpr int k_predicted_iterations = 8;  // active-set iterations that take the sweeps' guess
 
 void gauss_legendre_01(int n, std::vector<double>& x, std::vector<double>& w) {
   // Nodes and weights on [0, 1].
@@ -310,7 +311,9 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
       f.converged = false;
       break;
     }
-    if (reuse) predict_active_set(pinned_row);
+    // The guess for the first iterations only: from there on the plain update, which
+    // terminates from any start (A is an M-matrix).
+    if (reuse && it < k_predicted_iterations) predict_active_set(pinned_row);
   }
   f.active_set_iterations = it;
   if (o_.cavitation != Cavitation::none)

@@ -72,7 +72,8 @@ struct ReynoldsOptions {
   ///  - after an active-set iteration that changed the set, the next set is guessed by
   ///    projected Gauss-Seidel sweeps from the latest iterate (up to 100, alternately along
   ///    and against the spin, until two sweeps move no cell across p = 0): the full film
-  ///    grows by one cell per plain iteration, a sweep carries it along the circumference;
+  ///    grows by one cell per plain iteration, a sweep carries it along the circumference
+  ///    (the first 8 iterations of a solve; then the plain update, which terminates);
   ///  - an iteration whose set and journal position are those of the latest factorisation
   ///    solves with it instead of factorising the same matrix again;
   ///  - perturbation_coefficients takes the velocity steps first, each step from the
