@@ -70,10 +70,11 @@ TEST(ReynoldsReuse, CoefficientsAreThePlainSolversBitForBit) {
         const JournalState t{0.05 * k_bearing.clearance_m, -0.9 * eps * k_bearing.clearance_m, 0.0, 0.0};
         EXPECT_EQ(ref.solve(t, k_spin).fx_n, moved.solve(t, k_spin).fx_n);
       }
-      // The point of it: fewer factorisations (printed for docs/journal-bearing.md).
+      // The point of it: fewer factorisations (printed for docs/journal-bearing.md). Measured
+      // 0.50-0.71 of the plain count here; without the sweeps' guess 0.82-0.92.
       std::printf("grid %d x %d, e %.1f: %ld factorisations plain, %ld reused (%ld active-set iterations)\n", grid[0],
                   grid[1], eps, plain_factorisations, moved.counters().factorisations, moved.counters().iterations);
-      EXPECT_LT(moved.counters().factorisations, plain_factorisations);
+      EXPECT_LE(static_cast<double>(moved.counters().factorisations), 0.75 * static_cast<double>(plain_factorisations));
     }
 }
 
@@ -100,4 +101,24 @@ TEST(ReynoldsReuse, AVelocityStepFromTheConvergedSetDoesNotFactorise) {
   q.x_m += 1e-9;
   s.solve(q, k_spin);
   EXPECT_GT(s.counters().factorisations, f0);
+}
+
+TEST(ReynoldsReuse, AnotherWearIsNotSolvedWithTheLastWearsFactorisation) {
+  // The same position and (for a tiny change of wear) the same active set: only the wear tells
+  // the two matrices apart.
+  ReynoldsOptions o;
+  o.cells_theta = 72;
+  o.cells_axial = 12;
+  const WearParams w1{WearModel::elliptical, 46.5e-6, 23.0 * k_deg, 77.0 * k_deg};
+  const WearParams w2{WearModel::elliptical, 46.6e-6, 23.0 * k_deg, 77.0 * k_deg};
+  const JournalState p{0.0, -0.4 * k_bearing.clearance_m, 0.0, 0.0};
+  ReynoldsSolver moved(k_bearing, w1, o);
+  moved.solve(p, k_spin);
+  moved.set_wear(w2);
+  const FilmForces a = moved.solve(p, k_spin);
+  o.reuse_factorisation = false;
+  ReynoldsSolver ref(k_bearing, w2, o);
+  const FilmForces b = ref.solve(p, k_spin);
+  EXPECT_EQ(a.fx_n, b.fx_n);
+  EXPECT_EQ(a.fy_n, b.fy_n);
 }
