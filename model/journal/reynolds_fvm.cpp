@@ -9,6 +9,7 @@
 namespace amb::model::journal {
 namespace {
 constexpr double k_two_pi = 2.0 * M_PI;
+constexpr int k_predicted_iterations = 8;  // active-set iterations that take the sweeps' guess
 
 void gauss_legendre_01(int n, std::vector<double>& x, std::vector<double>& w) {
   // Nodes and weights on [0, 1].
@@ -73,6 +74,7 @@ ReynoldsSolver::ReynoldsSolver(const BearingGeometry& g, const WearParams& wear,
   rhs_ = Eigen::VectorXd::Zero(n);
   p_ = Eigen::VectorXd::Zero(n);
   w_ = Eigen::VectorXd::Zero(n);
+  b_ = Eigen::VectorXd::Zero(n);
   active_.assign(static_cast<size_t>(n), 0);
 
   // Five-point pattern, periodic in theta: row k = i * nz + j.
@@ -90,6 +92,11 @@ ReynoldsSolver::ReynoldsSolver(const BearingGeometry& g, const WearParams& wear,
   a_.resize(n, n);
   a_.setFromTriplets(t.begin(), t.end());
   a_.makeCompressed();
+}
+
+void ReynoldsSolver::set_wear(const WearParams& wear) {
+  wear_ = WearShape(wear, g_.bore_radius_m, g_.clearance_m);
+  factored_valid_ = false;  // the matrix depends on the film, so on the wear
 }
 
 double ReynoldsSolver::theta_rad(int i) const { return (i + 0.5) * dtheta_; }
@@ -145,32 +152,105 @@ void ReynoldsSolver::assemble(const JournalState& s, double spin_rad_s) {
   }
 }
 
-FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
-  if (!(spin_rad_s > 0.0)) throw std::invalid_argument("journal bearing: spin speed must be > 0 rad/s");
-  if (!std::isfinite(s.x_m) || !std::isfinite(s.y_m) || !std::isfinite(s.vx_m_s) || !std::isfinite(s.vy_m_s))
-    throw std::invalid_argument("journal bearing: journal state is not finite");
-  assemble(s, spin_rad_s);
+double ReynoldsSolver::axial(int i) const {
   const double rl2 = (g_.bore_radius_m / g_.length_m) * (g_.bore_radius_m / g_.length_m);
-  const int n = nt_ * nz_;
+  return rl2 * h_cell_(i) * h_cell_(i) * h_cell_(i) * dtheta_ / dzeta_;
+}
 
-  // Base (unconstrained) matrix entry for (row k, col m); also used for w = A p - b.
-  auto axial = [&](int i) { return rl2 * h_cell_(i) * h_cell_(i) * h_cell_(i) * dtheta_ / dzeta_; };
-  auto base_matvec = [&](const Eigen::VectorXd& p, Eigen::VectorXd& out) {
-    for (int i = 0; i < nt_; ++i) {
+void ReynoldsSolver::base_matvec(const Eigen::VectorXd& p, Eigen::VectorXd& out) const {
+  for (int i = 0; i < nt_; ++i) {
+    const int im = (i + nt_ - 1) % nt_, ip = (i + 1) % nt_;
+    const double az = axial(i);
+    const double upper_end = half_ ? 0.0 : 2.0 * az;
+    for (int j = 0; j < nz_; ++j) {
+      const int k = i * nz_ + j;
+      double d = cond_theta_(i) + cond_theta_(im);
+      double v = -cond_theta_(im) * p(im * nz_ + j) - cond_theta_(i) * p(ip * nz_ + j);
+      d += (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : upper_end);
+      if (j > 0) v -= az * p(k - 1);
+      if (j + 1 < nz_) v -= az * p(k + 1);
+      out(k) = d * p(k) + v;
+    }
+  }
+}
+
+void ReynoldsSolver::predict_active_set(int pinned_row) {
+  // Projected Gauss-Seidel sweeps on the complementarity problem from the latest iterate,
+  // alternately along and against the spin: the full film grows by one cell per active-set
+  // iteration (a cavitated cell's multiplier changes sign only next to the full film), but
+  // a sweep carries it along the circumference in one pass. The next iteration starts from
+  // the cells the sweeps leave at p = 0: a guess only; the iteration still ends with an
+  // exact solve whose set is self-consistent.
+  const int n = nt_ * nz_;
+  for (int k = 0; k < n; ++k) w_(k) = active_[static_cast<size_t>(k)] ? 0.0 : std::max(0.0, p_(k));
+  int quiet = 0;  // consecutive sweeps that moved no cell across p = 0
+  constexpr int max_sweeps = 100;
+  for (int sweep = 0; sweep < max_sweeps && quiet < 2; ++sweep) {
+    const bool forward = sweep % 2 == 0;
+    int moved = 0;
+    for (int ii = 0; ii < nt_; ++ii) {
+      const int i = forward ? ii : nt_ - 1 - ii;
+      if (i == pinned_row) continue;
       const int im = (i + nt_ - 1) % nt_, ip = (i + 1) % nt_;
       const double az = axial(i);
       const double upper_end = half_ ? 0.0 : 2.0 * az;
       for (int j = 0; j < nz_; ++j) {
         const int k = i * nz_ + j;
-        double d = cond_theta_(i) + cond_theta_(im);
-        double v = -cond_theta_(im) * p(im * nz_ + j) - cond_theta_(i) * p(ip * nz_ + j);
-        d += (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : upper_end);
-        if (j > 0) v -= az * p(k - 1);
-        if (j + 1 < nz_) v -= az * p(k + 1);
-        out(k) = d * p(k) + v;
+        const double d = cond_theta_(i) + cond_theta_(im) + (j > 0 ? az : 2.0 * az) + (j + 1 < nz_ ? az : upper_end);
+        double v = rhs_(k) + cond_theta_(im) * w_(im * nz_ + j) + cond_theta_(i) * w_(ip * nz_ + j);
+        if (j > 0) v += az * w_(k - 1);
+        if (j + 1 < nz_) v += az * w_(k + 1);
+        const double pk = std::max(0.0, v / d);
+        moved += (pk > 0.0) != (w_(k) > 0.0);
+        w_(k) = pk;
       }
     }
-  };
+    quiet = moved == 0 ? quiet + 1 : 0;
+  }
+  for (int k = 0; k < n; ++k)
+    if (k / nz_ != pinned_row) active_[static_cast<size_t>(k)] = w_(k) > 0.0 ? 0 : 1;
+}
+
+void ReynoldsSolver::fill_matrix() {
+  const int n = nt_ * nz_;
+  for (int col = 0; col < n; ++col) {
+    for (Eigen::SparseMatrix<double>::InnerIterator e(a_, col); e; ++e) {
+      const int row = static_cast<int>(e.row());
+      const bool act = active_[static_cast<size_t>(row)] || active_[static_cast<size_t>(col)];
+      const int i = row / nz_, j = row % nz_;
+      if (row == col) {
+        if (active_[static_cast<size_t>(row)]) {
+          e.valueRef() = 1.0;
+        } else {
+          const double az = axial(i);
+          e.valueRef() = cond_theta_(i) + cond_theta_((i + nt_ - 1) % nt_) + (j > 0 ? az : 2.0 * az) +
+                         (j + 1 < nz_ ? az : (half_ ? 0.0 : 2.0 * az));
+        }
+        continue;
+      }
+      if (act) {
+        e.valueRef() = 0.0;
+        continue;
+      }
+      const int ic = col / nz_;
+      if (ic == i) {
+        e.valueRef() = -axial(i);
+      } else if (ic == (i + 1) % nt_) {
+        e.valueRef() = -cond_theta_(i);
+      } else {
+        e.valueRef() = -cond_theta_(ic);
+      }
+    }
+  }
+}
+
+FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
+  if (!(spin_rad_s > 0.0)) throw std::invalid_argument("journal bearing: spin speed must be > 0 rad/s");
+  if (!std::isfinite(s.x_m) || !std::isfinite(s.y_m) || !std::isfinite(s.vx_m_s) || !std::isfinite(s.vy_m_s))
+    throw std::invalid_argument("journal bearing: journal state is not finite");
+  assemble(s, spin_rad_s);
+  ++counters_.solves;
+  const int n = nt_ * nz_;
 
   const bool lcp = o_.cavitation == Cavitation::reynolds;
   if (!lcp) std::fill(active_.begin(), active_.end(), 0);
@@ -182,49 +262,36 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
     pinned_row = static_cast<int>(imax);
     for (int j = 0; j < nz_; ++j) active_[static_cast<size_t>(pinned_row * nz_ + j)] = 1;
   }
+  // With reuse_factorisation, an iteration whose active set and journal position are those
+  // of the latest factorisation solves with it instead of factorising the same matrix again
+  // (a velocity step from the linearisation point's active set: only the right-hand side
+  // differs). The factorisation is a function of the matrix alone, so the result is the same.
+  const bool reuse = lcp && o_.reuse_factorisation;
   FilmForces f;
   int it = 0;
+  Eigen::VectorXd& b = b_;
   for (;;) {
     ++it;
-    // Fill the matrix: rows/columns of active cells become identity (p = 0 there).
-    for (int col = 0; col < n; ++col) {
-      for (Eigen::SparseMatrix<double>::InnerIterator e(a_, col); e; ++e) {
-        const int row = static_cast<int>(e.row());
-        const bool act = active_[static_cast<size_t>(row)] || active_[static_cast<size_t>(col)];
-        const int i = row / nz_, j = row % nz_;
-        if (row == col) {
-          if (active_[static_cast<size_t>(row)]) {
-            e.valueRef() = 1.0;
-          } else {
-            const double az = axial(i);
-            e.valueRef() = cond_theta_(i) + cond_theta_((i + nt_ - 1) % nt_) + (j > 0 ? az : 2.0 * az) +
-                           (j + 1 < nz_ ? az : (half_ ? 0.0 : 2.0 * az));
-          }
-          continue;
-        }
-        if (act) {
-          e.valueRef() = 0.0;
-          continue;
-        }
-        const int ic = col / nz_;
-        if (ic == i) {
-          e.valueRef() = -axial(i);
-        } else if (ic == (i + 1) % nt_) {
-          e.valueRef() = -cond_theta_(i);
-        } else {
-          e.valueRef() = -cond_theta_(ic);
-        }
-      }
-    }
-    Eigen::VectorXd b = rhs_;
+    ++counters_.iterations;
+    b = rhs_;
     for (int k = 0; k < n; ++k)
       if (active_[static_cast<size_t>(k)]) b(k) = 0.0;
-    if (!pattern_analysed_) {
-      ldlt_.analyzePattern(a_);
-      pattern_analysed_ = true;
+    const bool have = reuse && factored_valid_ && factored_x_m_ == s.x_m && factored_y_m_ == s.y_m &&
+                      factored_active_ == active_;
+    if (!have) {
+      fill_matrix();
+      if (!pattern_analysed_) {
+        ldlt_.analyzePattern(a_);
+        pattern_analysed_ = true;
+      }
+      ldlt_.factorize(a_);
+      ++counters_.factorisations;
+      if (ldlt_.info() != Eigen::Success) throw std::runtime_error("journal bearing: factorisation failed");
+      factored_valid_ = true;
+      factored_x_m_ = s.x_m;
+      factored_y_m_ = s.y_m;
+      factored_active_ = active_;
     }
-    ldlt_.factorize(a_);
-    if (ldlt_.info() != Eigen::Success) throw std::runtime_error("journal bearing: factorisation failed");
     p_ = ldlt_.solve(b);
     if (!lcp) break;
     // Primal-dual active set update with the multiplier w = A p - b.
@@ -244,6 +311,9 @@ FilmForces ReynoldsSolver::solve(const JournalState& s, double spin_rad_s) {
       f.converged = false;
       break;
     }
+    // The guess for the first iterations only: from there on the plain update, which
+    // terminates from any start (A is an M-matrix).
+    if (reuse && it < k_predicted_iterations) predict_active_set(pinned_row);
   }
   f.active_set_iterations = it;
   if (o_.cavitation != Cavitation::none)
@@ -286,7 +356,17 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
   d.fy0_n = f0.fy_n;
   const double dq = relative_step * solver.geometry().clearance_m;
   const double dv = dq * spin_rad_s;
-  for (int j = 0; j < 4; ++j) {
+  // With reuse_factorisation: the velocity steps first (the matrix is the linearisation
+  // point's, only the right-hand side changes), each step started from the linearisation
+  // point's active set, and the solver's state restored at the end instead of solved again.
+  // The forces are the same as in the plain order (each solve's result does not depend on
+  // its start).
+  const bool reuse = solver.o_.reuse_factorisation && solver.o_.cavitation == Cavitation::reynolds;
+  const std::vector<char> active0 = solver.active_;
+  const Eigen::VectorXd p0 = solver.p_;
+  const double scale0 = solver.pressure_scale_pa_;
+  const std::array<int, 4> order = reuse ? std::array<int, 4>{2, 3, 0, 1} : std::array<int, 4>{0, 1, 2, 3};
+  for (const int j : order) {
     JournalState sp = s, sm = s;
     double step = 0.0;
     switch (j) {
@@ -295,7 +375,9 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
       case 2: sp.vx_m_s += dv; sm.vx_m_s -= dv; step = dv; break;
       default: sp.vy_m_s += dv; sm.vy_m_s -= dv; step = dv; break;
     }
+    if (reuse) solver.active_ = active0;
     const FilmForces fp = solver.solve(sp, spin_rad_s);
+    if (reuse) solver.active_ = active0;
     const FilmForces fm = solver.solve(sm, spin_rad_s);
     const double gx = -(fp.fx_n - fm.fx_n) / (2.0 * step), gy = -(fp.fy_n - fm.fy_n) / (2.0 * step);
     if (j < 2) {
@@ -306,7 +388,14 @@ DynamicCoefficients perturbation_coefficients(ReynoldsSolver& solver, const Jour
       d.damping_n_s_per_m(1, j - 2) = gy;
     }
   }
-  solver.solve(s, spin_rad_s);  // leave the solver at the linearisation point
+  if (reuse) {
+    // Leave the solver at the linearisation point: its pressure and active set.
+    solver.active_ = active0;
+    solver.p_ = p0;
+    solver.pressure_scale_pa_ = scale0;
+  } else {
+    solver.solve(s, spin_rad_s);  // leave the solver at the linearisation point
+  }
   return d;
 }
 

@@ -67,6 +67,23 @@ struct ReynoldsOptions {
   /// mid-plane): the film of an untilted journal is symmetric, so the discrete solution is the
   /// full grid's at half the unknowns (2-4x faster). false: the full width (for the check).
   bool midplane_symmetry = true;
+  /// Speed (reynolds cavitation only; the result does not change, tests/journal/
+  /// reynolds_reuse_test.cpp):
+  ///  - after an active-set iteration that changed the set, the next set is guessed by
+  ///    projected Gauss-Seidel sweeps from the latest iterate (up to 100, alternately along
+  ///    and against the spin, until two sweeps move no cell across p = 0): the full film
+  ///    grows by one cell per plain iteration, a sweep carries it along the circumference
+  ///    (the first 8 iterations of a solve; then the plain update, which terminates);
+  ///  - an iteration whose set and journal position are those of the latest factorisation
+  ///    solves with it instead of factorising the same matrix again;
+  ///  - perturbation_coefficients takes the velocity steps first, each step from the
+  ///    linearisation point's active set, and restores the solver's state at the end
+  ///    instead of solving the point again.
+  /// Every solve still ends with an exact factorisation whose set is self-consistent; the
+  /// matrix is a function of the position and the active set, the factorisation of the
+  /// matrix, and the complementarity problem's solution is unique: the result is that of
+  /// false bit for bit. false: every iteration factorises, plain order (the reference).
+  bool reuse_factorisation = true;
   /// Empty when valid, else the reason.
   const char* check() const;
 };
@@ -85,6 +102,8 @@ struct FilmForces {
   bool converged = true;              ///< false: active-set iteration limit hit
 };
 
+struct DynamicCoefficients;
+
 class ReynoldsSolver {
  public:
   /// Throws std::invalid_argument naming what is wrong (geometry, wear, options).
@@ -94,6 +113,20 @@ class ReynoldsSolver {
   /// if the journal touches the bore (film <= 0 somewhere) or the speed is not positive.
   /// The active set of the previous call is the starting guess (warm start).
   FilmForces solve(const JournalState& s, double spin_rad_s);
+
+  /// Another wear of the same bore (geometry and grid unchanged): the next solve starts from
+  /// this solver's active set (warm start; the result does not depend on the start) and
+  /// reuses the symbolic analysis of the grid. Throws std::invalid_argument as the
+  /// constructor for an invalid wear (the solver is then unchanged).
+  void set_wear(const WearParams& wear);
+
+  /// Work counters since construction (speed measurements; tests/bench).
+  struct Counters {
+    long solves = 0;            ///< solve() calls
+    long iterations = 0;        ///< active-set iterations
+    long factorisations = 0;    ///< sparse LDL^T factorisations
+  };
+  const Counters& counters() const { return counters_; }
 
   /// Pressure of the last solve, Pa, N_theta x N_axial (rows: theta cells).
   Eigen::MatrixXd pressure_pa() const;
@@ -107,7 +140,14 @@ class ReynoldsSolver {
 
  private:
   void assemble(const JournalState& s, double spin_rad_s);
-  void factor_and_solve();
+  // Fill a_ for the current active set (rows/columns of active cells become identity).
+  void fill_matrix();
+  // Guess the next active set from projected Gauss-Seidel sweeps (reuse_factorisation).
+  void predict_active_set(int pinned_row);
+  // (A p) with the unconstrained matrix (used for the multiplier w = A p - b).
+  void base_matvec(const Eigen::VectorXd& p, Eigen::VectorXd& out) const;
+  double axial(int i) const;
+  friend DynamicCoefficients perturbation_coefficients(ReynoldsSolver&, const JournalState&, double, double);
 
   BearingGeometry g_;
   WearShape wear_;
@@ -124,6 +164,13 @@ class ReynoldsSolver {
   Eigen::SparseMatrix<double> a_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
   bool pattern_analysed_ = false;
+  // The latest factorisation: its active set and journal position (the matrix depends on the
+  // position and the active set only); valid = false before the first one.
+  bool factored_valid_ = false;
+  double factored_x_m_ = 0.0, factored_y_m_ = 0.0;
+  std::vector<char> factored_active_;
+  Eigen::VectorXd b_;                          // right-hand side of the current active set
+  Counters counters_;
 };
 
 /// Linearised film force about a journal state (seed 002 eq. 22-23), rotordynamic sign

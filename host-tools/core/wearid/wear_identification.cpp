@@ -119,15 +119,30 @@ class Evaluator {
   }
 
   /// Film grid of the forward model (default: the board's).
-  void set_grid(const mj::ReynoldsOptions& g) { grid_ = g; }
+  void set_grid(const mj::ReynoldsOptions& g) {
+    grid_ = g;
+    solvers_.clear();
+  }
   const mj::ReynoldsOptions& grid() const { return grid_; }
   /// Defect correction (linear film only): added to the coefficients of every evaluation of
   /// record `rec` (the fine grid's minus this grid's, at one wear). Empty: none.
   void set_correction(std::vector<mj::DynamicCoefficients> c) { correction_ = std::move(c); }
   /// The film's static force and coefficients of record `rec` at a wear, on this grid.
   mj::DynamicCoefficients coefficients(const mj::WearParams& w, size_t rec) const {
-    mj::ReynoldsSolver s(b_.journal.geometry, w, grid_);
-    return mj::perturbation_coefficients(s, ms_[rec].journal, 2.0 * M_PI * ms_[rec].speed_hz);
+    return mj::perturbation_coefficients(solver_for(w, rec), ms_[rec].journal, 2.0 * M_PI * ms_[rec].speed_hz);
+  }
+  /// Record rec's film solver on this grid, set to wear w. With the grid's reuse_factorisation
+  /// (the default) one solver per record is kept and moved from wear to wear (its active set
+  /// is the next solve's start and the grid's symbolic analysis is kept: speed only, the
+  /// result does not depend on either); without, a new one each time (the reference).
+  mj::ReynoldsSolver& solver_for(const mj::WearParams& w, size_t rec) const {
+    if (solvers_.size() != ms_.size()) solvers_.resize(ms_.size());
+    std::unique_ptr<mj::ReynoldsSolver>& s = solvers_[rec];
+    if (s && grid_.reuse_factorisation)
+      s->set_wear(w);
+    else
+      s = std::make_unique<mj::ReynoldsSolver>(b_.journal.geometry, w, grid_);
+    return *s;
   }
 
   // The defect correction (refined grid minus board grid, renewed at the polish points) added
@@ -142,7 +157,7 @@ class Evaluator {
   }
 
   std::array<FullSpectrum, 3> spectra(const mj::WearParams& w, size_t rec = 0) {
-    mj::ReynoldsSolver s(b_.journal.geometry, w, grid_);
+    mj::ReynoldsSolver& s = solver_for(w, rec);
     const JournalMeasurement& m = ms_[rec];
     const double spin = 2.0 * M_PI * m.speed_hz;
     mj::DynamicCoefficients d = mj::perturbation_coefficients(s, m.journal, spin);
@@ -237,7 +252,7 @@ class Evaluator {
     if (full_ || !(rel > 0.0)) return out;
     size_t base = 0;
     for (size_t rec = 0; rec < ms_.size(); ++rec) {
-      mj::ReynoldsSolver s(b_.journal.geometry, w, grid_);
+      mj::ReynoldsSolver& s = solver_for(w, rec);
       const JournalMeasurement& m = ms_[rec];
       mj::DynamicCoefficients d = mj::perturbation_coefficients(s, m.journal, 2.0 * M_PI * m.speed_hz);
       add_correction(d, rec);
@@ -278,6 +293,7 @@ class Evaluator {
   mj::ReynoldsOptions grid_;
   std::vector<mj::DynamicCoefficients> correction_;
   std::vector<double> film_sigma_;
+  mutable std::vector<std::unique_ptr<mj::ReynoldsSolver>> solvers_;  // per record (solver_for)
   int n_ = 3;
   bool planes_ = false, full_ = false, second_ = false;
 };
