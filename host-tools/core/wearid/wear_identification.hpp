@@ -6,7 +6,10 @@
 // scale, as the targets are relative) picks the starting
 // points (the grid's local minima first, then other non-adjacent points), then NLopt's
 // BOBYQA (bounded, derivative-free local optimiser) polishes each, restarted from its end
-// point while that still gains; the best polish wins. Cost: eq. 24 normalised by the measured spectrum,
+// point while that still gains. With the grid refinement (issue 33) a second such stage runs on a
+// finer grid, the polishes' distinct end points (valleys) are polished on the refined grid, and
+// the valley of lowest chi-square (the statistic the verdict uses, valley_ranking.hpp) wins.
+// Cost: eq. 24 normalised by the measured spectrum,
 //   cost = 1/2 sum_c |Z_c(model) - Z_c(measured)|^2 / (|Z+|^2 + |Z-|^2)_measured.
 // Uncertainty (1 sigma): the measured components' noise propagated through the Jacobian of
 // the residuals at the optimum, cov = sigma^2 (J^T J)^-1 (Gauss-Newton).
