@@ -50,6 +50,8 @@ void BM_WearIdConverged(benchmark::State& state) {
   state.counters["profile_s"] = r.profile_wall_s;
   state.counters["profile_restarts"] = r.profile_restarts;
   state.counters["identified"] = r.identified ? 1 : 0;
+  state.counters["intermediate_evaluations"] = r.intermediate_evaluations;
+  state.counters["valleys"] = static_cast<double>(r.valleys.size());
   state.counters["d0_err_pct"] = 100.0 * (r.d0_um / 46.5 - 1.0);
   state.counters["gamma_err_deg"] = r.gamma_deg - 23.0;
   state.counters["beta_err_pct"] = 100.0 * (r.beta_deg / 77.0 - 1.0);

@@ -10,6 +10,7 @@
 // Run: build/tests/journal/journal_wear_id_independent_tests
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
@@ -96,8 +97,9 @@ bool truth_in_an_acceptable_valley(const Wear& w, const wi::WearIdResult& r) {
 
 // For the record only (the identification is never told): the chi2 the truth has on the
 // result's refined grid, with the result's sigma (noise and the film's K/C error at the best,
-// as identify_wear computes it; one record). Printed beside the level.
-void print_truth_chi2(const board::BoardConfig& b, const std::vector<wi::JournalMeasurement>& ms, const Wear& w,
+// as identify_wear computes it; one record). Printed beside the level. Returns the truth's
+// cost on that grid.
+double print_truth_chi2(const board::BoardConfig& b, const std::vector<wi::JournalMeasurement>& ms, const Wear& w,
                       const wi::WearIdResult& r) {
   board::BoardConfig fine = b;
   fine.journal.grid.cells_theta = r.grid_theta;
@@ -118,6 +120,20 @@ void print_truth_chi2(const board::BoardConfig& b, const std::vector<wi::Journal
   for (int k = 0; k < 4; ++k) chi2 += res[k] * res[k] / (sn * sn + film[static_cast<size_t>(k)] * film[static_cast<size_t>(k)]);
   std::printf("  truth on the %d x %d grid: cost %.3g (best %.3g): chi2 %.3g against the level %.3g\n", r.grid_theta,
               r.grid_axial, ct, cb, chi2, r.chi2_min + r.chi2_scale * r.chi2_level);
+  return ct;
+}
+
+// Issue 33, fifth round: the valleys are ranked by chi2 (the statistic the verdict uses), best
+// first, and the result is the first.
+void expect_ranked_by_chi2(const wi::WearIdResult& r) {
+  ASSERT_FALSE(r.valleys.empty());
+  EXPECT_EQ(r.valleys.front().chi2, r.chi2_min);
+  EXPECT_EQ(r.valleys.front().d0_um, r.d0_um);
+  EXPECT_EQ(r.valleys.front().gamma_deg, r.gamma_deg);
+  for (size_t k = 1; k < r.valleys.size(); ++k)
+    if (std::isfinite(r.valleys[k].chi2)) {
+      EXPECT_LE(r.valleys[k - 1].chi2, r.valleys[k].chi2) << "valley " << k;
+    }
 }
 
 void print_valleys(const wi::WearIdResult& r) {
@@ -152,6 +168,7 @@ void check_e01(int index) {
   const wi::WearIdResult r01 = wi::identify_wear(b, record(index, 0.1, "alone"), options());
   print("e 0.1", w, r01);
   print_valleys(r01);
+  expect_ranked_by_chi2(r01);
   EXPECT_TRUE(within(w, r01)) << w.tag;
   EXPECT_TRUE(r01.grid_converged);
 }
@@ -166,7 +183,15 @@ void check_e07(int index) {
   const wi::WearIdResult r07 = wi::identify_wear(b, m07, options());
   print("e 0.7", w, r07);
   print_valleys(r07);
-  print_truth_chi2(b, {m07}, w, r07);
+  const double truth_cost = print_truth_chi2(b, {m07}, w, r07);
+  expect_ranked_by_chi2(r07);
+  // A complete search (issue 33, fifth round): some valley's cost, on the result's refined grid,
+  // is no higher than the truth's (the polishes minimise that cost over the whole box; the
+  // identification is never told the truth, this test is). Before the second global stage,
+  // wear 3's best valley had 9.3e-6 against the truth's 1.14e-6.
+  double lowest = INFINITY;
+  for (const wi::WearValley& v : r07.valleys) lowest = std::min(lowest, v.cost);
+  EXPECT_LE(lowest, truth_cost * 1.01) << w.tag << ": the search missed a valley lower than the truth's cost";
   // The reported intervals are the hull of the acceptable valleys' profile intervals; whether
   // the truth also lies in one valley's own region is printed (docs/journal-bearing.md).
   std::printf("  e = 0.7 %s: truth in the reported intervals %d, in one acceptable valley's region %d\n", w.tag,
@@ -188,6 +213,7 @@ void check_joint(int index) {
   const wi::WearIdResult rj = wi::identify_wear(b, std::vector<wi::JournalMeasurement>{m07, m01}, options());
   print("joint", w, rj);
   print_valleys(rj);
+  expect_ranked_by_chi2(rj);
   EXPECT_TRUE(within(w, rj)) << w.tag;
 }
 }  // namespace

@@ -91,3 +91,40 @@ TEST(WearIdLevel, NoBirgeScalingFromOneDegreeOfFreedom) {
   EXPECT_EQ(r.chi2_scale, 1.0);
   EXPECT_EQ(r.chi2_film_error, 0.0);  // board grid: no refinement, no film error term
 }
+
+// Issue 33, fifth round: valleys are chosen and ranked by the chi-square the verdict uses, whose
+// film-error sigma is taken at the best valley. The lowest-cost valley (0) is where the sigma is
+// taken first; with it, valley 2 has the lowest chi2, so the sigma is retaken there and the
+// chi2 recomputed; valley 2 stays the lowest (a fixed point): it is the best.
+TEST(WearIdLevel, ValleysAreRankedByTheChi2WithTheSigmaAtTheBest) {
+  std::vector<size_t> sigma_taken;
+  const auto chi2_with_sigma_at = [&](size_t at) {
+    sigma_taken.push_back(at);
+    if (at == 0) return std::vector<double>{5.0, 9.0, 2.0, INFINITY};
+    return std::vector<double>{6.0, 3.0, 1.5, INFINITY};
+  };
+  const wi::ValleyRanking r = wi::rank_valleys_by_chi2(4, 0, chi2_with_sigma_at);
+  ASSERT_EQ(r.order.size(), 4u);
+  EXPECT_EQ(r.order, (std::vector<size_t>{2, 1, 0, 3}));  // chi2 1.5, 3, 6, then the unrepresentable one
+  EXPECT_EQ(r.sigma_at, 2u);
+  EXPECT_TRUE(r.fixed_point);
+  EXPECT_EQ(r.passes, 2);
+  EXPECT_EQ(sigma_taken, (std::vector<size_t>{0, 2}));
+  EXPECT_EQ(r.chi2, (std::vector<double>{6.0, 3.0, 1.5, INFINITY}));
+}
+
+// The lowest-cost valley is already the lowest chi2: one pass. A sigma that sends the best back
+// and forth stops after max_passes, not a fixed point. Bad arguments are refused.
+TEST(WearIdLevel, ValleyRankingStopsAtAFixedPointOrAfterItsPasses) {
+  const wi::ValleyRanking one = wi::rank_valleys_by_chi2(2, 0, [](size_t) { return std::vector<double>{1.0, 2.0}; });
+  EXPECT_EQ(one.passes, 1);
+  EXPECT_TRUE(one.fixed_point);
+  EXPECT_EQ(one.order, (std::vector<size_t>{0, 1}));
+  const wi::ValleyRanking cycle = wi::rank_valleys_by_chi2(
+      2, 0, [](size_t at) { return at == 0 ? std::vector<double>{2.0, 1.0} : std::vector<double>{1.0, 2.0}; }, 3);
+  EXPECT_EQ(cycle.passes, 3);
+  EXPECT_FALSE(cycle.fixed_point);
+  EXPECT_THROW(wi::rank_valleys_by_chi2(0, 0, [](size_t) { return std::vector<double>{}; }), std::invalid_argument);
+  EXPECT_THROW(wi::rank_valleys_by_chi2(2, 2, [](size_t) { return std::vector<double>{1.0, 2.0}; }), std::invalid_argument);
+  EXPECT_THROW(wi::rank_valleys_by_chi2(2, 0, [](size_t) { return std::vector<double>{1.0}; }), std::invalid_argument);
+}

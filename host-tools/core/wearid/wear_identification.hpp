@@ -6,7 +6,10 @@
 // scale, as the targets are relative) picks the starting
 // points (the grid's local minima first, then other non-adjacent points), then NLopt's
 // BOBYQA (bounded, derivative-free local optimiser) polishes each, restarted from its end
-// point while that still gains; the best polish wins. Cost: eq. 24 normalised by the measured spectrum,
+// point while that still gains. With the grid refinement (issue 33) a second such stage runs on a
+// finer grid, the polishes' distinct end points (valleys) are polished on the refined grid, and
+// the valley of lowest chi-square (the statistic the verdict uses, valley_ranking.hpp) wins.
+// Cost: eq. 24 normalised by the measured spectrum,
 //   cost = 1/2 sum_c |Z_c(model) - Z_c(measured)|^2 / (|Z+|^2 + |Z-|^2)_measured.
 // Uncertainty (1 sigma): the measured components' noise propagated through the Jacobian of
 // the residuals at the optimum, cov = sigma^2 (J^T J)^-1 (Gauss-Newton).
@@ -20,6 +23,7 @@
 
 #include "firmware/board/board.hpp"
 #include "host-tools/core/wearid/journal_spectrum.hpp"
+#include "host-tools/core/wearid/valley_ranking.hpp"
 #include "model/journal/wear_geometry.hpp"
 
 namespace amb::host::wearid {
@@ -84,6 +88,15 @@ struct WearIdOptions {
   /// Global stage (issue 33): the distinct valleys the polishes end in (best first, at most
   /// this many) are each polished on the refined grid and compared by a chi-square level.
   int max_valleys = 4;
+  /// Second global stage (issue 33, fifth round; with grid_tolerance > 0 and the linear film):
+  /// a DOE of this many points per parameter over the whole box on an intermediate film grid
+  /// (the board's cells doubled in both directions), BOBYQA polishes on that grid from its
+  /// best local minima (up to `intermediate_starts`), and their distinct end points (up to
+  /// max_valleys) join the board stage's valleys before the refined-grid polish. The board's
+  /// grid is 1.3-3.7 % off in K/C at e = 0.7, enough to put its valleys in the wrong places.
+  /// 0: off (the board stage only, as before the fifth round).
+  int intermediate_doe_points = 5;
+  int intermediate_starts = 4;  ///< polishes on the intermediate grid (>= 1)
   /// Confidence of the likelihood-ratio level that decides which valleys the records cannot
   /// reject and of the intervals (the chi-square quantile with as many degrees of freedom as
   /// wear parameters).
@@ -134,6 +147,9 @@ struct WearIdResult {
   bool grid_converged = false;
   int coarse_grid_theta = 0, coarse_grid_axial = 0;
   double coarse_grid_error = NAN;
+  /// Second global stage (WearIdOptions::intermediate_doe_points): its film grid (0: not run)
+  /// and its evaluations (included in `evaluations`).
+  int intermediate_grid_theta = 0, intermediate_grid_axial = 0, intermediate_evaluations = 0;
   int grid_iterations = 0;           ///< defect-correction rounds on the refined grid
   int fine_evaluations = 0;          ///< coefficient sets (or costs) evaluated on the refined grid
   double grid_wall_s = 0.0;          ///< time of the refinement and the polish on it, s
@@ -155,6 +171,7 @@ struct WearIdResult {
   /// Relative K/C error of the film in the chi-square (the refined grid's tolerance; 0 on the
   /// board's grid): propagated to each residual and added in quadrature to its noise sigma.
   double chi2_film_error = 0.0;
+  int ranking_passes = 0;       ///< chi2 passes of the valley ranking (last round; rank_valleys_by_chi2)
   int profile_restarts = 0;     ///< profile points that beat the best valley: polished from, verdict redone
   int profile_points = 0;       ///< points of the profile likelihood (only when not identified)
   double profile_wall_s = 0.0;  ///< its time, s
