@@ -1368,7 +1368,9 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
   // the same forward model (the refined grid when refined), decided by the residual loop's
   // one criterion (engine::decide): information criterion (BIC with the records' off-bin
   // noise, plus the model-error floor when set), the effect against the noise, identifiability
-  // and the misfit's fall.
+  // and the misfit's fall. With the grid refined (linear film) every residual's sigma also
+  // carries the film's K/C error at the best valley, as in chi2_min (issue 33, sixth round: a
+  // wear that moves the film by its own discretisation error is not evidence of wear).
   {
     Evaluator ev(board, meas, o);
     if (o.grid_tolerance > 0.0) {
@@ -1377,11 +1379,12 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       g.cells_axial = r.grid_axial;
       ev.set_grid(g);
     }
+    ev.set_film_sigma(film_sigma);
     try {
       const std::vector<double> rn = ev.residual_of(mj::WearParams{}), rf = ev.residual_of(w);
       double chi_n = 0.0, chi_f = 0.0, eff = 0.0, mis_n = 0.0, mis_f = 0.0;
       for (size_t k = 0; k < rn.size(); ++k) {
-        const double sg = ev.sigma(static_cast<int>(k));
+        const double sg = ev.chi_sigma(static_cast<int>(k));
         chi_n += (rn[k] / sg) * (rn[k] / sg);
         chi_f += (rf[k] / sg) * (rf[k] / sg);
         eff = std::max(eff, std::abs(rf[k] - rn[k]) / sg);
@@ -1391,7 +1394,9 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
       residual::engine::CandidateEvidence c;
       c.element = "journal_bearing_wear";
       c.delta_ic = chi_n - chi_f - n * std::log(static_cast<double>(rn.size()));
-      c.ic_basis = "BIC, Gaussian off-bin noise of the +-1x components";
+      const bool with_film = std::any_of(film_sigma.begin(), film_sigma.end(), [](double v) { return v > 0.0; });
+      c.ic_basis = !with_film ? "BIC, Gaussian off-bin noise of the +-1x components"
+                                      : "BIC, Gaussian off-bin noise of the +-1x components and the film's K/C error";
       c.effect_sigma = eff;
       c.identified = local_identified;
       if (!local_identified) c.not_identified = "a parameter's 1-sigma exceeds a quarter of its range, or it is on a bound";
