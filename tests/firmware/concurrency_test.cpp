@@ -37,11 +37,28 @@ bool intact(const Snapshot& s) {
 
 /// The loop does its work between two publications; a writer storing back to back would keep
 /// every reader of a large snapshot retrying (a reader only succeeds between two stores), so the
-/// tests leave a short gap, still shorter than a reader's copy is likely to need on a loaded host.
-void between_stores() {
-  std::atomic<int> spin{0};
-  for (int i = 0; i < 64; ++i) spin.fetch_add(1, std::memory_order_relaxed);
-}
+/// writer leaves a gap after each store. It starts short, shorter than a reader's copy is likely
+/// to need on a loaded host, so that reads overlap stores. When no read completed over the last
+/// 1024 stores, the gap doubles: a reader slower than the gap (TSan's instrumentation, a starved
+/// CPU) would otherwise retry for ever while the writer waits for its reads, a livelock of the
+/// test (a TSan smoke run once spent about an hour in LoopStatsThroughTheSeqLock), not of the
+/// seqlock, whose firmware writer stores only every 16 loop periods.
+class WriterGap {
+ public:
+  void after_store(uint64_t reads_so_far) {
+    if (++stores_ % 1024 == 0) {
+      if (reads_so_far == reads_at_check_ && spins_ < (1 << 20)) spins_ *= 2;
+      reads_at_check_ = reads_so_far;
+    }
+    std::atomic<int> spin{0};
+    for (int i = 0; i < spins_; ++i) spin.fetch_add(1, std::memory_order_relaxed);
+  }
+  int spins() const { return spins_; }
+
+ private:
+  int spins_ = 64;
+  uint64_t stores_ = 0, reads_at_check_ = 0;
+};
 
 TEST(Concurrency, SeqLockNeverHandsOutATornSnapshot) {
   amb::fw::SeqLock<Snapshot> lock;
@@ -69,10 +86,11 @@ TEST(Concurrency, SeqLockNeverHandsOutATornSnapshot) {
   constexpr uint64_t k_min_stores = 300'000;
   constexpr uint64_t k_max_stores = 200'000'000;
   uint64_t k_stores = 0;
+  WriterGap gap;
   for (uint64_t k = 1; k <= k_max_stores; ++k) {
     lock.store(make(k));
     k_stores = k;
-    between_stores();
+    gap.after_store(reads.load(std::memory_order_relaxed));
     if (k >= k_min_stores && reads.load(std::memory_order_relaxed) >= 20'000) break;
   }
   done = true;
@@ -101,11 +119,12 @@ TEST(Concurrency, LoopStatsThroughTheSeqLock) {
   });
   while (!started.load()) std::this_thread::yield();
   amb::fw::LoopStats s;
+  WriterGap gap;
   for (uint64_t p = 1; p <= 100'000'000; ++p) {
     ++s.periods;
     ++s.latency_hist[p % amb::fw::LoopStats::k_bins];
     lock.store(s);
-    between_stores();
+    gap.after_store(reads.load(std::memory_order_relaxed));
     if (p >= 200'000 && reads.load(std::memory_order_relaxed) >= 5'000) break;
   }
   done = true;
