@@ -18,6 +18,7 @@
 
 #include "hal/linux/process_memory.hpp"
 #include "hal/linux/service_notify.hpp"
+#include "tests/support/sanitizer_build.hpp"
 
 using namespace amb::hal::linux_hw;
 
@@ -28,17 +29,7 @@ int64_t own_cpu_ns() {
   return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 // A sanitizer build (ASan, TSan) brings its own allocator, which need not honour mallopt.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool k_sanitizer_owns_malloc = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool k_sanitizer_owns_malloc = true;
-#else
-constexpr bool k_sanitizer_owns_malloc = false;
-#endif
-#else
-constexpr bool k_sanitizer_owns_malloc = false;
-#endif
+constexpr bool k_sanitizer_owns_malloc = AMB_SANITIZER_BUILD;
 
 /// A datagram socket bound to `path` ('@': abstract); returns the fd.
 int bind_dgram(const std::string& path) {

@@ -14,20 +14,12 @@
 
 #include "firmware/tracking/speed_tracker_task.hpp"
 #include "model/signal/speed_ridge_tracker.hpp"
+#include "tests/support/sanitizer_build.hpp"
 
 // A sanitizer build (ASan, TSan) owns malloc itself: interposing it there bypasses the
 // sanitizer's allocator and crashed the binary at start-up (ASan's init calls malloc before
 // this file's globals exist). There the tests skip; the release and aarch64 runs prove it.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define AMB_ALLOC_HOOK 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define AMB_ALLOC_HOOK 0
-#endif
-#endif
-#ifndef AMB_ALLOC_HOOK
-#define AMB_ALLOC_HOOK 1
-#endif
+#define AMB_ALLOC_HOOK (!AMB_SANITIZER_BUILD)
 
 #if AMB_ALLOC_HOOK
 extern "C" {
