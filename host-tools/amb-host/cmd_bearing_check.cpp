@@ -166,9 +166,15 @@ int run(Args a) {
                   {"harmonics_present", r.speed.harmonics_present}};
     j["whitening"] = r.whitening;
     nlohmann::json bands = nlohmann::json::array();
-    for (const auto& b : r.bands)
-      bands.push_back({{"name", b.name}, {"low_hz", b.band.low_hz}, {"high_hz", b.band.high_hz},
-                       {"spectral_kurtosis", b.band.kurtosis}});
+    for (const auto& b : r.bands) {
+      nlohmann::json jb = {{"name", b.name}, {"low_hz", b.band.low_hz}, {"high_hz", b.band.high_hz}};
+      // The EES combines sub-bands and has no spectral kurtosis of its own.
+      if (b.sub_bands > 0)
+        jb["sub_bands"] = b.sub_bands;
+      else
+        jb["spectral_kurtosis"] = b.band.kurtosis;
+      bands.push_back(jb);
+    }
     j["bands"] = bands;
     j["threshold_log10_p"] = r.threshold_log10_p;
     j["record_false_alarm"] = hb::BearingCheckOptions{}.record_false_alarm;
@@ -215,9 +221,15 @@ int run(Args a) {
               a.var.c_str(), *fs, *rpm, p.shaft_hz);
   std::printf("1 pre-whitening: %s\n", r.whitening.c_str());
   std::printf("2 bands:");
-  for (const auto& b : r.bands)
-    std::printf(" %s %.0f-%.0f Hz (SK %.2f);", b.name.c_str(), b.band.low_hz, b.band.high_hz, b.band.kurtosis);
-  std::printf("\n3 envelope spectrum of each band\n");
+  for (const auto& b : r.bands) {
+    if (b.sub_bands > 0)
+      std::printf(" %s %.0f-%.0f Hz (%zu bands of %.0f Hz);", b.name.c_str(), b.band.low_hz, b.band.high_hz, b.sub_bands,
+                  (b.band.high_hz - b.band.low_hz) / static_cast<double>(b.sub_bands));
+    else
+      std::printf(" %s %.0f-%.0f Hz (SK %.2f);", b.name.c_str(), b.band.low_hz, b.band.high_hz, b.band.kurtosis);
+  }
+  std::printf("\n3 envelope spectrum of each band (whitened_ees: the bands' envelope spectra over their floors, "
+              "combined)\n");
   std::printf("5 speed: %s %.4f Hz (from the %s; comb log10 p %.1f, %d harmonics present)\n",
               r.speed.refined ? "refined to" : "not refined, nominal", r.speed.speed_hz, r.speed_source.c_str(),
               r.speed.log10_p, r.speed.harmonics_present);

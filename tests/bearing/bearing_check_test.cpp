@@ -124,6 +124,27 @@ TEST(BearingCheck, DiscreteRemovedBandIsAThirdBandWhenAskedFor) {
   EXPECT_THROW(hb::check_bearing(x, 12000.0, 1750.0 / 60.0, *mb::find_bearing("SKF 6205"), o), std::invalid_argument);
 }
 
+// The enhanced-envelope band (off by default: docs/bearing.md "Enhanced envelope spectrum"):
+// when asked for it is a third analysis band over disjoint sub-bands of the kurtogram's
+// narrowest width, the Bonferroni split counts it, and the inner-race record is still named.
+TEST(BearingCheck, EnhancedEnvelopeBandIsAThirdBandWhenAskedFor) {
+  const std::string path = cwru("1750_IR_7_DE12");
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "measured data not found: " << path;
+  const auto x = amb::host::read_mat_vector(path, "DE_time");
+  hb::BearingCheckOptions o;
+  o.enhanced_envelope_band = true;
+  const auto r = hb::check_bearing(x, 12000.0, 1750.0 / 60.0, *mb::find_bearing("SKF 6205"), o);
+  ASSERT_EQ(r.bands.size(), 3u);
+  EXPECT_EQ(r.bands[2].name, "whitened_ees");
+  EXPECT_GE(r.bands[2].sub_bands, 4u);
+  // Sub-bands of (harmonics + 2) x BPFI (at the nominal speed + speed_range) from the kurtogram's lowest edge.
+  const double width = (r.bands[2].band.high_hz - r.bands[2].band.low_hz) / static_cast<double>(r.bands[2].sub_bands);
+  EXPECT_NEAR(width, 5.0 * r.predicted.bpfi_hz * 1.02, 1e-6);
+  EXPECT_NEAR(r.threshold_log10_p, std::log10(0.01 / 12.0), 1e-9);
+  EXPECT_EQ(r.verdict, "inner_race") << r.reason;
+  EXPECT_EQ(r.families[1].log10_p_per_band.size(), 3u);
+}
+
 TEST(BearingCheck, DiscreteRemovalTakesOutATone) {
   // Pseudo-noise (variance 1/12) plus a 1 kHz tone of amplitude 1 (power 0.5): the tone is
   // ~86 % of the energy; removal must take it out and leave the noise alone.

@@ -1,5 +1,6 @@
 #include "host-tools/core/bearing/bearing_check.hpp"
 
+#include "host-tools/core/bearing/enhanced_envelope.hpp"
 #include "host-tools/core/bearing/line_family.hpp"
 
 #include <algorithm>
@@ -214,10 +215,25 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
                   dr.bins, 100.0 * dr.energy_fraction);
     r.whitening += dbuf;
   }
+  std::vector<Band> ees_sub;
+  if (o.enhanced_envelope_band) {
+    ees_sub = ees_bands(bo.min_low_edge_hz, top_hz, bo.min_bandwidth_hz);
+    if (!ees_sub.empty())
+      r.bands.push_back({"whitened_ees", Band{ees_sub.front().low_hz, ees_sub.back().high_hz, 0.0, 0}, ees_sub.size()});
+  }
   auto analyser = [&](const AnalysisBand& band) -> const BandAnalyser& {
     if (band.name == "raw_sk") return raw;
     if (band.name == "discrete_removed_sk") return discrete_removed;
     return white;
+  };
+  // The envelope spectrum of an analysis band (f_max: the highest frequency scored, set below
+  // before the first call; the EES is made once).
+  double f_max = 0.0;
+  EnvelopeSpectrum ees;
+  auto band_spectrum = [&](const AnalysisBand& band) -> EnvelopeSpectrum {
+    if (band.name != "whitened_ees") return analyser(band).envelope_spectrum(band.band);
+    if (ees.amplitude.empty()) ees = enhanced_envelope_spectrum(white, ees_sub, f_max + 2.0 * o.floor_halfwidth_hz, o.floor_halfwidth_hz);
+    return ees;
   };
 
   // 5. speed: the shaft-harmonic comb of the spectrum, else of the whitened envelope spectrum
@@ -249,7 +265,6 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
   // 3-4. envelope spectra, family scores and their surrogate nulls.
   const auto tmpl = templates(p, df, o);
   const auto forbidden = kinematic_lines(p);
-  double f_max = 0.0;
   for (const auto& t : tmpl)
     for (const auto& l : t.lines) f_max = std::max(f_max, 1.8 * (l.multiple * t.base_hz + std::abs(l.offset_hz)));
   f_max += o.floor_halfwidth_hz;
@@ -262,8 +277,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     fr.log10_p = 1.0;  // "none yet"
   }
   for (size_t b = 0; b < r.bands.size(); ++b) {
-    const BandAnalyser& a = analyser(r.bands[b]);
-    const EnvelopeSpectrum s = a.envelope_spectrum(r.bands[b].band);
+    const EnvelopeSpectrum s = band_spectrum(r.bands[b]);
     const NormalisedSpectrum ns = normalise_spectrum(s, f_max, o.floor_halfwidth_hz, shaft_for_exclusion, o.shaft_exclude_bins);
     for (int f = 0; f < kFamilies; ++f) {
       const auto& t = tmpl[static_cast<size_t>(f)];
@@ -293,9 +307,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     for (int f = 0; f < kFamilies; ++f) {
       auto& fr = r.families[static_cast<size_t>(f)];
       if (!fr.lines.fundamental_present) continue;
-      const auto& band = r.bands[fr.band_index];
-      const BandAnalyser& a = analyser(band);
-      const NormalisedSpectrum ns = normalise_spectrum(a.envelope_spectrum(band.band), f_max, o.floor_halfwidth_hz, 0.0, 0);
+      const NormalisedSpectrum ns = normalise_spectrum(band_spectrum(r.bands[fr.band_index]), f_max, o.floor_halfwidth_hz, 0.0, 0);
       auto present = [&](double hz) {
         const long c = std::lround(hz / df);
         double m = 0.0;
@@ -351,9 +363,8 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     // In BPFO's band and in the cage family's best band (where a comb shows best).
     for (size_t bi : {fo.band_index, r.families[kCage].band_index}) {
       const auto& band = r.bands[bi];
-      const BandAnalyser& a = analyser(band);
       const NormalisedSpectrum ns =
-          normalise_spectrum(a.envelope_spectrum(band.band), f_max, o.floor_halfwidth_hz, shaft_for_exclusion, o.shaft_exclude_bins);
+          normalise_spectrum(band_spectrum(band), f_max, o.floor_halfwidth_hz, shaft_for_exclusion, o.shaft_exclude_bins);
       auto peak = [&](double hz) {
         const long c = std::lround(hz / df);
         double m = 0.0;
