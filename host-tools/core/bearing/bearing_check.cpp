@@ -235,6 +235,10 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     if (ees.amplitude.empty()) ees = enhanced_envelope_spectrum(white, ees_sub, f_max + 2.0 * o.floor_halfwidth_hz, o.floor_halfwidth_hz);
     return ees;
   };
+  // Its normalised spectrum up to f_max, with the shaft harmonics of `shaft_hz` set aside (0: none).
+  auto band_ratio = [&](const AnalysisBand& band, double shaft_hz) {
+    return normalise_spectrum(band_spectrum(band), f_max, o.floor_halfwidth_hz, shaft_hz, o.shaft_exclude_bins);
+  };
 
   // 5. speed: the shaft-harmonic comb of the spectrum, else of the whitened envelope spectrum
   // (an inner-race defect or an unbalance modulates at f_r even where the spectrum has no comb).
@@ -277,8 +281,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     fr.log10_p = 1.0;  // "none yet"
   }
   for (size_t b = 0; b < r.bands.size(); ++b) {
-    const EnvelopeSpectrum s = band_spectrum(r.bands[b]);
-    const NormalisedSpectrum ns = normalise_spectrum(s, f_max, o.floor_halfwidth_hz, shaft_for_exclusion, o.shaft_exclude_bins);
+    const NormalisedSpectrum ns = band_ratio(r.bands[b], shaft_for_exclusion);
     for (int f = 0; f < kFamilies; ++f) {
       const auto& t = tmpl[static_cast<size_t>(f)];
       auto& fr = r.families[static_cast<size_t>(f)];
@@ -307,7 +310,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     for (int f = 0; f < kFamilies; ++f) {
       auto& fr = r.families[static_cast<size_t>(f)];
       if (!fr.lines.fundamental_present) continue;
-      const NormalisedSpectrum ns = normalise_spectrum(band_spectrum(r.bands[fr.band_index]), f_max, o.floor_halfwidth_hz, 0.0, 0);
+      const NormalisedSpectrum ns = band_ratio(r.bands[fr.band_index], 0.0);
       auto present = [&](double hz) {
         const long c = std::lround(hz / df);
         double m = 0.0;
@@ -363,8 +366,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     // In BPFO's band and in the cage family's best band (where a comb shows best).
     for (size_t bi : {fo.band_index, r.families[kCage].band_index}) {
       const auto& band = r.bands[bi];
-      const NormalisedSpectrum ns =
-          normalise_spectrum(band_spectrum(band), f_max, o.floor_halfwidth_hz, shaft_for_exclusion, o.shaft_exclude_bins);
+      const NormalisedSpectrum ns = band_ratio(band, shaft_for_exclusion);
       auto peak = [&](double hz) {
         const long c = std::lround(hz / df);
         double m = 0.0;
