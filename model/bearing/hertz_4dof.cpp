@@ -24,6 +24,7 @@ bool Hertz4DofModel::configure(const Hertz4DofParams& p) {
   cp.hertz_constant_n_per_m1p5 = p.stiffness_scale * kb_nom;
   cp.radial_clearance_m = p.radial_clearance_m;
   cp.defect = p.defect;
+  cp.ball_size = p.ball_size;
   if (!law_.configure(cp)) return false;
   p_ = p;
   p_.hertz_constant_n_per_m1p5 = kb_nom;

@@ -40,6 +40,7 @@ struct Hertz4DofParams {
   double load_x_n = 0.0;    ///< external load W_x on the inner ring, N
   double load_y_n = 500.0;  ///< external load W_y on the inner ring, N (+y: the load zone is at +90 deg)
   GrooveDefect defect;      ///< optional outer- or inner-race groove (eq. 4-5)
+  BallSizeVariation ball_size;  ///< optional: one ball larger than the others (healthy imperfection)
   /// Direction of the housing accelerometer in the radial plane, rad from +x (default +y).
   double sensor_angle_rad = 1.5707963267948966;
   /// Largest integration step, s. 0: automatic (see choose_step_s).

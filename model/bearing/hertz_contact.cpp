@@ -24,6 +24,9 @@ bool HertzContactLaw::configure(const ContactLawParams& p) {
   if (p.defect.location == DefectLocation::ball &&
       (p.defect.ball_index < 0 || p.defect.ball_index >= p.geometry.ball_count))
     return false;
+  if (!(p.ball_size.excess_diameter_m >= 0.0) || !std::isfinite(p.ball_size.excess_diameter_m) ||
+      p.ball_size.ball_index < 0 || p.ball_size.ball_index >= p.geometry.ball_count)
+    return false;
   p_ = p;
   z_ = p.geometry.ball_count;
   const DefectOrders orders = defect_orders(p.geometry);
@@ -108,6 +111,7 @@ SupportForce HertzContactLaw::ball_loads(double dx_m, double dy_m, double cc, do
     const double cj = cc * cos_pitch_[k] - sc * sin_pitch_[k];
     const double sj = sc * cos_pitch_[k] + cc * sin_pitch_[k];
     double delta = dx_m * cj + dy_m * sj - p_.radial_clearance_m;
+    if (j == p_.ball_size.ball_index) delta += p_.ball_size.excess_diameter_m;
     if (delta > -defect_depth_m_) delta -= loss(j, delta);
     if (delta > 0.0) {
       const double q = p_.hertz_constant_n_per_m1p5 * delta * std::sqrt(delta);

@@ -68,12 +68,23 @@ struct GrooveDefect {
   int ball_index = 0;
 };
 
+/// Ball-size variation: one ball larger in diameter than the others. A healthy bearing's
+/// manufacturing imperfection, not a defect (ISO 3290-1: ball lot diameter variation 0.5 um for
+/// grade G10, 1.4 um for G28). Its contact deflection grows by the excess, so it carries more
+/// load than its neighbours wherever it is in the load zone; it goes round with the cage, so
+/// the support force is modulated at the cage rate (FTF).
+struct BallSizeVariation {
+  double excess_diameter_m = 0.0;  ///< diameter of ball `ball_index` minus the others', m (>= 0; 0: all equal)
+  int ball_index = 0;              ///< which ball (0 .. Z-1), at cage angle + 2 pi j / Z
+};
+
 /// Inputs of the contact law (parameters; immutable after the law is built).
 struct ContactLawParams {
   BearingGeometry geometry;                   ///< ball count, diameters, contact angle
   double hertz_constant_n_per_m1p5 = 0.0;     ///< k_b (already scaled by eta), N/m^1.5
   double radial_clearance_m = 0.0;            ///< delta_0 / mu, m (>= 0)
   GrooveDefect defect;                        ///< optional local defect
+  BallSizeVariation ball_size;                ///< optional: one ball larger than the others
 };
 
 /// Resultant force on the outer ring and contact bookkeeping.

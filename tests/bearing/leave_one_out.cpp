@@ -5,6 +5,10 @@
 // re-measured without that file (the healthy record's channels leave the calibration when it is
 // held out), cage_modulation_as_ball {on, off} is a fourth choice, and the choices are made by the verdicts on the other nine files only (ties: the
 // default), then the held-out file is run. Label `long` (a few minutes).
+// Not a choice: raw_cage_scan stays off. It would name 1750_B and so win on these files, but it
+// names 6.8 % of healthy model bearings with ordinary ball-size variation `ball` (above the 2 %
+// bound; docs/bearing.md): an option whose false-alarm rate is out of bounds is not admissible,
+// whatever it does on ten files with one healthy record.
 // Right: IR -> inner_race, ORat6 -> outer_race, Normal -> healthy, B -> ball; for a ball record
 // "unclear" or "healthy" is "not diagnosed" (Smith & Randall 2015: ball faults on this rig are
 // mostly not diagnosable by envelope analysis), counted apart; a race name on it is wrong.
@@ -113,5 +117,7 @@ TEST(BearingLeaveOneOut, CwruFiles) {
     std::printf("\n");
   }
   EXPECT_EQ(wrong, 0);
-  EXPECT_GE(right, 9);  // every race-fault record, the healthy one, two of the three ball records (measured 2026-11-28)
+  // Every race-fault record, the healthy one, and 1730_B (its cage family alone, rule a); 1750_B
+  // and 1797_B not diagnosed (measured 2026-11-29; 9 right while the raw cage scan was on).
+  EXPECT_GE(right, 8);
 }

@@ -94,6 +94,9 @@ struct RecordSpec {
   /// without it the model's impacts are strictly periodic (no slip), i.e. discrete spectral
   /// lines, which no real bearing produces (rolling elements slip 1-2 %, Smith & Randall 2015).
   double speed_fluctuation = 0.002;
+  /// Ball-size variation of a healthy bearing (mb::BallSizeVariation): ball 0 larger than the
+  /// others by this much in diameter, um (0: all equal). Not a defect: the label stays.
+  double ball_excess_um = 0.0;
   std::string label() const {
     return defect == mb::DefectLocation::outer_race   ? "outer_race"
            : defect == mb::DefectLocation::inner_race ? "inner_race"
@@ -127,6 +130,7 @@ inline std::vector<double> make_record(const RecordSpec& s) {
     p.defect.depth_m = 0.6 * s.width_mm * 1e-3;
     p.defect.angle_rad = M_PI / 2;  // race groove: in the load zone (ball spot: its spin phase)
     p.load_y_n *= s.load_scale;
+    p.ball_size.excess_diameter_m = s.ball_excess_um * 1e-6;
     clean = mb::simulate_housing_acceleration(p, speed, s.fs_hz, s.duration_s, 0.0, 1);
   } else {
     mb::Rotor8DofParams p;
@@ -140,6 +144,7 @@ inline std::vector<double> make_record(const RecordSpec& s) {
     cp.defect.width_m = s.width_mm * 1e-3;
     cp.defect.depth_m = 0.6 * s.width_mm * 1e-3;
     cp.defect.angle_rad = -M_PI / 2;  // race groove: load zone under gravity (ball spot: spin phase)
+    cp.ball_size.excess_diameter_m = s.ball_excess_um * 1e-6;
     p.bearing_b = cp;
     p.m2_kg *= s.load_scale;
     p.m3_kg *= s.load_scale;

@@ -6,6 +6,7 @@
 // bearing name. Prints the tables of docs/bearing.md. Label `long` (several minutes).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -103,17 +104,45 @@ Tables evaluate(const std::vector<tb::RecordSpec>& specs) {
 }
 }  // namespace
 
+namespace {
+struct ValidationBearing {
+  const char* model;
+  const char* bearing;
+  double duration_s;
+  std::vector<double> fault_speeds, healthy_speeds;
+};
+const std::vector<ValidationBearing>& validation_bearings() {
+  static const std::vector<ValidationBearing> b{{"4dof", "6206", 10, {20, 45}, {20, 35, 55}},
+                                                {"4dof", "6205", 10, {20, 45}, {20, 35, 55}},
+                                                {"4dof", "6203", 10, {20, 45}, {20, 35, 55}},
+                                                {"8dof", "6200", 5, {25, 40}, {25, 40}}};
+  return b;
+}
+// The healthy records of one bearing: speeds x noise 0.5 / 1 / 2 x paths 0 / 1 / 2 (12 / 20 /
+// 48 kHz), seeds counting up; ball 0 oversized by ball_excess_um (0: equal balls).
+void push_healthy(std::vector<tb::RecordSpec>& specs, const ValidationBearing& b, uint64_t& seed, double ball_excess_um) {
+  for (double sp : b.healthy_speeds)
+    for (double noise : {0.5, 1.0, 2.0})
+      for (int path : {0, 1, 2}) {
+        tb::RecordSpec s;
+        s.model = b.model;
+        s.bearing = b.bearing;
+        s.speed_hz = sp;
+        s.fs_hz = path == 1 ? 20000 : path == 0 ? 12000 : 48000;
+        s.duration_s = b.duration_s;
+        s.noise_rel = noise;
+        s.path = path;
+        s.seed = ++seed;
+        s.ball_excess_um = ball_excess_um;
+        specs.push_back(s);
+      }
+}
+}  // namespace
+
 TEST(BearingModelValidation, DetectionAndFalseAlarmRates) {
   std::vector<tb::RecordSpec> specs;
   uint64_t seed = 1000;
-  struct B {
-    const char* model;
-    const char* bearing;
-    double duration_s;
-    std::vector<double> fault_speeds, healthy_speeds;
-  };
-  for (const B& b : {B{"4dof", "6206", 10, {20, 45}, {20, 35, 55}}, B{"4dof", "6205", 10, {20, 45}, {20, 35, 55}},
-                     B{"4dof", "6203", 10, {20, 45}, {20, 35, 55}}, B{"8dof", "6200", 5, {25, 40}, {25, 40}}}) {
+  for (const auto& b : validation_bearings()) {
     for (auto loc : {mb::DefectLocation::outer_race, mb::DefectLocation::inner_race})
       for (double w : {0.5, 1.0})
         for (double sp : b.fault_speeds)
@@ -132,20 +161,7 @@ TEST(BearingModelValidation, DetectionAndFalseAlarmRates) {
               s.seed = ++seed;
               specs.push_back(s);
             }
-    for (double sp : b.healthy_speeds)
-      for (double noise : {0.5, 1.0, 2.0})
-        for (int path : {0, 1, 2}) {
-          tb::RecordSpec s;
-          s.model = b.model;
-          s.bearing = b.bearing;
-          s.speed_hz = sp;
-          s.fs_hz = path == 1 ? 20000 : path == 0 ? 12000 : 48000;
-          s.duration_s = b.duration_s;
-          s.noise_rel = noise;
-          s.path = path;
-          s.seed = ++seed;
-          specs.push_back(s);
-        }
+    push_healthy(specs, b, seed, 0.0);
   }
   auto tables = evaluate(specs);
   auto& by_label = tables.by_label;
@@ -166,6 +182,51 @@ TEST(BearingModelValidation, DetectionAndFalseAlarmRates) {
   // Issue 32's targets: race-fault detection >= 95 %, false alarms on healthy records <= 2 %.
   EXPECT_GE(100 * race_right, 95 * race_n);
   EXPECT_LE(100 * false_alarms, 2 * h.n) << "false-alarm rate above 2 %";
+}
+
+// Healthy bearings are not perfect: ISO 3290-1 lets the balls of one lot differ in diameter by
+// 0.5 um (grade G10) to 1.4 um (G28). One ball larger than the others loads more as it goes round
+// with the cage, so the record carries cage-rate (FTF) modulation - what the cage rules read as
+// a ball fault. The 99 healthy settings above with ball 0 oversized by 0.25 / 0.5 / 1 um (fresh
+// seeds: these records were not looked at when raw_cage_scan was turned off): false alarms <= 2 %
+// at each excess with the default chain. Prints, for the record, the rate with the raw cage scan
+// on (measured on other seeds: 27 of 396).
+TEST(BearingModelValidation, HealthyWithBallSizeVariation) {
+  int n_all = 0, fa_all = 0, fa_scan_all = 0;
+  for (double excess : {0.25, 0.5, 1.0}) {
+    std::vector<tb::RecordSpec> specs;
+    uint64_t seed = 11000 + static_cast<uint64_t>(std::lround(excess * 1000));
+    for (const auto& b : validation_bearings()) push_healthy(specs, b, seed, excess);
+    int n = 0, fa = 0, unclear = 0, fa_scan = 0, k = 0;
+    for (const auto& s : specs) {
+      const auto x = tb::make_record(s);
+      EXPECT_FALSE(x.empty());
+      if (x.empty()) continue;
+      const double nominal = s.speed_hz * (k++ % 2 ? 1.004 : 0.996);
+      const auto g = *mb::find_bearing(s.bearing);
+      const auto r = hb::check_bearing(x, s.fs_hz, nominal, g);
+      hb::BearingCheckOptions scan;
+      scan.raw_cage_scan = true;
+      const auto rs = hb::check_bearing(x, s.fs_hz, nominal, g, scan);
+      ++n;
+      const bool named = r.verdict != "healthy" && r.verdict != "unclear";
+      fa += named;
+      unclear += r.verdict == "unclear";
+      fa_scan += rs.verdict != "healthy" && rs.verdict != "unclear";
+      if (named || rs.verdict != "healthy")
+        std::printf("  %s %s %g Hz noise %g path %d excess %.2f um: %s (with the raw scan: %s)\n", s.model.c_str(),
+                    s.bearing.c_str(), s.speed_hz, s.noise_rel, s.path, excess, r.verdict.c_str(), rs.verdict.c_str());
+    }
+    std::printf("ball excess %.2f um: %d healthy records, %d false alarms (%.1f %%), %d unclear; with the raw cage scan "
+                "%d false alarms (%.1f %%)\n",
+                excess, n, fa, 100.0 * fa / n, unclear, fa_scan, 100.0 * fa_scan / n);
+    EXPECT_LE(100 * fa, 2 * n) << "false alarms above 2 % at ball excess " << excess << " um";
+    n_all += n;
+    fa_all += fa;
+    fa_scan_all += fa_scan;
+  }
+  std::printf("all: %d records, %d false alarms (%.1f %%); with the raw cage scan %d (%.1f %%)\n", n_all, fa_all,
+              100.0 * fa_all / n_all, fa_scan_all, 100.0 * fa_scan_all / n_all);
 }
 
 // The ball family's bounds (no target in issue 32, which sets race detection >= 95 % and false

@@ -451,7 +451,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
   }
   // Nothing named in the whitened bands: look for the cage-rate modulation in the raw signal
   // (BearingCheckOptions::cage_modulation_as_ball (b)).
-  if (o.cage_modulation_as_ball && best < 0)
+  if (o.cage_modulation_as_ball && o.raw_cage_scan && best < 0)
     scan_raw_cage(raw, bo, tmpl[kCage], f_max, shaft_for_exclusion, tol, forbidden, o, r.raw_cage);
   if (best < 0 && r.raw_cage.detected) {
     const auto& rc = r.raw_cage;
@@ -510,7 +510,8 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
                   "modulation without a race or ball line family of its own%s%s",
                   w.found_hz.value_or(w.predicted_hz), w.log10_p, band.name.c_str(), band.band.low_hz, band.band.high_hz,
                   o.cage_modulation_as_ball ? ": a ball defect going round with the cage through the load zone (a cage "
-                                              "fault gives the same lines)" : "",
+                                              "fault, or a healthy bearing's ball-size variation, gives the same "
+                                              "lines)" : "",
                   r.cage_teeth_ratio > 0 && !fo.detected ? "; the BPFO line is a tooth of its comb" : "");
   } else {
     std::snprintf(buf, sizeof buf,

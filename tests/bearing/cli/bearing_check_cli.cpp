@@ -74,3 +74,20 @@ TEST(BearingCheckCli, FanEndAndCatalogue) {
   for (const char* name : {"SKF 6205", "SKF 6206", "SKF 6200", "SKF 6203", "BPFO", "FE_time"})
     EXPECT_NE(h.out.find(name), std::string::npos) << name;
 }
+
+// The raw cage scan is off unless asked for (--raw-cage-scan): 1750_B is healthy (not diagnosed)
+// by default, JSON raw_cage_scan null; with the flag the scan runs and names it ball.
+TEST(BearingCheckCli, RawCageScanOnlyWhenAskedFor) {
+  if (!fs::exists(cwru("1750_B_7_DE12"))) GTEST_SKIP();
+  const CliRun d = amb_host("bearing-check --json --mat '" + cwru("1750_B_7_DE12") + "'");
+  ASSERT_EQ(d.rc, 0) << d.err;
+  const auto jd = nlohmann::json::parse(d.out);
+  EXPECT_EQ(jd["verdict"], "healthy");
+  EXPECT_TRUE(jd["raw_cage_scan"].is_null());
+  const CliRun s = amb_host("bearing-check --json --raw-cage-scan --mat '" + cwru("1750_B_7_DE12") + "'");
+  ASSERT_EQ(s.rc, 0) << s.err;
+  const auto js = nlohmann::json::parse(s.out);
+  EXPECT_EQ(js["verdict"], "ball");
+  ASSERT_TRUE(js["raw_cage_scan"].is_object());
+  EXPECT_TRUE(js["raw_cage_scan"]["detected"].get<bool>());
+}
