@@ -16,6 +16,8 @@
 #include "host-tools/core/bearing/bearing_check.hpp"
 #include "host-tools/core/io/mat_file.hpp"
 #include "host-tools/core/io/number_text.hpp"
+#include "host-tools/core/report/bearing_page.hpp"
+#include "host-tools/core/report/page_file.hpp"
 #include "model/bearing/catalogue.hpp"
 #include "model/bearing/geometry.hpp"
 
@@ -34,6 +36,7 @@ struct Args {
   std::optional<double> rpm;
   std::string bearing;
   bool raw_cage_scan = false;
+  std::string plot;  // HTML page with the envelope spectra ("": none)
   bool json = false;
 };
 
@@ -139,9 +142,21 @@ int run(Args a) {
   try {
     hb::BearingCheckOptions o;
     o.raw_cage_scan = a.raw_cage_scan;
+    o.keep_spectra = !a.plot.empty();
     r = hb::check_bearing(x, *fs, *rpm / 60.0, *geometry, o);
   } catch (const std::invalid_argument& e) {
     return bad_input(std::string(e.what()) + " (--fs " + printf_text("%.6g", *fs) + ", --rpm " + printf_text("%.6g", *rpm) + ")");
+  }
+  if (!a.plot.empty()) {
+    amb::host::report::BearingPageInfo info{std::filesystem::path(a.mat_file).filename().string(), a.var,
+                                            std::string(geometry->name), *fs, *rpm};
+    try {
+      const std::string written =
+          amb::host::report::write_page_file(amb::host::report::render_bearing_page(r, info), a.plot, "bearing page");
+      std::fprintf(stderr, "bearing page: %s\n", written.c_str());
+    } catch (const std::exception& e) {
+      return bad_input(std::string("--plot: ") + e.what());
+    }
   }
   const auto& p = r.predicted;
   const auto& q = r.refined;
@@ -281,6 +296,8 @@ void declare(CLI::App& sub, Args& args) {
                "when nothing is detected, also scan the raw envelope for cage-rate modulation and read it as a ball "
                "fault (off: it names 6.8 % of healthy model bearings with ordinary ball-size variation 'ball'; "
                "docs/bearing.md)");
+  hc::output_file(sub.add_option("--plot", args.plot,
+                                 "write an HTML page with every band's envelope spectrum and the families' lines to this file"));
   sub.add_flag("--json", args.json, "print the figures as JSON");
   sub.footer(catalogue_text());
 }

@@ -282,6 +282,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
   }
   for (size_t b = 0; b < r.bands.size(); ++b) {
     const NormalisedSpectrum ns = band_ratio(r.bands[b], shaft_for_exclusion);
+    if (o.keep_spectra) r.band_spectra.push_back(ns);
     for (int f = 0; f < kFamilies; ++f) {
       const auto& t = tmpl[static_cast<size_t>(f)];
       auto& fr = r.families[static_cast<size_t>(f)];

@@ -121,6 +121,7 @@ struct BearingCheckOptions {
   /// tests/bearing/null_calibration.cpp (docs/bearing.md "Calibration").
   std::array<NullFit, 4> null = default_nulls();
   bool collect_surrogates = false;  ///< keep each family's surrogate scores (calibration)
+  bool keep_spectra = false;        ///< keep each analysis band's normalised envelope spectrum (plots)
   static std::array<NullFit, 4> default_nulls();
   bool valid() const;
 };
@@ -187,6 +188,9 @@ struct BearingCheckResult {
   double threshold_log10_p = 0.0;               ///< log10(record_false_alarm / (bands x families))
   double cage_teeth_ratio = 0.0;                ///< strongest cage tooth next to BPFO over its floor (0: not checked)
   RawCageScan raw_cage;                         ///< step 6's raw cage scan (cage_modulation_as_ball)
+  /// Each analysis band's normalised envelope spectrum up to the highest line scored, as the
+  /// family scores saw it (keep_spectra only; else empty). Index as bands.
+  std::vector<NormalisedSpectrum> band_spectra;
   size_t verdict_band = 0;                      ///< band of the named family (or the first)
   std::string verdict;                          ///< outer_race, inner_race, ball, healthy, unclear
   std::string reason;                           ///< one sentence saying why

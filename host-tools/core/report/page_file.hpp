@@ -4,6 +4,11 @@
 
 namespace amb::host::report {
 
+/// The start of a self-contained HTML page up to and including <body>: the title, the CSS the
+/// pages share (body, headings, .sub, .row, svg.plot, table.facts, .caption, footer) and
+/// `extra_css` (page-specific rules).
+std::string page_head(const std::string& title, const std::string& extra_css);
+
 /// Writes `html` to `path` (made absolute; missing parent folders are created) and returns the
 /// absolute path. Throws std::runtime_error naming `what` (e.g. "report") and the path:
 /// "cannot write the <what> to '<path>'<open_hint>" when the file cannot be opened,

@@ -324,24 +324,16 @@ std::string section_replay(const ReportData& d) {
   return s + table(d.replay.data->rows) + source_line(d.replay.source) + "</section>\n";
 }
 
-const char* k_css = R"(body{font-family:sans-serif;margin:24px;color:#222;max-width:1320px}
-h1{margin-bottom:4px}h2{border-bottom:1px solid #ccc;padding-bottom:4px;margin-top:32px}
-.sub{color:#555;margin-top:0}.row{display:flex;flex-wrap:wrap;gap:16px;align-items:flex-start}
-svg.plot{border:1px solid #ddd;margin:6px 0}table.facts{border-collapse:collapse;margin:8px 0}
-table.facts th{text-align:left;padding:2px 14px 2px 0;color:#444;font-weight:normal}
-table.facts td{padding:2px 8px;font-family:monospace}table.figures td.def{font-family:sans-serif;font-size:12px;color:#555}
-.caption{color:#444;font-size:13px;max-width:1100px}
+const char* k_css = R"(table.figures td.def{font-family:sans-serif;font-size:12px;color:#555}
 .na{background:#fff6e0;border:1px solid #e0b050;padding:10px 14px;margin:8px 0;border-radius:4px}
-.src{color:#666;font-size:12px}.verdict{font-weight:bold;font-size:18px}.ok{color:#1a7f1a}.bad{color:#b00}
-footer{margin-top:40px;color:#777;font-size:12px})";
+.src{color:#666;font-size:12px}.verdict{font-weight:bold;font-size:18px}.ok{color:#1a7f1a}.bad{color:#b00})";
 }  // namespace
 
 std::vector<std::string> plot_ids(const ReportData& d) { return plan(d).ids; }
 std::vector<std::string> unavailable_ids(const ReportData& d) { return plan(d).na; }
 
 std::string render_event_report(const ReportData& d) {
-  std::string s = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + escape_xml(d.title) +
-                  "</title>\n<style>" + k_css + "</style>\n</head>\n<body>\n";
+  std::string s = page_head(d.title, k_css);
   s += "<h1>" + escape_xml(d.title) + "</h1>\n<p class=\"sub\">" + escape_xml(d.subtitle) + "</p>\n";
   s += "<section id=\"facts\"><h2>Event</h2>\n" + table(d.facts.rows) + "</section>\n";
   // The sections, in page order.

@@ -15,16 +15,9 @@ namespace {
 using cd = std::complex<double>;
 using sweep::SweepAnalysis;
 
-const char* k_css = R"(body{font-family:sans-serif;margin:24px;color:#222;max-width:1320px}
-h1{margin-bottom:4px}h2{border-bottom:1px solid #ccc;padding-bottom:4px;margin-top:32px}
-.sub{color:#555;margin-top:0}.row{display:flex;flex-wrap:wrap;gap:16px;align-items:flex-start}
-svg.plot{border:1px solid #ddd;margin:6px 0}table.facts{border-collapse:collapse;margin:8px 0}
-table.facts th{text-align:left;padding:2px 14px 2px 0;color:#444;font-weight:normal}
-table.facts td{padding:2px 8px;font-family:monospace}
-table.grid{border-collapse:collapse;margin:8px 0}table.grid th,table.grid td{border:1px solid #ccc;padding:3px 8px;text-align:left}
-table.grid td{font-family:monospace}.caption{color:#444;font-size:13px;max-width:1100px}
-.zone-A{background:#d9f2d9}.zone-B{background:#eef7c8}.zone-C{background:#ffe9c2}.zone-D{background:#f8cccc}
-footer{margin-top:40px;color:#777;font-size:12px})";
+const char* k_css = R"(table.grid{border-collapse:collapse;margin:8px 0}table.grid th,table.grid td{border:1px solid #ccc;padding:3px 8px;text-align:left}
+table.grid td{font-family:monospace}
+.zone-A{background:#d9f2d9}.zone-B{background:#eef7c8}.zone-C{background:#ffe9c2}.zone-D{background:#f8cccc})";
 
 std::string num(const char* fmt, double v) { return io::printf_text(fmt, v); }
 
@@ -139,8 +132,7 @@ std::vector<std::string> sweep_plot_ids(const SweepAnalysis& a) {
 
 std::string render_sweep_page(const SweepAnalysis& a) {
   const std::string title = "Loop sweep " + a.board_name;
-  std::string s = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + escape_xml(title) +
-                  "</title>\n<style>" + k_css + "</style>\n</head>\n<body>\n";
+  std::string s = page_head(title, k_css);
   s += "<h1>" + escape_xml(title) + "</h1>\n<p class=\"sub\">ISO 14839-3 sensitivity sweep measured on the board's own loop, "
        "the board's model beside it</p>\n";
   const auto& pl = a.plan;

@@ -91,3 +91,25 @@ TEST(BearingCheckCli, RawCageScanOnlyWhenAskedFor) {
   ASSERT_TRUE(js["raw_cage_scan"].is_object());
   EXPECT_TRUE(js["raw_cage_scan"]["detected"].get<bool>());
 }
+
+// --plot writes the HTML page and names it on stderr; stdout stays JSON. A folder that does not
+// exist is refused at parse, before any work, and nothing is written.
+TEST(BearingCheckCli, PlotPage) {
+  if (!fs::exists(cwru("1797_IR_7_DE12"))) GTEST_SKIP();
+  const fs::path dir = fs::temp_directory_path() / ("amb_bearing_plot_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path page = dir / "page.html";
+  const CliRun r = amb_host("bearing-check --json --plot '" + page.string() + "' --mat '" + cwru("1797_IR_7_DE12") + "'");
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["verdict"], "inner_race");
+  EXPECT_NE(r.err.find(page.string()), std::string::npos) << r.err;
+  const std::string html = amb::test::read_text(page);
+  EXPECT_NE(html.find("id=\"bearing-band-whitened_full\""), std::string::npos);
+  const fs::path bad = dir / "no-such-folder" / "page.html";
+  const CliRun b = amb_host("bearing-check --plot '" + bad.string() + "' --mat '" + cwru("1797_IR_7_DE12") + "'");
+  EXPECT_NE(b.rc, 0);
+  EXPECT_NE(b.err.find("--plot"), std::string::npos) << b.err;
+  EXPECT_TRUE(b.out.empty()) << b.out;
+  EXPECT_FALSE(fs::exists(bad));
+  fs::remove_all(dir);
+}
