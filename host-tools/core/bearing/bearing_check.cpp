@@ -451,7 +451,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     return r;
   }
   // Nothing named in the whitened bands: look for the cage-rate modulation in the raw signal
-  // (BearingCheckOptions::cage_modulation_as_ball (b)).
+  // (BearingCheckOptions::cage_modulation_as_ball (b), only with raw_cage_scan: off by default).
   if (o.cage_modulation_as_ball && o.raw_cage_scan && best < 0)
     scan_raw_cage(raw, bo, tmpl[kCage], f_max, shaft_for_exclusion, tol, forbidden, o, r.raw_cage);
   if (best < 0 && r.raw_cage.detected) {
