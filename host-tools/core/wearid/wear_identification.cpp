@@ -432,199 +432,199 @@ WearIdResult identify_wear(const board::BoardConfig& board, const std::vector<Jo
     int doe_evaluations = 0, evaluations = 0, local_minima = 0, refined_starts = 0;
   };
   auto global_search = [&](const mj::ReynoldsOptions& grid, int dp, int ps, bool neighbours_too, const std::string& label) {
-  SearchEnds out;
-  int total = 1;
-  for (int i = 0; i < n; ++i) total *= dp;
-  std::vector<std::vector<double>> points(static_cast<size_t>(total), std::vector<double>(static_cast<size_t>(n)));
-  for (int k = 0; k < total; ++k) {
-    int rest = k;
-    for (int i = 0; i < n; ++i) {
-      points[static_cast<size_t>(k)][static_cast<size_t>(i)] = static_cast<double>(rest % dp) / (dp - 1);
-      rest /= dp;
-    }
-  }
-  std::vector<double> costs(static_cast<size_t>(total), 0.0);
-  const int nt = std::min(o.threads, total);
-  std::vector<int> evals(static_cast<size_t>(nt), 0);
-  progress_done = 0;
-  {
-    std::vector<std::thread> pool;
-    for (int t = 0; t < nt; ++t)
-      pool.emplace_back([&, t] {
-        Evaluator e(board, meas, o);
-        e.set_grid(grid);
-        for (int k = t; k < total; k += nt) {
-          costs[static_cast<size_t>(k)] = e.cost(points[static_cast<size_t>(k)]);
-          report(("design of experiments" + label).c_str(), total);
-        }
-        evals[static_cast<size_t>(t)] = e.evaluations;
-      });
-    for (auto& th : pool) th.join();
-  }
-  for (int v : evals) out.doe_evaluations += v;
-  std::vector<int> order(static_cast<size_t>(total));
-  for (int k = 0; k < total; ++k) order[static_cast<size_t>(k)] = k;
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return costs[static_cast<size_t>(a)] < costs[static_cast<size_t>(b)]; });
-  // Starting points: the DOE grid's local minima (no better point among the 3^n - 1 grid
-  // neighbours), best first, so that each polish starts in a different basin; the best DOE
-  // points were mostly neighbours in one valley, which left a lower valley unvisited (wear 3,
-  // e = 0.1: cost 5.3e-5 against 2.7e-6 at the truth). Remaining slots: the best other points
-  // not adjacent to a chosen one.
-  {
-    auto index_of = [&](const std::vector<int>& g) {
-      int k = 0;
-      for (int i = n - 1; i >= 0; --i) k = k * dp + g[static_cast<size_t>(i)];
-      return k;
-    };
-    auto grid_of = [&](int k) {
-      std::vector<int> g(static_cast<size_t>(n));
+    SearchEnds out;
+    int total = 1;
+    for (int i = 0; i < n; ++i) total *= dp;
+    std::vector<std::vector<double>> points(static_cast<size_t>(total), std::vector<double>(static_cast<size_t>(n)));
+    for (int k = 0; k < total; ++k) {
+      int rest = k;
       for (int i = 0; i < n; ++i) {
-        g[static_cast<size_t>(i)] = k % dp;
-        k /= dp;
+        points[static_cast<size_t>(k)][static_cast<size_t>(i)] = static_cast<double>(rest % dp) / (dp - 1);
+        rest /= dp;
       }
-      return g;
-    };
-    auto neighbours = [&](int k) {
-      std::vector<int> nb;
-      const std::vector<int> g = grid_of(k);
-      int combos = 1;
-      for (int i = 0; i < n; ++i) combos *= 3;
-      for (int c = 0; c < combos; ++c) {
-        std::vector<int> h = g;
-        int rest = c;
-        bool inside = true, self = true;
-        for (int i = 0; i < n; ++i) {
-          const int d = rest % 3 - 1;
-          rest /= 3;
-          if (d != 0) self = false;
-          h[static_cast<size_t>(i)] += d;
-          inside = inside && h[static_cast<size_t>(i)] >= 0 && h[static_cast<size_t>(i)] < dp;
-        }
-        if (inside && !self) nb.push_back(index_of(h));
-      }
-      return nb;
-    };
-    std::vector<int> chosen, rest_pts;
-    for (int k : order) {
-      bool local_min = true;
-      for (int q : neighbours(k)) local_min = local_min && costs[static_cast<size_t>(k)] <= costs[static_cast<size_t>(q)];
-      (local_min ? chosen : rest_pts).push_back(k);
     }
-    if (static_cast<int>(chosen.size()) > ps) chosen.resize(static_cast<size_t>(ps));
-    for (int k : rest_pts) {
-      if (static_cast<int>(chosen.size()) >= ps) break;
-      bool adjacent = false;
-      for (int q : neighbours(k)) adjacent = adjacent || std::find(chosen.begin(), chosen.end(), q) != chosen.end();
-      if (!adjacent) chosen.push_back(k);
-    }
-    out.local_minima = 0;
-    for (int k : chosen) {
-      bool local_min = true;
-      for (int q : neighbours(k)) local_min = local_min && costs[static_cast<size_t>(k)] <= costs[static_cast<size_t>(q)];
-      out.local_minima += local_min ? 1 : 0;
-    }
-    order = chosen;
-  }
-
-  // Local polish (BOBYQA, bounded) from those points, in parallel; each polish is restarted
-  // from its end point (fresh trust region) until a restart gains less than 1e-3 of the cost,
-  // as BOBYQA stops early in the long, narrow valleys of this cost.
-  std::vector<std::vector<double>> best_x;
-  std::vector<double> best_f;
-  std::vector<std::string> reasons;
-  std::vector<int> pevals;
-  auto polish_all = [&](const std::vector<int>& from) {
-    const size_t first = best_x.size();
-    const int count = static_cast<int>(from.size());
+    std::vector<double> costs(static_cast<size_t>(total), 0.0);
+    const int nt = std::min(o.threads, total);
+    std::vector<int> evals(static_cast<size_t>(nt), 0);
     progress_done = 0;
-    best_x.resize(first + from.size());
-    best_f.resize(first + from.size(), 1e300);
-    reasons.resize(first + from.size());
-    pevals.resize(first + from.size(), 0);
-    std::vector<std::thread> pool;
-    const int np = std::min(o.threads, count);
-    for (int t = 0; t < np; ++t)
-      pool.emplace_back([&, t] {
-        for (int s = t; s < count; s += np) {
-          const size_t slot = first + static_cast<size_t>(s);
+    {
+      std::vector<std::thread> pool;
+      for (int t = 0; t < nt; ++t)
+        pool.emplace_back([&, t] {
           Evaluator e(board, meas, o);
           e.set_grid(grid);
-          nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
-          opt.set_lower_bounds(std::vector<double>(static_cast<size_t>(n), 0.0));
-          opt.set_upper_bounds(std::vector<double>(static_cast<size_t>(n), 1.0));
-          opt.set_min_objective(nlopt_cost, &e);
-          opt.set_xtol_rel(o.xtol_rel);
-          opt.set_ftol_abs(1e-14);
-          opt.set_maxeval(o.max_evaluations);
-          opt.set_initial_step(0.5 / (dp - 1));
-          std::vector<double> x = points[static_cast<size_t>(from[static_cast<size_t>(s)])];
-          // Keep the start strictly inside the box (BOBYQA's initial step must fit).
-          for (double& v : x) v = std::clamp(v, 0.26 / (dp - 1), 1.0 - 0.26 / (dp - 1));
-          double f = 1e300;
-          try {
-            reasons[slot] = nlopt_reason(opt.optimize(x, f));
-            for (int restart = 0; restart < o.max_restarts; ++restart) {
-              std::vector<double> x2 = x;
-              for (double& v : x2) v = std::clamp(v, 0.03, 0.97);
-              opt.set_initial_step(0.02);
-              double f2 = 1e300;
-              const nlopt::result res = opt.optimize(x2, f2);
-              if (!(f2 < f)) break;
-              const bool small_gain = f - f2 < 1e-3 * f;
-              x = x2;
-              f = f2;
-              reasons[slot] = nlopt_reason(res);
-              if (small_gain) break;
-            }
-          } catch (const std::exception& ex) {
-            reasons[slot] = std::string("nlopt: ") + ex.what();
-            f = e.cost(x);
+          for (int k = t; k < total; k += nt) {
+            costs[static_cast<size_t>(k)] = e.cost(points[static_cast<size_t>(k)]);
+            report(("design of experiments" + label).c_str(), total);
           }
-          best_x[slot] = x;
-          best_f[slot] = f;
-          pevals[slot] = e.evaluations;
-          report(("local polish, starts done" + label).c_str(), count);
-        }
-      });
-    for (auto& th : pool) th.join();
-  };
-  auto winner = [&] {
-    size_t w = 0;
-    for (size_t s = 0; s < best_f.size(); ++s)
-      if (best_f[s] < best_f[w]) w = s;
-    return w;
-  };
-  const int starts = std::min(ps, static_cast<int>(order.size()));
-  order.resize(static_cast<size_t>(starts));
-  polish_all(order);
-  // Refinement: the valleys are narrow against the DOE grid's spacing, and the grid point
-  // nearest the truth can lie in a neighbouring valley (wear 1 at e = 0.7 with the full
-  // film: a side minimum 3 um from the truth at 3x its cost, reached from the grid point next
-  // to the truth; the grid points one step further along d0 or beta reach the truth's). So
-  // the winning start's face neighbours on the grid (+-1 step along each parameter) that were
-  // not polished are polished too.
-  if (neighbours_too && starts > 0) {
-    const int from = order[winner()];
-    std::vector<int> more;
-    int stride = 1;
-    for (int i = 0; i < n; ++i, stride *= dp) {
-      const int gi = (from / stride) % dp;
-      for (int d : {-1, 1}) {
-        if (gi + d < 0 || gi + d >= dp) continue;
-        const int k = from + d * stride;
-        if (std::find(order.begin(), order.end(), k) == order.end()) more.push_back(k);
-      }
+          evals[static_cast<size_t>(t)] = e.evaluations;
+        });
+      for (auto& th : pool) th.join();
     }
-    order.insert(order.end(), more.begin(), more.end());
-    polish_all(more);
-    out.refined_starts = static_cast<int>(more.size());
-  }
-  for (int v : pevals) out.evaluations += v;
-  out.evaluations += out.doe_evaluations;
-  out.x = std::move(best_x);
-  out.f = std::move(best_f);
-  out.reasons = std::move(reasons);
-  return out;
+    for (int v : evals) out.doe_evaluations += v;
+    std::vector<int> order(static_cast<size_t>(total));
+    for (int k = 0; k < total; ++k) order[static_cast<size_t>(k)] = k;
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return costs[static_cast<size_t>(a)] < costs[static_cast<size_t>(b)]; });
+    // Starting points: the DOE grid's local minima (no better point among the 3^n - 1 grid
+    // neighbours), best first, so that each polish starts in a different basin; the best DOE
+    // points were mostly neighbours in one valley, which left a lower valley unvisited (wear 3,
+    // e = 0.1: cost 5.3e-5 against 2.7e-6 at the truth). Remaining slots: the best other points
+    // not adjacent to a chosen one.
+    {
+      auto index_of = [&](const std::vector<int>& g) {
+        int k = 0;
+        for (int i = n - 1; i >= 0; --i) k = k * dp + g[static_cast<size_t>(i)];
+        return k;
+      };
+      auto grid_of = [&](int k) {
+        std::vector<int> g(static_cast<size_t>(n));
+        for (int i = 0; i < n; ++i) {
+          g[static_cast<size_t>(i)] = k % dp;
+          k /= dp;
+        }
+        return g;
+      };
+      auto neighbours = [&](int k) {
+        std::vector<int> nb;
+        const std::vector<int> g = grid_of(k);
+        int combos = 1;
+        for (int i = 0; i < n; ++i) combos *= 3;
+        for (int c = 0; c < combos; ++c) {
+          std::vector<int> h = g;
+          int rest = c;
+          bool inside = true, self = true;
+          for (int i = 0; i < n; ++i) {
+            const int d = rest % 3 - 1;
+            rest /= 3;
+            if (d != 0) self = false;
+            h[static_cast<size_t>(i)] += d;
+            inside = inside && h[static_cast<size_t>(i)] >= 0 && h[static_cast<size_t>(i)] < dp;
+          }
+          if (inside && !self) nb.push_back(index_of(h));
+        }
+        return nb;
+      };
+      std::vector<int> chosen, rest_pts;
+      for (int k : order) {
+        bool local_min = true;
+        for (int q : neighbours(k)) local_min = local_min && costs[static_cast<size_t>(k)] <= costs[static_cast<size_t>(q)];
+        (local_min ? chosen : rest_pts).push_back(k);
+      }
+      if (static_cast<int>(chosen.size()) > ps) chosen.resize(static_cast<size_t>(ps));
+      for (int k : rest_pts) {
+        if (static_cast<int>(chosen.size()) >= ps) break;
+        bool adjacent = false;
+        for (int q : neighbours(k)) adjacent = adjacent || std::find(chosen.begin(), chosen.end(), q) != chosen.end();
+        if (!adjacent) chosen.push_back(k);
+      }
+      out.local_minima = 0;
+      for (int k : chosen) {
+        bool local_min = true;
+        for (int q : neighbours(k)) local_min = local_min && costs[static_cast<size_t>(k)] <= costs[static_cast<size_t>(q)];
+        out.local_minima += local_min ? 1 : 0;
+      }
+      order = chosen;
+    }
+
+    // Local polish (BOBYQA, bounded) from those points, in parallel; each polish is restarted
+    // from its end point (fresh trust region) until a restart gains less than 1e-3 of the cost,
+    // as BOBYQA stops early in the long, narrow valleys of this cost.
+    std::vector<std::vector<double>> best_x;
+    std::vector<double> best_f;
+    std::vector<std::string> reasons;
+    std::vector<int> pevals;
+    auto polish_all = [&](const std::vector<int>& from) {
+      const size_t first = best_x.size();
+      const int count = static_cast<int>(from.size());
+      progress_done = 0;
+      best_x.resize(first + from.size());
+      best_f.resize(first + from.size(), 1e300);
+      reasons.resize(first + from.size());
+      pevals.resize(first + from.size(), 0);
+      std::vector<std::thread> pool;
+      const int np = std::min(o.threads, count);
+      for (int t = 0; t < np; ++t)
+        pool.emplace_back([&, t] {
+          for (int s = t; s < count; s += np) {
+            const size_t slot = first + static_cast<size_t>(s);
+            Evaluator e(board, meas, o);
+            e.set_grid(grid);
+            nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
+            opt.set_lower_bounds(std::vector<double>(static_cast<size_t>(n), 0.0));
+            opt.set_upper_bounds(std::vector<double>(static_cast<size_t>(n), 1.0));
+            opt.set_min_objective(nlopt_cost, &e);
+            opt.set_xtol_rel(o.xtol_rel);
+            opt.set_ftol_abs(1e-14);
+            opt.set_maxeval(o.max_evaluations);
+            opt.set_initial_step(0.5 / (dp - 1));
+            std::vector<double> x = points[static_cast<size_t>(from[static_cast<size_t>(s)])];
+            // Keep the start strictly inside the box (BOBYQA's initial step must fit).
+            for (double& v : x) v = std::clamp(v, 0.26 / (dp - 1), 1.0 - 0.26 / (dp - 1));
+            double f = 1e300;
+            try {
+              reasons[slot] = nlopt_reason(opt.optimize(x, f));
+              for (int restart = 0; restart < o.max_restarts; ++restart) {
+                std::vector<double> x2 = x;
+                for (double& v : x2) v = std::clamp(v, 0.03, 0.97);
+                opt.set_initial_step(0.02);
+                double f2 = 1e300;
+                const nlopt::result res = opt.optimize(x2, f2);
+                if (!(f2 < f)) break;
+                const bool small_gain = f - f2 < 1e-3 * f;
+                x = x2;
+                f = f2;
+                reasons[slot] = nlopt_reason(res);
+                if (small_gain) break;
+              }
+            } catch (const std::exception& ex) {
+              reasons[slot] = std::string("nlopt: ") + ex.what();
+              f = e.cost(x);
+            }
+            best_x[slot] = x;
+            best_f[slot] = f;
+            pevals[slot] = e.evaluations;
+            report(("local polish, starts done" + label).c_str(), count);
+          }
+        });
+      for (auto& th : pool) th.join();
+    };
+    auto winner = [&] {
+      size_t w = 0;
+      for (size_t s = 0; s < best_f.size(); ++s)
+        if (best_f[s] < best_f[w]) w = s;
+      return w;
+    };
+    const int starts = std::min(ps, static_cast<int>(order.size()));
+    order.resize(static_cast<size_t>(starts));
+    polish_all(order);
+    // Refinement: the valleys are narrow against the DOE grid's spacing, and the grid point
+    // nearest the truth can lie in a neighbouring valley (wear 1 at e = 0.7 with the full
+    // film: a side minimum 3 um from the truth at 3x its cost, reached from the grid point next
+    // to the truth; the grid points one step further along d0 or beta reach the truth's). So
+    // the winning start's face neighbours on the grid (+-1 step along each parameter) that were
+    // not polished are polished too.
+    if (neighbours_too && starts > 0) {
+      const int from = order[winner()];
+      std::vector<int> more;
+      int stride = 1;
+      for (int i = 0; i < n; ++i, stride *= dp) {
+        const int gi = (from / stride) % dp;
+        for (int d : {-1, 1}) {
+          if (gi + d < 0 || gi + d >= dp) continue;
+          const int k = from + d * stride;
+          if (std::find(order.begin(), order.end(), k) == order.end()) more.push_back(k);
+        }
+      }
+      order.insert(order.end(), more.begin(), more.end());
+      polish_all(more);
+      out.refined_starts = static_cast<int>(more.size());
+    }
+    for (int v : pevals) out.evaluations += v;
+    out.evaluations += out.doe_evaluations;
+    out.x = std::move(best_x);
+    out.f = std::move(best_f);
+    out.reasons = std::move(reasons);
+    return out;
   };
   const SearchEnds board_ends = global_search(board.journal.grid, o.doe_points, o.polished_starts, o.refine_neighbours, "");
   r.doe_evaluations = board_ends.doe_evaluations;
