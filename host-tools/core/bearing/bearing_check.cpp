@@ -227,17 +227,12 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     return white;
   };
   // The envelope spectrum of an analysis band (f_max: the highest frequency scored, set below
-  // before the first call; the EES is made once).
+  // before the first call).
   double f_max = 0.0;
-  EnvelopeSpectrum ees;
-  auto band_spectrum = [&](const AnalysisBand& band) -> EnvelopeSpectrum {
-    if (band.name != "whitened_ees") return analyser(band).envelope_spectrum(band.band);
-    if (ees.amplitude.empty()) ees = enhanced_envelope_spectrum(white, ees_sub, f_max + 2.0 * o.floor_halfwidth_hz, o.floor_halfwidth_hz);
-    return ees;
-  };
-  // Its normalised spectrum up to f_max, with the shaft harmonics of `shaft_hz` set aside (0: none).
-  auto band_ratio = [&](const AnalysisBand& band, double shaft_hz) {
-    return normalise_spectrum(band_spectrum(band), f_max, o.floor_halfwidth_hz, shaft_hz, o.shaft_exclude_bins);
+  auto band_spectrum = [&](const AnalysisBand& band) {
+    if (band.name == "whitened_ees")
+      return enhanced_envelope_spectrum(white, ees_sub, f_max + 2.0 * o.floor_halfwidth_hz, o.floor_halfwidth_hz);
+    return analyser(band).envelope_spectrum(band.band);
   };
 
   // 5. speed: the shaft-harmonic comb of the spectrum, else of the whitened envelope spectrum
@@ -280,9 +275,14 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     fr.predicted_hz = tmpl[static_cast<size_t>(f)].base_hz;
     fr.log10_p = 1.0;  // "none yet"
   }
+  // Each band's normalised spectrum, made once: the scores, the shaft-comb check and the cage-comb
+  // check below all read it.
+  std::vector<NormalisedSpectrum> spectra;
+  spectra.reserve(r.bands.size());
   for (size_t b = 0; b < r.bands.size(); ++b) {
-    const NormalisedSpectrum ns = band_ratio(r.bands[b], shaft_for_exclusion);
-    if (o.keep_spectra) r.band_spectra.push_back(ns);
+    spectra.push_back(normalise_spectrum(band_spectrum(r.bands[b]), f_max, o.floor_halfwidth_hz, shaft_for_exclusion,
+                                         o.shaft_exclude_bins));
+    const NormalisedSpectrum& ns = spectra.back();
     for (int f = 0; f < kFamilies; ++f) {
       const auto& t = tmpl[static_cast<size_t>(f)];
       auto& fr = r.families[static_cast<size_t>(f)];
@@ -301,6 +301,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
       }
     }
   }
+  if (o.keep_spectra) r.band_spectra = spectra;
 
   // Without a refined speed the shaft harmonics cannot be set aside bin by bin. A fundamental
   // line that sits on a shaft comb instead - k f_s with f_s within speed_range of nominal and
@@ -311,7 +312,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     for (int f = 0; f < kFamilies; ++f) {
       auto& fr = r.families[static_cast<size_t>(f)];
       if (!fr.lines.fundamental_present) continue;
-      const NormalisedSpectrum ns = band_ratio(r.bands[fr.band_index], 0.0);
+      const NormalisedSpectrum& ns = spectra[fr.band_index];  // speed not refined: nothing set aside
       auto present = [&](double hz) {
         const long c = std::lround(hz / df);
         double m = 0.0;
@@ -367,7 +368,7 @@ BearingCheckResult check_bearing(const std::vector<double>& x, double fs_hz, dou
     // In BPFO's band and in the cage family's best band (where a comb shows best).
     for (size_t bi : {fo.band_index, r.families[kCage].band_index}) {
       const auto& band = r.bands[bi];
-      const NormalisedSpectrum ns = band_ratio(band, shaft_for_exclusion);
+      const NormalisedSpectrum& ns = spectra[bi];
       auto peak = [&](double hz) {
         const long c = std::lround(hz / df);
         double m = 0.0;
