@@ -246,8 +246,9 @@ int run(Args a) {
     else
       std::printf(" %s %.0f-%.0f Hz (SK %.2f);", b.name.c_str(), b.band.low_hz, b.band.high_hz, b.band.kurtosis);
   }
-  std::printf("\n3 envelope spectrum of each band (whitened_ees: the bands' envelope spectra over their floors, "
-              "combined)\n");
+  const bool ees = std::any_of(r.bands.begin(), r.bands.end(), [](const hb::AnalysisBand& b) { return b.sub_bands > 0; });
+  std::printf("\n3 envelope spectrum of each band%s\n",
+              ees ? " (whitened_ees: the bands' envelope spectra over their floors, combined)" : "");
   std::printf("5 speed: %s %.4f Hz (from the %s; comb log10 p %.1f, %d harmonics present)\n",
               r.speed.refined ? "refined to" : "not refined, nominal", r.speed.speed_hz, r.speed_source.c_str(),
               r.speed.log10_p, r.speed.harmonics_present);
